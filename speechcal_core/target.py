@@ -1,0 +1,113 @@
+"""Calibration target description (Kalibr target yaml) and its 3-D corner layout."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from speechcal_core.errors import SpeechCalError
+
+
+class TargetError(SpeechCalError):
+    """A target file that cannot be read or describes no usable target."""
+
+
+@dataclass(frozen=True)
+class TargetSpec:
+    """A planar calibration target in Kalibr's terms.
+
+    ``aprilgrid``: ``rows`` x ``cols`` tags of edge ``size`` metres, gap ``spacing`` as a
+    fraction of ``size`` (Kalibr ``tagSpacing``), family 36h11 with 2-bit black border.
+    ``checkerboard``: ``rows`` x ``cols`` inner corners, squares ``size`` metres.
+    """
+
+    kind: str = "aprilgrid"
+    rows: int = 6
+    cols: int = 6
+    size: float = 0.055
+    spacing: float = 0.3
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("aprilgrid", "checkerboard"):
+            raise TargetError(f"unknown target type {self.kind!r}; use aprilgrid or checkerboard")
+        if self.rows < 2 or self.cols < 2 or self.size <= 0:
+            raise TargetError("a target needs at least 2x2 tags or corners and a positive size")
+
+    @property
+    def pitch(self) -> float:
+        """Distance in metres between neighbouring tags (aprilgrid) or corners."""
+        return self.size * (1.0 + self.spacing) if self.kind == "aprilgrid" else self.size
+
+    @property
+    def extent(self) -> tuple[float, float]:
+        """Width and height in metres of the printed pattern (x along cols, y along rows)."""
+        if self.kind == "aprilgrid":
+            return (self.cols * self.size + (self.cols - 1) * self.size * self.spacing,
+                    self.rows * self.size + (self.rows - 1) * self.size * self.spacing)
+        return ((self.cols + 1) * self.size, (self.rows + 1) * self.size)
+
+    def object_points(self) -> np.ndarray:
+        """Corner positions (N x 3, z = 0) in Kalibr order.
+
+        AprilGrid: for tag id ``i`` (row-major from the origin) its four corners
+        counter-clockwise from the lower left: ``(x, y), (x+s, y), (x+s, y+s), (x, y+s)``.
+        Checkerboard: inner corners row-major, origin at the first inner corner.
+        """
+        if self.kind == "aprilgrid":
+            pts = []
+            s, p = self.size, self.pitch
+            for r in range(self.rows):
+                for c in range(self.cols):
+                    x, y = c * p, r * p
+                    pts += [(x, y, 0.0), (x + s, y, 0.0), (x + s, y + s, 0.0), (x, y + s, 0.0)]
+            return np.asarray(pts, dtype=np.float64)
+        ys, xs = np.mgrid[0 : self.rows, 0 : self.cols]
+        grid = np.stack([xs.ravel() * self.size, ys.ravel() * self.size, np.zeros(xs.size)], 1)
+        return grid.astype(np.float64)
+
+    def to_kalibr_yaml(self) -> str:
+        """The Kalibr ``target.yaml`` text (floats written as floats)."""
+        if self.kind == "aprilgrid":
+            return (
+                "target_type: 'aprilgrid'\n"
+                f"tagCols: {self.cols}\ntagRows: {self.rows}\n"
+                f"tagSize: {float(self.size)!r}\ntagSpacing: {float(self.spacing)!r}\n"
+            )
+        return (
+            "target_type: 'checkerboard'\n"
+            f"targetCols: {self.cols}\ntargetRows: {self.rows}\n"
+            f"rowSpacingMeters: {float(self.size)!r}\ncolSpacingMeters: {float(self.size)!r}\n"
+        )
+
+    @classmethod
+    def from_kalibr_yaml(cls, path: str | Path) -> TargetSpec:
+        """Read a Kalibr target yaml (flat ``key: value`` lines)."""
+        path = Path(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise TargetError(f"{path}: cannot read target file ({exc.strerror})") from exc
+        values: dict[str, str] = {}
+        for line in text.splitlines():
+            line = line.split("#", 1)[0].strip()
+            if not line or ":" not in line:
+                continue
+            key, value = line.split(":", 1)
+            values[key.strip()] = value.strip().strip("'\"")
+        kind = values.get("target_type", "")
+        try:
+            if kind == "aprilgrid":
+                return cls("aprilgrid", int(values["tagRows"]), int(values["tagCols"]),
+                           float(values["tagSize"]), float(values["tagSpacing"]))
+            if kind == "checkerboard":
+                return cls("checkerboard", int(values["targetRows"]), int(values["targetCols"]),
+                           float(values["rowSpacingMeters"]))
+        except KeyError as exc:
+            raise TargetError(f"{path}: missing key {exc.args[0]!r} for a {kind} target") from exc
+        except ValueError as exc:
+            raise TargetError(f"{path}: bad number in target file ({exc})") from exc
+        raise TargetError(
+            f"{path}: target_type must be 'aprilgrid' or 'checkerboard', found {kind!r}"
+        )
