@@ -43,4 +43,5 @@ class SyncModel:
     @classmethod
     def from_dict(cls, data: dict) -> SyncModel:
         """Inverse of :meth:`to_dict`."""
-        return cls(int(data["offset_ns"]), float(data.get("drift", 0.0)), data.get("source", "auto"))
+        source = str(data.get("source", "auto"))
+        return cls(int(data["offset_ns"]), float(data.get("drift", 0.0)), source)

@@ -159,7 +159,7 @@ def plan_session(options: SynthOptions) -> Timeline:
     ss = np.random.SeedSequence(options.seed)
     rng = np.random.default_rng(ss.spawn(1)[0])
     target = TargetSpec(kind=options.target_kind,
-                        rows=6 if options.target_kind == "aprilgrid" else 6,
+                        rows=6,
                         cols=6 if options.target_kind == "aprilgrid" else 8,
                         size=0.055 if options.target_kind == "aprilgrid" else 0.045)
     cameras = tuple(_make_camera(i, options, rng) for i in range(options.cameras))
