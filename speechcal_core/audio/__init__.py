@@ -1,0 +1,9 @@
+"""Microphone audio: loading, resampling, bag-embedded audio and waveform envelopes."""
+
+from __future__ import annotations
+
+from speechcal_core.audio.errors import AudioError
+from speechcal_core.audio.loader import Audio, load_audio
+from speechcal_core.audio.resampling import resample
+
+__all__ = ["Audio", "AudioError", "load_audio", "resample"]

@@ -1,0 +1,119 @@
+"""Load a microphone recording (any format libsndfile reads) as float32 mono."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import soundfile as sf
+
+from speechcal_core.audio.errors import AudioError
+from speechcal_core.audio.resampling import resample
+
+BLOCK_FRAMES = 1 << 16
+SUPPORTED = "WAV, FLAC, Ogg Vorbis, Opus, MP3"
+
+
+@dataclass(frozen=True, eq=False)
+class Audio:
+    """Mono float32 samples at ``rate`` Hz; time 0 is the file's first sample."""
+
+    samples: np.ndarray
+    rate: int
+    path: Path | None = None
+    channels_in_file: int = 1
+    rate_in_file: int = 0
+    channel: int | None = None  # the channel picked, None when mixed
+
+    @property
+    def duration_s(self) -> float:
+        """Length in seconds."""
+        return self.samples.size / float(self.rate) if self.rate else 0.0
+
+    def time_of(self, index: float | np.ndarray) -> float | np.ndarray:
+        """Audio seconds of a sample index."""
+        return np.asarray(index, dtype=np.float64) / self.rate
+
+    def resampled(self, rate: int) -> Audio:
+        """This audio at another rate."""
+        if rate == self.rate:
+            return self
+        return Audio(resample(self.samples, self.rate, rate), int(rate), self.path,
+                     self.channels_in_file, self.rate_in_file, self.channel)
+
+
+def load_audio(path: str | Path, *, rate: int | None = None,
+               channel: int | None = None) -> Audio:
+    """Read an audio file as float32 mono, optionally resampled to ``rate`` Hz.
+
+    ``channel`` picks one channel (0-based); by default all channels are averaged. The
+    file is decoded in blocks so memory stays near the size of the mono result.
+    Raises :class:`AudioError` for a missing, unreadable or empty file.
+    """
+    p = Path(path)
+    if not p.exists():
+        raise AudioError(f"{p}: audio file not found; check the path given with --audio")
+    if p.is_dir():
+        raise AudioError(f"{p}: is a folder, not an audio file; give the audio file itself")
+    if p.stat().st_size == 0:
+        raise AudioError(f"{p}: the file is empty (0 bytes); record or copy the audio again")
+    if rate is not None and rate <= 0:
+        raise AudioError(f"{p}: cannot resample to {rate} Hz; give a positive rate")
+    try:
+        f = sf.SoundFile(str(p))
+    except (sf.LibsndfileError, RuntimeError, TypeError) as exc:
+        raise AudioError(
+            f"{p}: not a readable audio file ({_short(exc)}); convert it to {SUPPORTED}"
+        ) from exc
+    with f:
+        channels, rate_in = int(f.channels), int(f.samplerate)
+        if channel is not None and not 0 <= channel < channels:
+            raise AudioError(
+                f"{p}: has {channels} channel(s), channel {channel} asked; "
+                f"pick 0..{channels - 1} or leave the channel unset to mix"
+            )
+        mono = _read_mono(f, p, channel)
+    if mono.size == 0:
+        raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
+    if not np.all(np.isfinite(mono)):
+        mono = np.nan_to_num(mono, nan=0.0, posinf=1.0, neginf=-1.0)
+    audio = Audio(mono, rate_in, p, channels, rate_in, channel)
+    return audio.resampled(int(rate)) if rate is not None else audio
+
+
+def _read_mono(f: sf.SoundFile, p: Path, channel: int | None) -> np.ndarray:
+    """Decode block by block into one preallocated mono array."""
+    expected = int(f.frames) if f.frames and f.frames > 0 else 0
+    out = np.empty(max(expected, BLOCK_FRAMES), dtype=np.float32)
+    n = 0
+    buf = np.empty((BLOCK_FRAMES, f.channels), dtype=np.float32)
+    try:
+        while True:
+            got = f.read(BLOCK_FRAMES, dtype="float32", always_2d=True, out=buf)
+            k = got.shape[0]
+            if k == 0:
+                break
+            if n + k > out.size:
+                out = np.resize(out, max(out.size * 2, n + k))
+            if channel is not None:
+                out[n:n + k] = got[:, channel]
+            elif f.channels == 1:
+                out[n:n + k] = got[:, 0]
+            else:
+                np.mean(got, axis=1, out=out[n:n + k])
+            n += k
+            if k < BLOCK_FRAMES:
+                break
+    except (sf.LibsndfileError, RuntimeError) as exc:
+        if n == 0:
+            raise AudioError(
+                f"{p}: could not decode the audio ({_short(exc)}); convert it to {SUPPORTED}"
+            ) from exc
+        # a truncated file: keep what decoded
+    return out[:n].copy() if n != out.size else out
+
+
+def _short(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return text[-1] if text else type(exc).__name__

@@ -1,0 +1,98 @@
+"""Loading audio files of every supported kind, rate and channel count."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import soundfile as sf
+
+from speechcal_core.audio import AudioError, load_audio, resample
+
+
+def _write(path: Path, data: np.ndarray, rate: int, **kw) -> Path:
+    with sf.SoundFile(str(path), "w", samplerate=rate,
+                      channels=1 if data.ndim == 1 else data.shape[1], **kw) as f:
+        for i in range(0, data.shape[0], 4096):  # DESIGN §5: write Ogg in blocks
+            f.write(data[i:i + 4096])
+    return path
+
+
+def _tone(rate: int, seconds: float = 1.0, hz: float = 440.0) -> np.ndarray:
+    t = np.arange(int(rate * seconds)) / rate
+    return (0.5 * np.sin(2 * np.pi * hz * t)).astype(np.float32)
+
+
+@pytest.mark.parametrize("rate", [8000, 16000, 44100, 96000])
+def test_wav_any_rate_loads_mono_float32(tmp_path: Path, rate: int) -> None:
+    p = _write(tmp_path / "a.wav", _tone(rate), rate)
+    a = load_audio(p)
+    assert a.rate == rate and a.samples.dtype == np.float32 and a.samples.ndim == 1
+    assert a.duration_s == pytest.approx(1.0)
+    assert a.channels_in_file == 1
+
+
+def test_stereo_mixes_or_picks_channel(tmp_path: Path) -> None:
+    left, right = _tone(16000), np.zeros(16000, np.float32)
+    p = _write(tmp_path / "s.flac", np.stack([left, right], axis=1), 16000)
+    mixed = load_audio(p)
+    assert mixed.channels_in_file == 2
+    assert np.allclose(mixed.samples, left / 2, atol=1e-3)
+    assert np.allclose(load_audio(p, channel=0).samples, left, atol=1e-3)
+    assert np.allclose(load_audio(p, channel=1).samples, 0.0, atol=1e-3)
+    with pytest.raises(AudioError, match="channel 2"):
+        load_audio(p, channel=2)
+
+
+@pytest.mark.parametrize(("name", "kw"), [
+    ("a.ogg", {"format": "OGG", "subtype": "VORBIS"}),
+    ("a.opus", {"format": "OGG", "subtype": "OPUS"}),
+    ("a.mp3", {"format": "MP3", "subtype": "MPEG_LAYER_III"}),
+    ("a.flac", {}),
+])
+def test_compressed_formats_load(tmp_path: Path, name: str, kw: dict) -> None:
+    p = _write(tmp_path / name, _tone(48000, 2.0), 48000, **kw)
+    a = load_audio(p, rate=16000)
+    assert a.rate == 16000 and a.rate_in_file == 48000
+    assert a.duration_s == pytest.approx(2.0, abs=0.08)
+    assert 0.2 < float(np.sqrt(np.mean(a.samples[4000:20000] ** 2))) < 0.5
+
+
+def test_resample_matches_tone_and_length() -> None:
+    x = _tone(96000, 3.0, 1000.0)
+    y = resample(x, 96000, 16000)
+    assert y.size == 48000
+    ref = _tone(16000, 3.0, 1000.0)
+    assert np.max(np.abs(y[100:-100] - ref[100:-100])) < 1e-3
+
+
+def test_blockwise_resample_equals_one_call(monkeypatch: pytest.MonkeyPatch) -> None:
+    from scipy.signal import resample_poly
+
+    import speechcal_core.audio.resampling as rs
+
+    rng = np.random.default_rng(0)
+    x = rng.standard_normal(50_000).astype(np.float32)
+    monkeypatch.setattr(rs, "BLOCK", 4096)
+    y = rs.resample(x, 44100, 16000)
+    ref = resample_poly(x, 160, 441)
+    assert y.size == ref.size
+    assert np.max(np.abs(y - ref)) < 1e-4
+
+
+def test_missing_file_names_it(tmp_path: Path) -> None:
+    with pytest.raises(AudioError, match=r"nope\.wav: audio file not found"):
+        load_audio(tmp_path / "nope.wav")
+
+
+def test_empty_and_garbage_files_are_refused(tmp_path: Path) -> None:
+    (tmp_path / "empty.wav").write_bytes(b"")
+    with pytest.raises(AudioError, match="empty"):
+        load_audio(tmp_path / "empty.wav")
+    (tmp_path / "junk.ogg").write_bytes(b"this is not audio" * 100)
+    with pytest.raises(AudioError, match="not a readable audio file"):
+        load_audio(tmp_path / "junk.ogg")
+    p = _write(tmp_path / "zero.wav", np.zeros(0, np.float32), 16000)
+    with pytest.raises(AudioError, match="no audio samples"):
+        load_audio(p)
