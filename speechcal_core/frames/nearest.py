@@ -1,0 +1,56 @@
+"""Frame sets by nearest header stamp: the baseline every smarter selection is compared with."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from speechcal_core.session.model import FrameChoice, FrameSet, Trigger
+from speechcal_core.sync.model import SyncModel
+
+if TYPE_CHECKING:
+    from speechcal_core.sources.base import FrameSource
+
+
+def nearest_index(stamps: np.ndarray, t_ns: int) -> int:
+    """Index of the stamp closest to ``t_ns`` in a sorted int64 array (-1 if empty)."""
+    if len(stamps) == 0:
+        return -1
+    i = int(np.searchsorted(stamps, t_ns))
+    if i == 0:
+        return 0
+    if i == len(stamps):
+        return len(stamps) - 1
+    return i if stamps[i] - t_ns < t_ns - stamps[i - 1] else i - 1
+
+
+def frame_period_ns(stamps: np.ndarray) -> int:
+    """Median stamp spacing (0 with fewer than two stamps)."""
+    return int(np.median(np.diff(stamps))) if len(stamps) > 1 else 0
+
+
+def nearest_choice(stream: str, stamps: np.ndarray, t_ns: int) -> FrameChoice:
+    """The nearest frame, flagged ``no-frame`` when it is further than half a period away."""
+    i = nearest_index(stamps, t_ns)
+    if i < 0:
+        return FrameChoice(stream, -1, t_ns, flags=("no-frame",))
+    stamp = int(stamps[i])
+    period = frame_period_ns(stamps)
+    if period and abs(stamp - t_ns) > period // 2 + 1:
+        return FrameChoice(stream, -1, stamp, flags=("no-frame",))
+    return FrameChoice(stream, i, stamp)
+
+
+def nearest_frame_sets(
+    source: FrameSource, sync: SyncModel, triggers: Sequence[Trigger]
+) -> list[FrameSet]:
+    """One frame set per trigger: every camera's frame nearest the trigger's session time."""
+    stamps = {s.name: source.stamps(s.name) for s in source.streams}
+    sets = []
+    for n, trig in enumerate(sorted(triggers, key=lambda t: t.t_s)):
+        t_ns = int(sync.to_session(trig.t_s))
+        frames = tuple(nearest_choice(name, st, t_ns) for name, st in stamps.items())
+        sets.append(FrameSet(n + 1, t_ns, trig, frames))
+    return sets

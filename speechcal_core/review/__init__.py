@@ -1,0 +1,1 @@
+"""Headless review state: what the window shows and every action it offers."""

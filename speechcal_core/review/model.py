@@ -1,0 +1,211 @@
+"""The review model: playhead, current frame set, decisions with undo, autosave hooks.
+
+Plain Python with callbacks; the Qt window connects them to widgets. Every keyboard
+action is a named method here, so tests drive the review without a window.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from speechcal_core.frames.nearest import frame_period_ns, nearest_index
+from speechcal_core.session.model import FrameSet, Session
+
+if TYPE_CHECKING:
+    from speechcal_core.sources.base import FrameSource
+
+EVENTS = ("playhead", "current_set", "decision", "sync", "saved")
+
+#: key name -> action method name (the window only maps key presses to these)
+KEY_BINDINGS: dict[str, str] = {
+    "A": "accept",
+    "R": "reject",
+    "U": "undo",
+    "Ctrl+Z": "undo",
+    "Ctrl+Shift+Z": "redo",
+    "K": "next_set",
+    "J": "previous_set",
+    "Right": "next_frame",
+    "Left": "previous_frame",
+    "Home": "first_set",
+    "End": "last_set",
+}
+
+
+@dataclass(frozen=True)
+class TileState:
+    """What one camera tile shows at the playhead."""
+
+    stream: str
+    index: int  # -1: no frame near the playhead
+    stamp_ns: int
+    offset_ns: int  # stamp - playhead
+
+
+class ReviewModel:
+    """Review state over a session and its recording."""
+
+    def __init__(
+        self,
+        session: Session,
+        source: FrameSource | None = None,
+        autosave: Callable[[Session], None] | None = None,
+    ) -> None:
+        self.session = session
+        self.source = source
+        self._autosave = autosave
+        self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
+        self._undo: list[tuple[int, str]] = []  # (set id, previous decision)
+        self._redo: list[tuple[int, str]] = []
+        self._stamps = (
+            {s.name: source.stamps(s.name) for s in source.streams} if source else {}
+        )
+        self._periods = {k: frame_period_ns(v) for k, v in self._stamps.items()}
+        self.current = 0 if session.sets else -1
+        self.playhead_ns = session.sets[0].t_ns if session.sets else self._first_stamp()
+
+    # -- events -------------------------------------------------------------------------
+    def connect(self, event: str, callback: Callable[..., None]) -> None:
+        """Call ``callback`` whenever ``event`` (one of :data:`EVENTS`) happens."""
+        self._listeners[event].append(callback)
+
+    def _emit(self, event: str, *args: object) -> None:
+        for cb in list(self._listeners[event]):
+            cb(*args)
+
+    # -- queries ------------------------------------------------------------------------
+    @property
+    def streams(self) -> list[str]:
+        return list(self._stamps)
+
+    @property
+    def current_set(self) -> FrameSet | None:
+        return self.session.sets[self.current] if self.current >= 0 else None
+
+    def time_range_ns(self) -> tuple[int, int]:
+        """First and last stamp over all streams."""
+        if not self._stamps:
+            return (self.playhead_ns, self.playhead_ns)
+        return (min(int(s[0]) for s in self._stamps.values() if len(s)),
+                max(int(s[-1]) for s in self._stamps.values() if len(s)))
+
+    def tiles(self) -> list[TileState]:
+        """Per camera, the frame nearest the playhead, or none within half a frame period."""
+        out = []
+        for name, stamps in self._stamps.items():
+            i = nearest_index(stamps, self.playhead_ns)
+            if i < 0:
+                out.append(TileState(name, -1, 0, 0))
+                continue
+            delta = int(stamps[i]) - self.playhead_ns
+            period = self._periods[name]
+            if period and abs(delta) > period // 2 + 1:
+                out.append(TileState(name, -1, int(stamps[i]), delta))
+            else:
+                out.append(TileState(name, i, int(stamps[i]), delta))
+        return out
+
+    def set_at_playhead(self, tolerance_ns: int = 50_000_000) -> FrameSet | None:
+        """The frame set whose time is within ``tolerance_ns`` of the playhead."""
+        best = None
+        for s in self.session.sets:
+            d = abs(s.t_ns - self.playhead_ns)
+            if d <= tolerance_ns and (best is None or d < abs(best.t_ns - self.playhead_ns)):
+                best = s
+        return best
+
+    # -- navigation actions -------------------------------------------------------------
+    def set_playhead(self, t_ns: int) -> None:
+        lo, hi = self.time_range_ns()
+        self.playhead_ns = int(min(max(t_ns, lo), hi)) if hi > lo else int(t_ns)
+        self._emit("playhead", self.playhead_ns)
+
+    def go_to_set(self, index: int) -> None:
+        if not self.session.sets:
+            return
+        self.current = int(min(max(index, 0), len(self.session.sets) - 1))
+        self._emit("current_set", self.current)
+        self.set_playhead(self.session.sets[self.current].t_ns)
+
+    def next_set(self) -> None:
+        self.go_to_set(self.current + 1)
+
+    def previous_set(self) -> None:
+        self.go_to_set(self.current - 1)
+
+    def first_set(self) -> None:
+        self.go_to_set(0)
+
+    def last_set(self) -> None:
+        self.go_to_set(len(self.session.sets) - 1)
+
+    def next_frame(self) -> None:
+        self._step_frame(+1)
+
+    def previous_frame(self) -> None:
+        self._step_frame(-1)
+
+    def _step_frame(self, direction: int) -> None:
+        """Move the playhead to the next/previous stamp of any camera."""
+        candidates = []
+        for stamps in self._stamps.values():
+            i = np.searchsorted(stamps, self.playhead_ns, side="right" if direction > 0 else "left")
+            j = i if direction > 0 else i - 1
+            if 0 <= j < len(stamps):
+                candidates.append(int(stamps[j]))
+        if candidates:
+            self.set_playhead(min(candidates) if direction > 0 else max(candidates))
+
+    # -- decisions ----------------------------------------------------------------------
+    def accept(self) -> None:
+        self.decide("accepted")
+
+    def reject(self) -> None:
+        self.decide("rejected")
+
+    def decide(self, decision: str) -> None:
+        """Record a decision on the current set (then autosave)."""
+        current = self.current_set
+        if current is None or current.decision == decision:
+            return
+        self._undo.append((current.id, current.decision))
+        self._redo.clear()
+        self._apply(current.id, decision)
+
+    def undo(self) -> None:
+        if self._undo:
+            set_id, decision = self._undo.pop()
+            self._redo.append((set_id, self.session.set_by_id(set_id).decision))
+            self._apply(set_id, decision, select=True)
+
+    def redo(self) -> None:
+        if self._redo:
+            set_id, decision = self._redo.pop()
+            self._undo.append((set_id, self.session.set_by_id(set_id).decision))
+            self._apply(set_id, decision, select=True)
+
+    def _apply(self, set_id: int, decision: str, select: bool = False) -> None:
+        self.session.replace_set(self.session.set_by_id(set_id).with_decision(decision))
+        if select:
+            index = next(i for i, s in enumerate(self.session.sets) if s.id == set_id)
+            if index != self.current:
+                self.go_to_set(index)
+        self._emit("decision", set_id, decision)
+        self._save()
+
+    def _save(self) -> None:
+        if self._autosave is not None:
+            self._autosave(self.session)
+            self._emit("saved")
+
+    def _first_stamp(self) -> int:
+        starts = [int(s[0]) for s in self._stamps.values() if len(s)]
+        return min(starts) if starts else 0
+
+    def trigger(self, action: str) -> None:
+        """Run a named action (what a key binding maps to)."""
+        getattr(self, action)()

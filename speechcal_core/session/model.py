@@ -1,0 +1,125 @@
+"""The session: recording + audio + sync + frame sets + decisions, as kept in SESSION.json."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from speechcal_core.sync.model import SyncModel
+
+DECISIONS = ("accepted", "rejected", "undecided")
+
+
+@dataclass(frozen=True)
+class Trigger:
+    """A detected or operator-added trigger word, in audio seconds."""
+
+    word: str
+    start_s: float
+    end_s: float
+    score: float = 1.0
+    source: str = "detected"  # detected | transcript | manual | truth
+
+    @property
+    def t_s(self) -> float:
+        """The trigger's audio time: the mean of the word's start and end."""
+        return (self.start_s + self.end_s) / 2
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"word": self.word, "start_s": self.start_s, "end_s": self.end_s,
+                "score": self.score, "source": self.source}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> Trigger:
+        return cls(str(data["word"]), float(data["start_s"]), float(data["end_s"]),
+                   float(data.get("score", 1.0)), str(data.get("source", "detected")))
+
+
+@dataclass(frozen=True)
+class FrameChoice:
+    """The frame chosen for one camera in one frame set (index -1: none within tolerance)."""
+
+    stream: str
+    index: int
+    stamp_ns: int
+    sharpness: float | None = None
+    corners: int | None = None
+    flags: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"stream": self.stream, "index": self.index, "stamp_ns": self.stamp_ns,
+                "sharpness": self.sharpness, "corners": self.corners, "flags": list(self.flags)}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> FrameChoice:
+        return cls(str(data["stream"]), int(data.get("index", -1)), int(data["stamp_ns"]),
+                   data.get("sharpness"), data.get("corners"), tuple(data.get("flags", ())))
+
+
+@dataclass(frozen=True)
+class FrameSet:
+    """One trigger's synchronized frames and the operator's decision on them."""
+
+    id: int
+    t_ns: int
+    trigger: Trigger
+    frames: tuple[FrameChoice, ...]
+    decision: str = "undecided"
+
+    @property
+    def skew_ns(self) -> int:
+        """Largest stamp difference between the set's frames (0 with fewer than two)."""
+        stamps = [f.stamp_ns for f in self.frames if f.index >= 0]
+        return max(stamps) - min(stamps) if len(stamps) > 1 else 0
+
+    def with_decision(self, decision: str) -> FrameSet:
+        if decision not in DECISIONS:
+            raise ValueError(f"decision must be one of {DECISIONS}, got {decision!r}")
+        return replace(self, decision=decision)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"id": self.id, "t_ns": self.t_ns, "decision": self.decision,
+                "trigger": self.trigger.to_dict(), "skew_ns": self.skew_ns,
+                "frames": [f.to_dict() for f in self.frames]}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> FrameSet:
+        decision = str(data.get("decision", "undecided"))
+        if decision not in DECISIONS:
+            decision = "undecided"
+        return cls(int(data["id"]), int(data["t_ns"]), Trigger.from_dict(data["trigger"]),
+                   tuple(FrameChoice.from_dict(f) for f in data.get("frames", ())), decision)
+
+
+@dataclass
+class Session:
+    """Everything a review needs; paths are as given (absolute after loading)."""
+
+    recording: list[str]
+    audio: str | None
+    sync: SyncModel
+    sets: list[FrameSet] = field(default_factory=list)
+    triggers_word: list[str] = field(default_factory=lambda: ["capture"])
+    calibration: dict[str, Any] = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def set_by_id(self, set_id: int) -> FrameSet:
+        for s in self.sets:
+            if s.id == set_id:
+                return s
+        raise KeyError(set_id)
+
+    def replace_set(self, new: FrameSet) -> None:
+        """Put ``new`` in place of the set with the same id."""
+        for i, s in enumerate(self.sets):
+            if s.id == new.id:
+                self.sets[i] = new
+                return
+        raise KeyError(new.id)
+
+    def counts(self) -> dict[str, int]:
+        """How many sets have each decision."""
+        out = dict.fromkeys(DECISIONS, 0)
+        for s in self.sets:
+            out[s.decision] += 1
+        return out

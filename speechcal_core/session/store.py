@@ -1,0 +1,101 @@
+"""Reading and writing SESSION.json (DESIGN.md §3): atomic, with .bak, schema-checked."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+from speechcal_core.errors import SpeechCalError
+from speechcal_core.fsutil import atomic_write_text
+from speechcal_core.session.model import FrameSet, Session
+from speechcal_core.sync.model import SyncModel
+
+SCHEMA = 1
+
+
+class SessionFileError(SpeechCalError):
+    """A session file that cannot be read, or comes from a newer SpeechCal."""
+
+
+def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
+    """The JSON document, ``schema`` first, paths relative to the session file's folder."""
+    base = session_path.absolute().parent
+    return {
+        "schema": SCHEMA,
+        "recording": [_relative(p, base) for p in session.recording],
+        "audio": _relative(session.audio, base) if session.audio else None,
+        "trigger_words": session.triggers_word,
+        "sync": session.sync.to_dict(),
+        "sets": [s.to_dict() for s in session.sets],
+        "calibration": session.calibration,
+        **session.extra,
+    }
+
+
+def save_session(session: Session, path: str | Path) -> None:
+    """Write atomically; the previous version stays as ``<path>.bak``."""
+    path = Path(path)
+    text = json.dumps(session_to_dict(session, path), indent=1, ensure_ascii=False) + "\n"
+    try:
+        atomic_write_text(path, text, keep_backup=True)
+    except OSError as exc:
+        raise SessionFileError(
+            f"{path}: cannot save the session ({exc.strerror}); "
+            "free disk space or choose a writable folder"
+        ) from exc
+
+
+def load_session(path: str | Path) -> Session:
+    """Read a session file; older schemas are migrated, newer ones refused."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise SessionFileError(f"{path}: no such session file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SessionFileError(f"{path}: cannot read the session file ({exc})") from exc
+    except json.JSONDecodeError as exc:
+        bak = path.with_name(path.name + ".bak")
+        hint = f"; the previous version is in {bak.name}" if bak.exists() else ""
+        raise SessionFileError(f"{path}: not valid JSON (line {exc.lineno}){hint}") from exc
+    if not isinstance(data, dict) or "schema" not in data:
+        raise SessionFileError(f"{path}: not a SpeechCal session file (no 'schema' key)")
+    schema = data["schema"]
+    if not isinstance(schema, int) or schema > SCHEMA:
+        raise SessionFileError(
+            f"{path}: written by a newer SpeechCal (schema {schema}, this version reads up to "
+            f"{SCHEMA}); update SpeechCal to open it"
+        )
+    data = _migrate(data)
+    base = path.absolute().parent
+    try:
+        known = {"schema", "recording", "audio", "trigger_words", "sync", "sets", "calibration"}
+        return Session(
+            recording=[str(base / p) for p in data["recording"]],
+            audio=str(base / data["audio"]) if data.get("audio") else None,
+            sync=SyncModel.from_dict(data["sync"]),
+            sets=[FrameSet.from_dict(s) for s in data.get("sets", [])],
+            triggers_word=list(data.get("trigger_words", ["capture"])),
+            calibration=dict(data.get("calibration", {})),
+            extra={k: v for k, v in data.items() if k not in known},
+        )
+    except (KeyError, TypeError, ValueError) as exc:
+        raise SessionFileError(
+            f"{path}: damaged session file ({exc!r} is missing or wrong)"
+        ) from exc
+
+
+def _migrate(data: dict[str, Any]) -> dict[str, Any]:
+    """Bring an older schema up to :data:`SCHEMA` (schema 1 is the first)."""
+    if isinstance(data.get("recording"), str):
+        data["recording"] = [data["recording"]]
+    return data
+
+
+def _relative(path: str, base: Path) -> str:
+    try:
+        return Path(os.path.relpath(Path(path).absolute(), base)).as_posix()
+    except ValueError:  # another drive on Windows
+        return Path(path).absolute().as_posix()

@@ -1,0 +1,84 @@
+"""Session files: round trip, relative paths, .bak, schema checks, clear errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from speechcal_core.session.model import FrameChoice, FrameSet, Session, Trigger
+from speechcal_core.session.store import SCHEMA, SessionFileError, load_session, save_session
+from speechcal_core.sync.model import SyncModel
+
+
+def _session(tmp_path: Path) -> Session:
+    trig = Trigger("capture", 3.20, 3.62, 0.9)
+    frames = (FrameChoice("/cam0/image_raw", 12, 1_000_400_000, 0.8, 144),
+              FrameChoice("/cam1/image_raw", 6, 1_000_410_000, 0.7, 140))
+    return Session(
+        recording=[str(tmp_path / "data" / "rec.bag")],
+        audio=str(tmp_path / "data" / "audio.ogg"),
+        sync=SyncModel(1_000_000_000, 5e-6, "auto"),
+        sets=[FrameSet(1, 1_000_405_000, trig, frames)],
+    )
+
+
+def test_round_trip_keeps_sets_and_decisions(tmp_path: Path) -> None:
+    session = _session(tmp_path)
+    session.replace_set(session.sets[0].with_decision("accepted"))
+    path = tmp_path / "review" / "session.json"
+    path.parent.mkdir()
+    save_session(session, path)
+    loaded = load_session(path)
+    assert loaded.sets == session.sets
+    assert loaded.sync == session.sync
+    assert Path(loaded.recording[0]).resolve() == Path(session.recording[0]).resolve()
+
+
+def test_file_starts_with_schema_and_stores_relative_paths(tmp_path: Path) -> None:
+    path = tmp_path / "session.json"
+    save_session(_session(tmp_path), path)
+    text = path.read_text()
+    assert text.lstrip("{\n ").startswith('"schema"')
+    data = json.loads(text)
+    assert data["schema"] == SCHEMA
+    assert data["recording"] == ["data/rec.bag"]
+    assert data["audio"] == "data/audio.ogg"
+    assert data["sets"][0]["frames"][0]["corners"] == 144
+    assert set(data["sync"]) >= {"offset_ns", "drift"}
+
+
+def test_second_save_keeps_previous_version_as_bak(tmp_path: Path) -> None:
+    path = tmp_path / "session.json"
+    session = _session(tmp_path)
+    save_session(session, path)
+    session.replace_set(session.sets[0].with_decision("rejected"))
+    save_session(session, path)
+    assert json.loads(path.with_name("session.json.bak").read_text())["sets"][0][
+        "decision"] == "undecided"
+    assert load_session(path).sets[0].decision == "rejected"
+
+
+def test_newer_schema_is_refused_with_update_hint(tmp_path: Path) -> None:
+    path = tmp_path / "session.json"
+    save_session(_session(tmp_path), path)
+    data = json.loads(path.read_text())
+    data["schema"] = SCHEMA + 1
+    path.write_text(json.dumps(data))
+    with pytest.raises(SessionFileError, match=r"newer SpeechCal.*update"):
+        load_session(path)
+
+
+def test_broken_json_names_file_and_backup(tmp_path: Path) -> None:
+    path = tmp_path / "session.json"
+    save_session(_session(tmp_path), path)
+    save_session(_session(tmp_path), path)
+    path.write_text('{"schema": 1, "sets": [')
+    with pytest.raises(SessionFileError, match=r"not valid JSON.*session\.json\.bak"):
+        load_session(path)
+
+
+def test_missing_file_is_a_clear_error(tmp_path: Path) -> None:
+    with pytest.raises(SessionFileError, match="no such session file"):
+        load_session(tmp_path / "nope.json")
