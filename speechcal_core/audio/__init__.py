@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from speechcal_core.audio.envelope import EnvelopePyramid
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.loader import Audio, load_audio
 from speechcal_core.audio.resampling import resample
 
-__all__ = ["Audio", "AudioError", "load_audio", "resample"]
+__all__ = ["Audio", "AudioError", "EnvelopePyramid", "load_audio", "resample"]
