@@ -1,0 +1,96 @@
+"""Recording sources: every input kind behind one ``FrameSource`` keyed by header stamp."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from speechcal_core.sources.base import FrameSource, RawFrame, StreamInfo
+from speechcal_core.sources.errors import BadFrameError, SourceError
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from speechcal_core.sources.scan import MessageFile
+
+__all__ = [
+    "BadFrameError",
+    "FrameSource",
+    "RawFrame",
+    "SourceError",
+    "StreamInfo",
+    "open_recording",
+]
+
+VIDEO_SUFFIXES = {".mp4", ".mkv", ".avi", ".mov", ".webm", ".m4v"}
+
+
+def _bag_files(path: Path, scan: bool) -> list[MessageFile]:
+    from speechcal_core.sources.mcap import McapFile
+    from speechcal_core.sources.rosbag1 import Ros1Bag
+    from speechcal_core.sources.rosbag2 import Sqlite3File, ros2_folder_files
+
+    if path.is_dir():
+        return [*ros2_folder_files(path, scan=scan)]
+    suffix = path.suffix.lower()
+    if suffix in (".bag", ".active") or path.name.endswith(".bag.active"):
+        return [Ros1Bag(path, scan=scan)]
+    if suffix == ".db3":
+        return [Sqlite3File(path)]
+    if suffix == ".mcap":
+        return [McapFile(path, scan=scan)]
+    raise SourceError(
+        f"{path.name}: unknown recording kind; expected a ROS1 .bag, a ROS2 bag folder, "
+        ".db3, .mcap, a video file or a folder of <stamp_ns>.png images"
+    )
+
+
+def open_recording(
+    paths: Sequence[str | Path] | str | Path,
+    *,
+    use_cache: bool = True,
+    scan: bool = False,
+    video_start_ns: int | None = None,
+) -> FrameSource:
+    """Open a recording (one or several files) as a ``FrameSource``.
+
+    ``paths``: ROS1 ``.bag`` files, ROS2 bag folders, bare ``.db3``/``.mcap`` files (several
+    are merged by topic), one video file, or one folder of per-camera image folders.
+    ``scan`` recovers unindexed ROS1 bags and truncated MCAP files by walking their chunks.
+    ``video_start_ns`` is the header stamp of a video's first frame (default: a
+    ``<video>.start_ns`` text file beside it, else an integer file name, else 0).
+    """
+    if isinstance(paths, (str, Path)):
+        paths = [paths]
+    items = [Path(p) for p in paths]
+    if not items:
+        raise SourceError("no recording given")
+    for p in items:
+        if not p.exists():
+            raise SourceError(f"{p}: file not found")
+    first = items[0]
+    if len(items) == 1 and first.is_file() and first.suffix.lower() in VIDEO_SUFFIXES:
+        from speechcal_core.sources.video import VideoSource
+
+        return VideoSource(first, start_ns=video_start_ns)
+    if len(items) == 1 and first.is_dir() and not _is_ros2_folder(first):
+        from speechcal_core.sources.image_folder import ImageFolderSource
+
+        return ImageFolderSource(first)
+    from speechcal_core.sources.bag_source import BagSource
+
+    files: list[MessageFile] = []
+    try:
+        for p in items:
+            files.extend(_bag_files(p, scan))
+    except BaseException:
+        for f in files:
+            f.close()
+        raise
+    return BagSource(files, use_cache=use_cache)
+
+
+def _is_ros2_folder(path: Path) -> bool:
+    return (path / "metadata.yaml").is_file() or any(
+        p.suffix in (".db3", ".mcap") for p in path.iterdir()
+    )

@@ -1,0 +1,253 @@
+"""A ``FrameSource`` over one or more bag files, merging topics of the same name."""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from speechcal_core.sources import index_cache
+from speechcal_core.sources.base import COMPRESSED_MSGTYPE, RawFrame, StreamInfo
+from speechcal_core.sources.decode import (
+    compressed_kind,
+    decode_compressed,
+    decode_raw,
+    raw_size_problem,
+)
+from speechcal_core.sources.errors import BadFrameError, SourceError
+from speechcal_core.sources.msgparse import ImageMsg, parse_image
+from speechcal_core.sources.stats import nearest_index, stamp_stats
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+    from types import TracebackType
+
+    from speechcal_core.sources.scan import FileScan, MessageFile, TopicScan
+
+_MAX_VERIFY = 2000
+
+
+@dataclass
+class _Stream:
+    info: StreamInfo
+    compressed: bool
+    serialization: str
+    connection: dict[str, str]
+    stamps: np.ndarray
+    log_times: np.ndarray
+    files: np.ndarray
+    offsets: np.ndarray
+    chunks: np.ndarray
+    sizes: np.ndarray
+
+
+def fill_meta(t: TopicScan, f: MessageFile) -> None:
+    """Encoding and resolution of a topic from its first readable message."""
+    compressed = t.msgtype == COMPRESSED_MSGTYPE
+    cdr = t.serialization == "cdr"
+    for k in range(min(len(t.stamps), 5)):
+        off, chunk, size = int(t.offsets[k]), int(t.chunks[k]), int(t.sizes[k])
+        try:
+            if not compressed:
+                msg = parse_image(f.read(off, chunk, min(size, 4096)), cdr, False, header_only=True)
+                t.encoding, t.width, t.height = msg.encoding, msg.width, msg.height
+                return
+            msg = parse_image(f.read(off, chunk, size), cdr, True)
+            img = decode_compressed(msg.data)
+            t.encoding = compressed_kind(msg.encoding, msg.data)
+            t.height, t.width = img.shape[:2]
+            return
+        except BadFrameError:
+            continue
+
+
+class BagSource:
+    """Image topics of bag files (ROS1, ROS2 sqlite3, MCAP) keyed by header stamp."""
+
+    def __init__(self, files: Sequence[MessageFile], *, use_cache: bool = True) -> None:
+        self._files = list(files)
+        self._lock = threading.Lock()
+        self._bad: dict[str, set[int]] = {}
+        self.notes: list[str] = []
+        scans: list[FileScan] = []
+        try:
+            for f in self._files:
+                scan = index_cache.load(f.path) if use_cache else None
+                if scan is None:
+                    scan = f.scan()
+                    f.attach(scan)
+                    for t in scan.topics:
+                        fill_meta(t, f)
+                    index_cache.save(f.path, scan)
+                else:
+                    f.attach(scan)
+                scans.append(scan)
+                self.notes.extend(scan.notes)
+            self._streams = self._merge(scans)
+        except BaseException:
+            self.close()
+            raise
+        if not self._streams:
+            names = ", ".join(f.path.name for f in self._files)
+            others = sorted({o for s in scans for o in s.other_topics})
+            found = f" (found: {', '.join(others[:8])})" if others else ""
+            self.close()
+            raise SourceError(
+                f"{names}: no sensor_msgs/Image or CompressedImage topics{found}; "
+                "record the camera image topics"
+            )
+
+    # -- building ------------------------------------------------------------------------
+
+    def _merge(self, scans: list[FileScan]) -> dict[str, _Stream]:
+        by_topic: dict[str, list[tuple[int, TopicScan]]] = {}
+        for fi, scan in enumerate(scans):
+            for t in scan.topics:
+                by_topic.setdefault(t.topic, []).append((fi, t))
+        streams: dict[str, _Stream] = {}
+        for topic in sorted(by_topic):
+            parts = by_topic[topic]
+            first = next((t for _, t in parts if t.encoding), parts[0][1])
+
+            def cat(name: str, parts: list[tuple[int, TopicScan]] = parts) -> np.ndarray:
+                return np.concatenate([getattr(t, name) for _, t in parts])
+
+            files = np.concatenate([np.full(len(t.stamps), fi, np.int32) for fi, t in parts])
+            st = stamp_stats([t.stamps for _, t in parts])
+            o = st.order
+            s = _Stream(
+                info=StreamInfo(
+                    name=topic,
+                    msgtype=first.msgtype,
+                    encoding=first.encoding,
+                    width=first.width,
+                    height=first.height,
+                    count=int(st.stamps.size),
+                    first_ns=int(st.stamps[0]) if st.stamps.size else 0,
+                    last_ns=int(st.stamps[-1]) if st.stamps.size else 0,
+                    median_period_ns=st.median_period_ns,
+                    nominal_rate_hz=st.nominal_rate_hz,
+                    dropped=st.dropped,
+                    stamp_problems=st.problems,
+                ),
+                compressed=first.msgtype == COMPRESSED_MSGTYPE,
+                serialization=first.serialization,
+                connection=dict(first.connection),
+                stamps=st.stamps,
+                log_times=cat("log_times")[o],
+                files=files[o],
+                offsets=cat("offsets")[o],
+                chunks=cat("chunks")[o],
+                sizes=cat("sizes")[o],
+            )
+            self._bad[topic] = self._wrong_size_frames(s)
+            streams[topic] = s
+        return streams
+
+    def _wrong_size_frames(self, s: _Stream) -> set[int]:
+        """Raw frames whose message size differs from the usual one and cannot hold the image."""
+        if s.compressed or s.sizes.size == 0:
+            return set()
+        values, counts = np.unique(s.sizes, return_counts=True)
+        usual = values[np.argmax(counts)]
+        candidates = np.flatnonzero(s.sizes != usual)[:_MAX_VERIFY]
+        usual_first = np.flatnonzero(s.sizes == usual)[:1]
+        bad: set[int] = set()
+        for i in np.concatenate([usual_first, candidates]):
+            try:
+                msg = self._message(s, int(i))
+                if raw_size_problem(len(msg.data), msg.encoding, msg.width, msg.height, msg.step):
+                    bad.add(int(i))
+            except BadFrameError:
+                bad.add(int(i))
+        return bad
+
+    # -- FrameSource ---------------------------------------------------------------------
+
+    @property
+    def streams(self) -> list[StreamInfo]:
+        """One entry per image topic, sorted by name."""
+        with self._lock:
+            return [
+                replace(s.info, bad_frames=tuple(sorted(self._bad.get(name, ()))))
+                for name, s in self._streams.items()
+            ]
+
+    def _stream(self, stream: str) -> _Stream:
+        try:
+            return self._streams[stream]
+        except KeyError:
+            known = ", ".join(self._streams)
+            msg = f"no stream {stream!r} in this recording (streams: {known})"
+            raise SourceError(msg) from None
+
+    def stamps(self, stream: str) -> np.ndarray:
+        """Sorted int64 header stamps."""
+        return self._stream(stream).stamps
+
+    def nearest(self, stream: str, t_ns: int) -> int:
+        """Index of the nearest header stamp."""
+        return nearest_index(self._stream(stream).stamps, t_ns)
+
+    def _read(self, s: _Stream, i: int) -> bytes:
+        if not 0 <= i < s.stamps.size:
+            raise IndexError(f"{s.info.name}: frame {i} out of range 0..{s.stamps.size - 1}")
+        f = self._files[int(s.files[i])]
+        return f.read(int(s.offsets[i]), int(s.chunks[i]), int(s.sizes[i]))
+
+    def _message(self, s: _Stream, i: int) -> ImageMsg:
+        return parse_image(self._read(s, i), s.serialization == "cdr", s.compressed)
+
+    def _where(self, s: _Stream, i: int) -> str:
+        name = self._files[int(s.files[i])].path.name
+        return f"{name}: {s.info.name} frame {i} (stamp {int(s.stamps[i])})"
+
+    def frame(self, stream: str, i: int) -> np.ndarray:
+        """Decoded frame i; ``BadFrameError`` (and the frame marked bad) if it is damaged."""
+        s = self._stream(stream)
+        try:
+            msg = self._message(s, i)
+            if s.compressed:
+                return decode_compressed(msg.data)
+            return decode_raw(
+                msg.data, msg.encoding, msg.width, msg.height, msg.step, msg.is_bigendian
+            )
+        except BadFrameError as exc:
+            with self._lock:
+                self._bad.setdefault(stream, set()).add(i)
+            raise BadFrameError(f"{self._where(s, i)}: {exc}; frame marked bad") from None
+        except SourceError as exc:
+            raise SourceError(f"{self._where(s, i)}: {exc}") from None
+
+    def raw(self, stream: str, i: int) -> RawFrame:
+        """The serialized message, as stored, with its connection details."""
+        s = self._stream(stream)
+        return RawFrame(
+            stream=stream,
+            msgtype=s.info.msgtype,
+            rawdata=self._read(s, i),
+            serialization=s.serialization,
+            stamp_ns=int(s.stamps[i]),
+            log_time_ns=int(s.log_times[i]),
+            width=s.info.width,
+            height=s.info.height,
+            connection=dict(s.connection),
+        )
+
+    def close(self) -> None:
+        """Close every file."""
+        for f in self._files:
+            f.close()
+
+    def __enter__(self) -> BagSource:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()

@@ -1,0 +1,143 @@
+"""Positional reads, chunk decompression and a small decompressed-chunk cache for bag files."""
+
+from __future__ import annotations
+
+import bz2
+import os
+import threading
+from collections import OrderedDict
+from pathlib import Path
+
+from speechcal_core.sources.errors import SourceError
+from speechcal_core.sources.scan import FileScan
+
+
+def _lz4(data: bytes, size: int) -> bytes:
+    import lz4.frame
+
+    return bytes(lz4.frame.decompress(data))
+
+
+def _zstd(data: bytes, size: int) -> bytes:
+    try:
+        from compression import zstd  # type: ignore[import-not-found]
+    except ImportError:
+        from backports import zstd  # type: ignore[no-redef]
+    return bytes(zstd.decompress(data))
+
+
+def _bz2(data: bytes, size: int) -> bytes:
+    return bz2.decompress(data)
+
+
+DECOMPRESSORS = {"bz2": _bz2, "lz4": _lz4, "zstd": _zstd}
+
+
+def decompress(name: str, compression: str, data: bytes, size: int) -> bytes:
+    """Decompress one chunk; ``SourceError`` naming the file when it is damaged."""
+    if compression not in DECOMPRESSORS:
+        raise SourceError(f"{name}: unsupported chunk compression {compression!r}")
+    try:
+        out = DECOMPRESSORS[compression](data, size)
+    except Exception as exc:  # each codec has its own error type
+        raise SourceError(f"{name}: a {compression} chunk is damaged ({exc})") from None
+    if size and len(out) != size:
+        raise SourceError(f"{name}: a {compression} chunk has {len(out)} bytes, expected {size}")
+    return out
+
+
+class PFile:
+    """A file read by position (``os.pread``), with a lock and an LRU of decompressed chunks."""
+
+    def __init__(self, path: Path, *, chunk_cache: int = 3) -> None:
+        self.path = Path(path)
+        self.name = self.path.name
+        try:
+            self.fd = os.open(self.path, os.O_RDONLY)
+        except FileNotFoundError:
+            raise SourceError(f"{self.path}: file not found") from None
+        except OSError as exc:
+            raise SourceError(f"{self.path}: cannot open ({exc.strerror})") from None
+        self.size = os.fstat(self.fd).st_size
+        self.lock = threading.Lock()
+        self._chunks: OrderedDict[int, bytes] = OrderedDict()
+        self._chunk_cache = chunk_cache
+        self.scan_result: FileScan | None = None
+
+    def advise_random(self) -> None:
+        """Tell the kernel not to read ahead: the index reads a few bytes here and there."""
+        if hasattr(os, "posix_fadvise"):
+            os.posix_fadvise(self.fd, 0, 0, os.POSIX_FADV_RANDOM)
+
+    def advise_normal(self) -> None:
+        """Back to default read-ahead for frame reads."""
+        if hasattr(os, "posix_fadvise"):
+            os.posix_fadvise(self.fd, 0, 0, os.POSIX_FADV_NORMAL)
+
+    def pread(self, pos: int, n: int) -> bytes:
+        """Exactly n bytes at pos, or ``SourceError`` when the file ends first."""
+        data = os.pread(self.fd, n, pos)
+        if len(data) != n:
+            raise SourceError(
+                f"{self.name}: file ends at byte {self.size} inside a record at {pos}; "
+                "it is truncated"
+            )
+        return data
+
+    def chunk(self, key: int) -> bytes:
+        """Decompressed chunk ``key`` of the attached index (cached)."""
+        data = self._chunks.get(key)
+        if data is not None:
+            self._chunks.move_to_end(key)
+            return data
+        assert self.scan_result is not None
+        start, length, usize = (int(v) for v in self.scan_result.chunk_table[key])
+        comp = self.scan_result.chunk_compression[key]
+        data = decompress(self.name, comp, self.pread(start, length), usize)
+        self._chunks[key] = data
+        while len(self._chunks) > self._chunk_cache:
+            self._chunks.popitem(last=False)
+        return data
+
+    def read(self, offset: int, chunk: int, size: int) -> bytes:
+        """Message bytes at a location: direct (chunk -1) or inside a compressed chunk."""
+        with self.lock:
+            if chunk < 0:
+                return self.pread(offset, size)
+            data = self.chunk(chunk)
+            if offset + size > len(data):
+                raise SourceError(f"{self.name}: message runs past its chunk; file is damaged")
+            return data[offset : offset + size]
+
+    def attach(self, scan: FileScan) -> None:
+        """Use this index for reads."""
+        self.scan_result = scan
+
+    def close(self) -> None:
+        """Close the descriptor."""
+        with self.lock:
+            if self.fd >= 0:
+                os.close(self.fd)
+                self.fd = -1
+            self._chunks.clear()
+
+
+class Window:
+    """Small buffered reads at increasing positions: one syscall per record header."""
+
+    def __init__(self, f: PFile, block: int = 4096) -> None:
+        self.f = f
+        self.block = block
+        self.start = 0
+        self.buf = b""
+
+    def get(self, pos: int, n: int) -> bytes | None:
+        """n bytes at pos, or None when the file ends first."""
+        off = pos - self.start
+        if off < 0 or off + n > len(self.buf):
+            self.start = pos
+            self.buf = os.pread(self.f.fd, max(n, self.block), pos)
+            off = 0
+            if len(self.buf) < n:
+                return None
+        return self.buf[off : off + n]

@@ -1,0 +1,196 @@
+"""MCAP files (ROS2 profile, none/lz4/zstd chunks): index stamps reading only record heads."""
+
+from __future__ import annotations
+
+import struct
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from speechcal_core.sources.errors import SourceError
+from speechcal_core.sources.filebase import PFile, Window, decompress
+from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_cdr
+from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+MAGIC = b"\x89MCAP0\r\n"
+OP_SCHEMA, OP_CHANNEL, OP_MESSAGE, OP_CHUNK, OP_DATA_END, OP_FOOTER = 3, 4, 5, 6, 0x0F, 2
+_OPLEN = struct.Struct("<BQ")
+_MSG = struct.Struct("<HIQQ")
+_U16 = struct.Struct("<H")
+_U32 = struct.Struct("<I")
+_CHUNK = struct.Struct("<QQQI")
+
+
+class _Buf:
+    """Cursor over one record's content."""
+
+    def __init__(self, data: bytes) -> None:
+        self.data = data
+        self.pos = 0
+
+    def u16(self) -> int:
+        (v,) = _U16.unpack_from(self.data, self.pos)
+        self.pos += 2
+        return v
+
+    def u32(self) -> int:
+        (v,) = _U32.unpack_from(self.data, self.pos)
+        self.pos += 4
+        return v
+
+    def string(self) -> str:
+        n = self.u32()
+        s = self.data[self.pos : self.pos + n].decode("utf-8", "replace")
+        self.pos += n
+        return s
+
+    def strmap(self) -> dict[str, str]:
+        end = self.pos + 4 + self.u32()
+        out: dict[str, str] = {}
+        while self.pos < end:
+            key = self.string()
+            out[key] = self.string()
+        return out
+
+
+class McapFile:
+    """One MCAP file; ``scan`` indexes its image channels, ``read`` fetches a message."""
+
+    def __init__(self, path: Path, *, scan: bool = False) -> None:
+        self.path = Path(path)
+        self.allow_scan = scan
+        self.f = PFile(self.path)
+        self.name = self.f.name
+        if self.f.size < 8 or self.f.pread(0, 8) != MAGIC:
+            self.f.close()
+            raise SourceError(f"{self.name}: not an MCAP file (magic missing)")
+        self.truncated = self.f.size < 16 or self.f.pread(self.f.size - 8, 8) != MAGIC
+        if self.truncated and not scan:
+            self.f.close()
+            raise SourceError(
+                f"{self.name}: MCAP file is truncated (no footer; recording was interrupted); "
+                f"open it with --scan to read the complete chunks, or run "
+                f"`mcap recover {self.name} -o fixed.mcap`"
+            )
+        self.schemas: dict[int, tuple[str, str]] = {}
+        self.channels: dict[int, dict[str, str]] = {}
+
+    def attach(self, scan: FileScan) -> None:
+        """Use an index for reads."""
+        self.f.attach(scan)
+
+    def read(self, offset: int, chunk: int, size: int) -> bytes:
+        """Message bytes at a location from the index."""
+        return self.f.read(offset, chunk, size)
+
+    def close(self) -> None:
+        """Close the file."""
+        self.f.close()
+
+    def scan(self) -> FileScan:
+        """Walk the data section, reading only record heads in uncompressed chunks."""
+        self.f.advise_random()
+        result = FileScan(topics=[])
+        collectors: dict[int, TopicCollector] = {}
+        try:
+            self._walk(Window(self.f).get, 8, self.f.size, -1, collectors, result, top=True)
+        finally:
+            self.f.advise_normal()
+        if self.truncated:
+            result.notes.append(f"{self.name}: truncated; read the complete chunks only")
+        result.other_topics = sorted(
+            f"{c['topic']} [{c['source_msgtype']}]"
+            for cid, c in self.channels.items()
+            if cid not in collectors
+        )
+        result.topics = [c.finish() for c in collectors.values() if c.rows]
+        return result
+
+    def _channel(self, content: bytes, collectors: dict[int, TopicCollector]) -> None:
+        b = _Buf(content)
+        cid, sid = b.u16(), b.u16()
+        topic, encoding = b.string(), b.string()
+        meta = b.strmap()
+        name, msgdef = self.schemas.get(sid, ("", ""))
+        conn = {
+            "topic": topic,
+            "source_msgtype": name,
+            "msgdef": msgdef,
+            "offered_qos_profiles": meta.get("offered_qos_profiles", ""),
+        }
+        self.channels[cid] = conn
+        kind = image_msgtype(name)
+        if kind is not None and encoding == "cdr" and cid not in collectors:
+            collectors[cid] = TopicCollector(TopicScan(topic, kind, "cdr", conn))
+
+    def _walk(
+        self,
+        get: Callable[[int, int], bytes | None],
+        pos: int,
+        end: int,
+        chunk: int,
+        collectors: dict[int, TopicCollector],
+        result: FileScan,
+        *,
+        top: bool,
+    ) -> None:
+        while pos + 9 <= end:
+            head = get(pos, 9 + 22 + STAMP_PREFIX) or get(pos, 9)
+            if head is None:
+                break
+            op, length = _OPLEN.unpack_from(head)
+            body = pos + 9
+            if body + length > end:
+                if top:
+                    result.notes.append(f"{self.name}: last record cut off at byte {pos}")
+                break
+            if op == OP_MESSAGE:
+                if len(head) >= 9 + 22 + STAMP_PREFIX and length >= 22 + STAMP_PREFIX:
+                    cid, _seq, log_time, _pub = _MSG.unpack_from(head, 9)
+                    col = collectors.get(cid)
+                    if col is not None:
+                        stamp = stamp_cdr(head[9 + 22 :])
+                        col.add(stamp, log_time, body + 22, chunk, length - 22)
+            elif op in (OP_SCHEMA, OP_CHANNEL):
+                content = get(body, length)
+                if content is None:
+                    break
+                b = _Buf(content)
+                if op == OP_SCHEMA:
+                    sid = b.u16()
+                    name, _enc = b.string(), b.string()
+                    self.schemas[sid] = (name, b.string())
+                else:
+                    self._channel(content, collectors)
+            elif op == OP_CHUNK and top:
+                self._chunk(body, length, collectors, result)
+            elif op in (OP_DATA_END, OP_FOOTER) and top:
+                break
+            pos = body + length
+
+    def _chunk(
+        self, body: int, length: int, collectors: dict[int, TopicCollector], result: FileScan
+    ) -> None:
+        head = self.f.pread(body, min(length, 28 + 4 + 64))
+        _start, _end, usize, _crc = _CHUNK.unpack_from(head)
+        (clen,) = _U32.unpack_from(head, 28)
+        compression = head[32 : 32 + clen].decode()
+        rstart = body + 32 + clen + 8
+        (rlen,) = struct.unpack("<Q", self.f.pread(rstart - 8, 8))
+        if compression == "":
+            self._walk(Window(self.f).get, rstart, rstart + rlen, -1, collectors, result, top=False)
+            return
+        data = decompress(self.name, compression, self.f.pread(rstart, rlen), usize)
+        key = len(result.chunk_compression)
+        result.chunk_compression.append(compression)
+        row = np.array([[rstart, rlen, usize]], np.int64)
+        result.chunk_table = np.concatenate([result.chunk_table, row])
+
+        def get(pos: int, n: int) -> bytes | None:
+            return data[pos : pos + n] if pos + n <= len(data) else None
+
+        self._walk(get, 0, len(data), key, collectors, result, top=False)

@@ -1,0 +1,292 @@
+"""ROS1 bags (v2.0, none/bz2/lz4 chunks): index header stamps reading only record headers."""
+
+from __future__ import annotations
+
+import struct
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from speechcal_core.sources.errors import SourceError
+from speechcal_core.sources.filebase import PFile, Window, decompress
+from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_ros1
+from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+MAGIC = b"#ROSBAG V2.0\n"
+OP_MSG, OP_BAGHEADER, OP_INDEX, OP_CHUNK, OP_CHUNKINFO, OP_CONN = 2, 3, 4, 5, 6, 7
+_U32 = struct.Struct("<I")
+_U64 = struct.Struct("<Q")
+_TIME = struct.Struct("<II")
+
+
+def parse_fields(buf: bytes | memoryview) -> dict[str, bytes]:
+    """A ROS1 record header (or connection data): ``len name=value`` fields."""
+    fields: dict[str, bytes] = {}
+    pos, end = 0, len(buf)
+    while pos + 4 <= end:
+        (n,) = _U32.unpack_from(buf, pos)
+        pos += 4
+        if n > end - pos:
+            raise ValueError("field runs past the header")
+        item = bytes(buf[pos : pos + n])
+        pos += n
+        name, sep, value = item.partition(b"=")
+        if sep:
+            fields[name.decode("ascii", "replace")] = value
+    return fields
+
+
+def _u32(fields: dict[str, bytes], key: str) -> int:
+    return _U32.unpack(fields[key][:4])[0]
+
+
+def _time(value: bytes) -> int:
+    sec, nsec = _TIME.unpack(value[:8])
+    return sec * 1_000_000_000 + nsec
+
+
+class _Reader:
+    """Reads records from the file (``Window``) or from a decompressed chunk (bytes)."""
+
+    def __init__(self, get: Callable[[int, int], bytes | None]) -> None:
+        self.get = get
+
+    def record(self, pos: int) -> tuple[dict[str, bytes], int, int] | None:
+        """(header fields, data position, data length) of the record at pos, None if cut."""
+        head = self.get(pos, 4)
+        if head is None:
+            return None
+        (hlen,) = _U32.unpack(head)
+        if hlen > 1 << 24:
+            raise ValueError(f"implausible record header length {hlen} at byte {pos}")
+        raw = self.get(pos + 4, hlen + 4)
+        if raw is None:
+            return None
+        fields = parse_fields(raw[:hlen])
+        (dlen,) = _U32.unpack_from(raw, hlen)
+        return fields, pos + 8 + hlen, dlen
+
+
+class Ros1Bag:
+    """One ROS1 bag file; ``scan`` indexes its image topics, ``read`` fetches a message."""
+
+    def __init__(self, path: Path, *, scan: bool = False) -> None:
+        self.path = Path(path)
+        self.allow_scan = scan
+        self.f = PFile(self.path)
+        self.name = self.f.name
+        try:
+            head = self.f.pread(0, len(MAGIC))
+        except SourceError:
+            head = b""
+        if head != MAGIC:
+            self.f.close()
+            raise SourceError(f"{self.name}: not a ROS1 bag (v2.0 magic missing)")
+        rec = _Reader(Window(self.f).get).record(len(MAGIC))
+        if rec is None or rec[0].get("op") != bytes([OP_BAGHEADER]):
+            self.f.close()
+            raise SourceError(f"{self.name}: ROS1 bag header is damaged")
+        fields, dpos, dlen = rec
+        self.index_pos = _U64.unpack(fields["index_pos"][:8])[0]
+        self.first_record = dpos + dlen
+        self.conns: dict[int, dict[str, str]] = {}
+        self.chunk_infos: list[tuple[int, set[int]]] = []
+
+    # -- reading -----------------------------------------------------------------------
+
+    def attach(self, scan: FileScan) -> None:
+        """Use an index for reads."""
+        self.f.attach(scan)
+        self.f.advise_normal()
+
+    def read(self, offset: int, chunk: int, size: int) -> bytes:
+        """Message bytes at a location from the index."""
+        return self.f.read(offset, chunk, size)
+
+    def close(self) -> None:
+        """Close the file."""
+        self.f.close()
+
+    # -- indexing ----------------------------------------------------------------------
+
+    def _unindexed(self, why: str) -> SourceError:
+        return SourceError(
+            f"{self.name}: ROS1 bag is not indexed ({why}; recording was interrupted); "
+            f"run `rosbag reindex {self.name}` or open it with --scan"
+        )
+
+    def _add_conn(self, cid: int, data: bytes | memoryview, topic: str) -> None:
+        f = parse_fields(data)
+        self.conns[cid] = {
+            "topic": f.get("topic", topic.encode()).decode(),
+            "source_msgtype": f.get("type", b"").decode(),
+            "md5sum": f.get("md5sum", b"").decode(),
+            "msgdef": f.get("message_definition", b"").decode("utf-8", "replace"),
+            "callerid": f.get("callerid", b"").decode(),
+            "latching": f.get("latching", b"0").decode() or "0",
+        }
+
+    def _read_index_section(self) -> bool:
+        """Connections and chunk infos from the index at the end; False if unusable."""
+        if self.index_pos < self.first_record or self.index_pos >= self.f.size:
+            return False
+        reader = _Reader(Window(self.f, 65536).get)
+        pos = self.index_pos
+        try:
+            while pos < self.f.size:
+                rec = reader.record(pos)
+                if rec is None:
+                    return False
+                fields, dpos, dlen = rec
+                op = fields.get("op", b"\0")[0]
+                if op == OP_CONN:
+                    data = self.f.pread(dpos, dlen)
+                    self._add_conn(_u32(fields, "conn"), data, fields.get("topic", b"").decode())
+                elif op == OP_CHUNKINFO:
+                    data = self.f.pread(dpos, dlen)
+                    ids = {_U32.unpack_from(data, k)[0] for k in range(0, len(data) - 7, 8)}
+                    self.chunk_infos.append((_U64.unpack(fields["chunk_pos"][:8])[0], ids))
+                pos = dpos + dlen
+        except (ValueError, KeyError, struct.error, SourceError):
+            return False
+        return bool(self.conns) or not self.chunk_infos
+
+    def scan(self) -> FileScan:
+        """Index the image topics; unindexed bags need ``scan=True``."""
+        self.f.advise_random()
+        result = FileScan(topics=[])
+        collectors: dict[int, TopicCollector] = {}
+        indexed = self._read_index_section()
+        try:
+            if indexed:
+                self._make_collectors(collectors)
+                wanted = set(collectors)
+                for chunk_pos, ids in sorted(self.chunk_infos):
+                    if ids & wanted:
+                        self._walk_chunk(chunk_pos, collectors, result, learn=False)
+            else:
+                why = "no index section" if self.index_pos == 0 else "index section missing"
+                if not self.allow_scan:
+                    raise self._unindexed(why)
+                self._scan_all(collectors, result)
+                result.notes.append(f"{self.name}: {why}; recovered by scanning the chunks")
+        finally:
+            self.f.advise_normal()
+        result.other_topics = sorted(
+            f"{c['topic']} [{c['source_msgtype']}]"
+            for c in self.conns.values()
+            if image_msgtype(c["source_msgtype"]) is None
+        )
+        result.topics = [c.finish() for c in collectors.values() if c.rows]
+        return result
+
+    def _make_collectors(self, collectors: dict[int, TopicCollector]) -> None:
+        for cid, conn in self.conns.items():
+            if cid in collectors:
+                continue
+            msgtype = image_msgtype(conn["source_msgtype"])
+            if msgtype is not None:
+                collectors[cid] = TopicCollector(
+                    TopicScan(conn["topic"], msgtype, "ros1", dict(conn))
+                )
+
+    def _scan_all(self, collectors: dict[int, TopicCollector], result: FileScan) -> None:
+        reader = _Reader(Window(self.f).get)
+        pos = self.first_record
+        while pos < self.f.size:
+            try:
+                rec = reader.record(pos)
+            except (ValueError, struct.error):
+                rec = None
+            if rec is None:
+                result.notes.append(f"{self.name}: records end early at byte {pos} (truncated)")
+                return
+            fields, dpos, dlen = rec
+            op = fields.get("op", b"\0")[0]
+            if op == OP_CHUNK:
+                self._walk_chunk(pos, collectors, result, learn=True)
+            elif op == OP_CONN and dpos + dlen <= self.f.size:
+                cid = _u32(fields, "conn")
+                self._add_conn(cid, self.f.pread(dpos, dlen), fields.get("topic", b"").decode())
+                self._make_collectors(collectors)
+            pos = dpos + dlen
+
+    def _walk_chunk(
+        self,
+        chunk_pos: int,
+        collectors: dict[int, TopicCollector],
+        result: FileScan,
+        *,
+        learn: bool,
+    ) -> None:
+        window = Window(self.f)
+        try:
+            rec = _Reader(window.get).record(chunk_pos)
+        except (ValueError, struct.error):
+            rec = None
+        if rec is None or rec[0].get("op") != bytes([OP_CHUNK]):
+            raise SourceError(
+                f"{self.name}: chunk at byte {chunk_pos} is damaged; "
+                f"run `rosbag reindex {self.name}` or open it with --scan"
+            )
+        fields, dpos, dlen = rec
+        compression = fields.get("compression", b"none").decode()
+        usize = _u32(fields, "size")
+        truncated = dpos + dlen > self.f.size
+        if compression == "none":
+            self._walk_records(_Reader(window.get), dpos, dpos + dlen, -1, collectors, learn)
+        elif truncated:
+            result.notes.append(f"{self.name}: last {compression} chunk is cut off; skipped")
+            return
+        else:
+            data = decompress(self.name, compression, self.f.pread(dpos, dlen), usize)
+            key = len(result.chunk_compression)
+            result.chunk_compression.append(compression)
+            row = np.array([[dpos, dlen, usize]], np.int64)
+            result.chunk_table = np.concatenate([result.chunk_table, row])
+            mem = memoryview(data)
+
+            def get(pos: int, n: int) -> bytes | None:
+                return bytes(mem[pos : pos + n]) if pos + n <= len(mem) else None
+
+            self._walk_records(_Reader(get), 0, len(data), key, collectors, learn)
+
+    def _walk_records(
+        self,
+        reader: _Reader,
+        start: int,
+        end: int,
+        chunk: int,
+        collectors: dict[int, TopicCollector],
+        learn: bool,
+    ) -> None:
+        pos = start
+        while pos < end:
+            try:
+                rec = reader.record(pos)
+            except (ValueError, struct.error):
+                return
+            if rec is None:
+                return
+            fields, dpos, dlen = rec
+            op = fields.get("op", b"\0")[0]
+            if op == OP_MSG:
+                col = collectors.get(_u32(fields, "conn"))
+                if col is not None:
+                    head = reader.get(dpos, STAMP_PREFIX) if dlen >= STAMP_PREFIX else None
+                    if head is None or dpos + dlen > (end if chunk >= 0 else self.f.size):
+                        return  # cut off by truncation
+                    col.add(stamp_ros1(head), _time(fields["time"]), dpos, chunk, dlen)
+            elif op == OP_CONN and learn:
+                cid = _u32(fields, "conn")
+                if cid not in self.conns:
+                    data = reader.get(dpos, dlen)
+                    if data is None:
+                        return
+                    self._add_conn(cid, data, fields.get("topic", b"").decode())
+                    self._make_collectors(collectors)
+            pos = dpos + dlen

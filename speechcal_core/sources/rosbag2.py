@@ -1,0 +1,135 @@
+"""ROS2 bags: sqlite3 storage (stamps read from a 12-byte blob prefix) and bag folders."""
+
+from __future__ import annotations
+
+import sqlite3
+import threading
+from pathlib import Path
+from typing import TYPE_CHECKING
+from urllib.parse import quote
+
+from speechcal_core.sources.errors import SourceError
+from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_cdr
+from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
+
+if TYPE_CHECKING:
+    from speechcal_core.sources.scan import MessageFile
+
+
+def ros2_folder_files(folder: Path, *, scan: bool = False) -> list[MessageFile]:
+    """The storage files of a ROS2 bag folder (split bags give several), in name order."""
+    from speechcal_core.sources.mcap import McapFile
+
+    files = sorted(p for p in folder.iterdir() if p.suffix in (".db3", ".mcap"))
+    if not files:
+        zst = [p.name for p in folder.iterdir() if p.name.endswith((".zstd", ".zst"))]
+        if zst:
+            raise SourceError(
+                f"{folder.name}: bag files are zstd-compressed ({zst[0]}); "
+                "decompress them first (`ros2 bag decompress` or `zstd -d`)"
+            )
+        raise SourceError(f"{folder.name}: no .db3 or .mcap files in this ROS2 bag folder")
+    out: list[MessageFile] = []
+    try:
+        for p in files:
+            out.append(Sqlite3File(p) if p.suffix == ".db3" else McapFile(p, scan=scan))
+    except BaseException:
+        for f in out:
+            f.close()
+        raise
+    return out
+
+
+class Sqlite3File:
+    """One rosbag2 ``.db3`` file; the index reads only each blob's first bytes."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = Path(path)
+        self.name = self.path.name
+        if not self.path.is_file():
+            raise SourceError(f"{self.path}: file not found")
+        uri = f"file:{quote(str(self.path.resolve()))}?mode=ro&immutable=1"
+        try:
+            self.con = sqlite3.connect(uri, uri=True, check_same_thread=False)
+            self.con.execute("SELECT count(*) FROM sqlite_master").fetchone()
+        except sqlite3.DatabaseError as exc:
+            raise SourceError(f"{self.name}: not a readable rosbag2 sqlite3 file ({exc})") from None
+        self.lock = threading.Lock()
+
+    def _err(self, exc: Exception) -> SourceError:
+        return SourceError(
+            f"{self.name}: sqlite3 database is damaged ({exc}); "
+            f"try `sqlite3 {self.name} .recover | sqlite3 fixed.db3`"
+        )
+
+    def scan(self) -> FileScan:
+        """Index the image topics."""
+        with self.lock:
+            try:
+                return self._scan()
+            except sqlite3.DatabaseError as exc:
+                raise self._err(exc) from None
+
+    def _scan(self) -> FileScan:
+        con = self.con
+        tables = {r[0] for r in con.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+        if not {"topics", "messages"} <= tables:
+            raise SourceError(f"{self.name}: not a rosbag2 file (no topics/messages tables)")
+        cols = {r[1] for r in con.execute("PRAGMA table_info(topics)")}
+        qos = "offered_qos_profiles" if "offered_qos_profiles" in cols else "''"
+        defs: dict[str, str] = {}
+        if "message_definitions" in tables:
+            sql = "SELECT topic_type, encoded_message_definition FROM message_definitions"
+            defs = dict(con.execute(sql))
+        result = FileScan(topics=[])
+        rows = con.execute(f"SELECT id, name, type, serialization_format, {qos} FROM topics")
+        for tid, name, msgtype, fmt, qos_text in rows.fetchall():
+            kind = image_msgtype(msgtype)
+            if kind is None or fmt != "cdr":
+                result.other_topics.append(f"{name} [{msgtype}]")
+                continue
+            conn = {
+                "source_msgtype": msgtype,
+                "msgdef": defs.get(msgtype, ""),
+                "offered_qos_profiles": qos_text or "",
+            }
+            col = TopicCollector(TopicScan(name, kind, "cdr", conn))
+            msgs = con.execute(
+                "SELECT id, timestamp, length(data) FROM messages WHERE topic_id=? ORDER BY id",
+                (tid,),
+            ).fetchall()
+            for rowid, log_time, size in msgs:
+                if size < STAMP_PREFIX:
+                    continue
+                col.add(stamp_cdr(self._prefix(rowid)), log_time, rowid, -1, size)
+            if col.rows:
+                result.topics.append(col.finish())
+        return result
+
+    def _prefix(self, rowid: int) -> bytes:
+        if hasattr(self.con, "blobopen"):  # Python >= 3.11: touches only the blob's first page
+            with self.con.blobopen("messages", "data", rowid, readonly=True) as blob:
+                return blob.read(STAMP_PREFIX)
+        row = self.con.execute(
+            "SELECT substr(data, 1, ?) FROM messages WHERE id=?", (STAMP_PREFIX, rowid)
+        ).fetchone()
+        return bytes(row[0])
+
+    def attach(self, scan: FileScan) -> None:
+        """Nothing to keep: rows are addressed by id."""
+
+    def read(self, offset: int, chunk: int, size: int) -> bytes:
+        """The message with row id ``offset``."""
+        with self.lock:
+            try:
+                row = self.con.execute("SELECT data FROM messages WHERE id=?", (offset,)).fetchone()
+            except sqlite3.DatabaseError as exc:
+                raise self._err(exc) from None
+        if row is None:
+            raise SourceError(f"{self.name}: message {offset} is missing; re-index with --no-cache")
+        return bytes(row[0])
+
+    def close(self) -> None:
+        """Close the database."""
+        with self.lock:
+            self.con.close()

@@ -1,0 +1,69 @@
+"""Stamp statistics of a stream: ordering problems, median period, dropped frames."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class StampStats:
+    """Summary of one stream's header stamps after sorting."""
+
+    order: np.ndarray  # permutation that sorts the stamps in storage order (stable)
+    stamps: np.ndarray  # sorted int64 stamps
+    median_period_ns: int
+    nominal_rate_hz: float
+    dropped: int
+    problems: str
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" if n == 1 else f"{n} {word}s"
+
+
+def stamp_stats(parts: Sequence[np.ndarray]) -> StampStats:
+    """Sort stamps (stable) and describe ordering problems, period and dropped frames.
+
+    ``parts`` are the stamps of each file in storage order; out-of-order stamps are
+    counted within a file (split bags may be given in any order).
+    """
+    arrays = [np.asarray(p, dtype=np.int64) for p in parts]
+    raw = np.concatenate(arrays) if arrays else np.zeros(0, np.int64)
+    problems: list[str] = []
+    backwards = sum(int(np.count_nonzero(np.diff(a) < 0)) for a in arrays)
+    order = np.argsort(raw, kind="stable")
+    stamps = raw[order]
+    if backwards:
+        problems.append(f"{_plural(backwards, 'stamp')} out of order (sorted)")
+    diffs = np.diff(stamps)
+    duplicates = int(np.count_nonzero(diffs == 0))
+    if duplicates:
+        problems.append(f"{_plural(duplicates, 'duplicate stamp')} (kept)")
+    if raw.size and int(stamps[0]) <= 0:
+        problems.append("zero or negative stamps (header stamps not set?)")
+    positive = diffs[diffs > 0]
+    median = int(np.median(positive)) if positive.size else 0
+    dropped = 0
+    if median > 0:
+        long_gaps = positive[positive > 1.5 * median]
+        dropped = int(np.sum(np.rint(long_gaps / median).astype(np.int64) - 1))
+    rate = round(1e9 / median, 3) if median > 0 else 0.0
+    return StampStats(order, stamps, median, rate, dropped, "; ".join(problems))
+
+
+def nearest_index(stamps: np.ndarray, t_ns: int) -> int:
+    """Index of the stamp nearest to ``t_ns`` (the earlier one on a tie)."""
+    n = stamps.size
+    if n == 0:
+        raise IndexError("stream has no frames")
+    j = int(np.searchsorted(stamps, t_ns, side="left"))
+    if j <= 0:
+        return 0
+    if j >= n:
+        return n - 1
+    before = t_ns - int(stamps[j - 1])
+    after = int(stamps[j]) - t_ns
+    return j - 1 if before <= after else j

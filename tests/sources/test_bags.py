@@ -1,0 +1,149 @@
+"""ROS1, ROS2 sqlite3 and MCAP bags through one FrameSource: stamps, frames, raw, merging."""
+
+from __future__ import annotations
+
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+from source_data import FORMATS, PERIOD, ROS1, ROS2, T0, Cam, pixels, regular
+
+from speechcal_core.sources import FrameSource, open_recording
+from speechcal_core.sources.base import COMPRESSED_MSGTYPE, IMAGE_MSGTYPE
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_every_bag_format_gives_stamps_frames_and_raw(make_bag, fmt: str) -> None:
+    path = make_bag(fmt)
+    with open_recording([path]) as src:
+        assert isinstance(src, FrameSource)
+        info = {s.name: s for s in src.streams}
+        assert set(info) == {"/cam0/image_raw", "/cam1/image_raw"}
+        cam0, cam1 = info["/cam0/image_raw"], info["/cam1/image_raw"]
+        assert (cam0.msgtype, cam0.encoding) == (IMAGE_MSGTYPE, "bgr8")
+        assert (cam0.width, cam0.height) == (16, 12)
+        assert (cam1.msgtype, cam1.encoding) == (COMPRESSED_MSGTYPE, "jpeg")
+        assert cam0.count == 20 and cam0.first_ns == T0 and cam0.last_ns == T0 + 19 * PERIOD
+        assert cam0.median_period_ns == PERIOD and cam0.nominal_rate_hz == 20.0
+        assert cam0.dropped == 0 and cam0.bad_frames == () and cam0.stamp_problems == ""
+        stamps = src.stamps("/cam0/image_raw")
+        assert stamps.dtype == np.int64 and list(stamps) == regular()
+        np.testing.assert_array_equal(src.frame("/cam0/image_raw", 7), pixels(0, 7))
+        jpeg = src.frame("/cam1/image_raw", 3)
+        assert jpeg.shape == (12, 16, 3) and jpeg.dtype == np.uint8
+        assert np.abs(jpeg[6, 8].astype(int) - pixels(1, 3)[6, 8]).max() < 12
+        assert src.nearest("/cam1/image_raw", T0 + 7_000_000 + 2 * PERIOD + 1) == 2
+        raw = src.raw("/cam0/image_raw", 4)
+        assert raw.stamp_ns == T0 + 4 * PERIOD
+        assert raw.log_time_ns == T0 + 4 * PERIOD + 3_000_000
+        ros1 = fmt.startswith("ros1")
+        assert raw.serialization == ("ros1" if ros1 else "cdr")
+        ts = ROS1 if ros1 else ROS2
+        des = ts.deserialize_ros1 if ros1 else ts.deserialize_cdr
+        msg = des(raw.rawdata, "sensor_msgs/msg/Image")
+        assert msg.encoding == "bgr8" and msg.header.frame_id == "cam0"
+        assert raw.connection["msgdef"]
+        if ros1:
+            assert raw.connection["md5sum"] == "060021388200f6f0f447d0fcd9c64743"
+
+
+@pytest.mark.parametrize("fmt", ["ros2-sqlite3", "ros2-mcap"])
+def test_bare_ros2_storage_file_opens_without_its_folder(make_bag, fmt: str) -> None:
+    folder = make_bag(fmt)
+    (storage,) = [p for p in folder.iterdir() if p.suffix in (".db3", ".mcap")]
+    with open_recording([storage]) as src:
+        assert [s.count for s in src.streams] == [20, 20]
+
+
+def test_split_bags_and_two_pcs_merge_by_topic(make_bag) -> None:
+    first = make_bag("ros1", [Cam("/cam0/image_raw", regular(10), index=0)], name="a")
+    second = make_bag(
+        "ros1-lz4", [Cam("/cam0/image_raw", regular(10, start=T0 + 10 * PERIOD), index=0)], name="b"
+    )
+    other_pc = make_bag("ros2-sqlite3", [Cam("/cam1/image_raw", regular(20), index=1)], name="c")
+    with open_recording([second, first, other_pc]) as src:
+        info = {s.name: s for s in src.streams}
+        assert info["/cam0/image_raw"].count == 20
+        assert info["/cam0/image_raw"].stamp_problems == ""
+        assert list(src.stamps("/cam0/image_raw")) == regular(20)
+        # frame 15 is frame 5 of the second file
+        np.testing.assert_array_equal(src.frame("/cam0/image_raw", 15), pixels(0, 5))
+        np.testing.assert_array_equal(src.frame("/cam1/image_raw", 15), pixels(1, 15))
+        assert src.raw("/cam1/image_raw", 0).serialization == "cdr"
+
+
+def test_dropped_frames_are_counted_from_gaps(make_bag) -> None:
+    stamps = [s for k, s in enumerate(regular(30)) if k not in (5, 6, 20)]
+    with open_recording([make_bag("ros1", [Cam("/cam0/image_raw", stamps)])]) as src:
+        (info,) = src.streams
+        assert info.count == 27 and info.dropped == 3 and info.median_period_ns == PERIOD
+
+
+def test_index_is_cached_beside_the_recording_and_reused(make_bag, monkeypatch) -> None:
+    path = make_bag("ros1")
+    with open_recording([path]) as src:
+        first = src.streams
+    assert (path.parent / f".{path.name}.speechcal-index.npz").is_file()
+
+    from speechcal_core.sources.rosbag1 import Ros1Bag
+
+    def fail(self: Ros1Bag) -> None:
+        raise AssertionError("index rebuilt although cached")
+
+    monkeypatch.setattr(Ros1Bag, "scan", fail)
+    with open_recording([path]) as src:
+        assert src.streams == first
+        np.testing.assert_array_equal(src.frame("/cam0/image_raw", 2), pixels(0, 2))
+    with pytest.raises(AssertionError, match="rebuilt"):
+        open_recording([path], use_cache=False)
+
+
+def test_changed_recording_invalidates_the_cache(make_bag, tmp_path: Path) -> None:
+    path = make_bag("ros1", [Cam("/cam0/image_raw", regular(5))], name="x")
+    with open_recording([path]) as src:
+        assert src.streams[0].count == 5
+    path.unlink()
+    make_bag("ros1", [Cam("/cam0/image_raw", regular(8))], name="x")
+    with open_recording([path]) as src:
+        assert src.streams[0].count == 8
+
+
+def test_cache_falls_back_to_user_cache_dir(make_bag, tmp_path: Path, monkeypatch) -> None:
+    path = make_bag("ros1")
+    # the cache name beside the bag is taken by a folder, so writing there fails
+    (path.parent / f".{path.name}.speechcal-index.npz").mkdir()
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    with open_recording([path]) as src:
+        assert src.streams[0].count == 20
+    cached = list((tmp_path / "xdg" / "speechcal" / "index").glob(f"{path.name}.*.npz"))
+    assert len(cached) == 1
+
+
+def test_concurrent_frame_reads_are_consistent(make_bag) -> None:
+    path = make_bag("ros1-lz4", [Cam(f"/cam{k}/image_raw", regular(), index=k) for k in range(3)])
+    errors: list[BaseException] = []
+    with open_recording([path]) as src:
+
+        def work(seed: int) -> None:
+            rng = np.random.default_rng(seed)
+            try:
+                for _ in range(60):
+                    cam, i = int(rng.integers(3)), int(rng.integers(20))
+                    img = src.frame(f"/cam{cam}/image_raw", i)
+                    np.testing.assert_array_equal(img, pixels(cam, i))
+            except BaseException as exc:
+                errors.append(exc)
+
+        threads = [threading.Thread(target=work, args=(k,)) for k in range(4)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+    assert not errors, errors[0]
+
+
+def test_padded_rows_are_honoured_in_a_bag(make_bag) -> None:
+    cam = Cam("/cam0/image_raw", regular(3), step_pad=5)
+    with open_recording([make_bag("ros2-mcap", [cam])]) as src:
+        np.testing.assert_array_equal(src.frame("/cam0/image_raw", 1), pixels(0, 1))
