@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from collections.abc import Callable
     from pathlib import Path
 
-    from speechcal_core.synth.timeline import Timeline
+    from speechcal_core.synth.timeline import SpeechSlot, Timeline
 
 SAMPLE_RATE = 48_000
 WRITE_BLOCK = 4096  # frames per soundfile write (libsndfile Ogg pitfall, DESIGN.md §5)
@@ -31,6 +31,9 @@ SPEECH_GUARD_S = 0.15  # a distractor keeps this far from any trigger
 PRE_CLAP_GAP_S = (0.2, 1.0)  # the pre-clap chatter ends this long before the first clap
 PRE_CLAP_TEXTS = ("ready", "okay")
 NEAR_HOMOPHONE_P = 0.45
+#: trigger words come from voices built from human recordings; espeak-ng's formant voices
+#: only speak distractors (speech recognisers hardly know them)
+TRIGGER_ENGINES = ("flite",)
 DOOR_CLEAR_S = (0.3, 0.8)  # no chatter this long before / after the door bang's onset
 
 
@@ -140,7 +143,8 @@ def _plan_speech(
 ) -> list[_Placed]:
     """Pick a clip, rate and position for every speech slot plus the pre-clap chatter."""
     sync = timeline.sync
-    triggers = bank.select("trigger", word)
+    triggers = [c for c in bank.select("trigger", word) if c.engine in TRIGGER_ENGINES]
+    triggers = triggers or bank.select("trigger", word)
     distractors = bank.select("distractor")
     placed: list[_Placed] = []
     for slot in timeline.speech:
@@ -185,12 +189,12 @@ def _position(kind: str, clip: Clip, rate: float, anchor_s: float, align: str,
     return _Placed(kind, clip, start, start + dur, rate, hold)
 
 
-def _fits(clip: Clip, rate: float, anchor: float, slot: object, busy: list) -> bool:
+def _fits(clip: Clip, rate: float, anchor: float, slot: SpeechSlot,
+          busy: list[tuple[float, float]]) -> bool:
     """Whether the clip is short enough for the slot and clear of the triggers."""
-    dur = clip.duration_s / rate
-    if dur > getattr(slot, "max_duration_s", math.inf):
+    if clip.duration_s / rate > slot.max_duration_s:
         return False
-    p = _position("distractor", clip, rate, anchor, getattr(slot, "align", "center"))
+    p = _position("distractor", clip, rate, anchor, slot.align)
     return all(p.end_s <= a or p.start_s >= b for a, b in busy)
 
 

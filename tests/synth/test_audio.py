@@ -145,3 +145,25 @@ def test_unbundled_trigger_word_is_a_usage_error(tmp_path):
     with pytest.raises(UsageError, match="capture"):
         render_audio(timeline, tmp_path / "audio.ogg")
     assert not (tmp_path / "audio.ogg").exists()
+
+
+def test_word_starts_where_the_truth_says_in_a_quiet_render(tmp_path):
+    _, truth, data, sr = _render(tmp_path, duration=15.0, seed=4, snr_db=60.0, drift_ppm=80.0)
+    ends = [d["end_s"] for d in truth.distractors + truth.triggers]
+    checked = 0
+    for trig in truth.triggers:
+        if any(trig["start_s"] - 0.7 < e < trig["start_s"] for e in ends):
+            continue  # another word's reverb tail would hide the onset
+        a, b = int(np.ceil(trig["start_s"] * sr)), int(np.ceil(trig["end_s"] * sr))
+        level = np.abs(data[a - sr // 10:b])
+        first = np.flatnonzero(level > 10 ** (-30 / 20) * level.max())[0] - sr // 10
+        assert -0.001 <= first / sr <= 0.04, trig
+        checked += 1
+    assert checked >= 2
+
+
+def test_progress_reports_rise_to_one(tmp_path):
+    seen: list[float] = []
+    render_audio(plan_session(SynthOptions(duration=6.0, seed=1)), tmp_path / "audio.ogg",
+                 progress=seen.append)
+    assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) >= 3
