@@ -1,0 +1,274 @@
+"""Find a hand clap in one camera: a brief local motion event, timed to a fraction of a frame."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+WORK_WIDTH = 160  # frames are analysed at about this width
+GRID = 8  # cells across the width
+EVENT_S = 0.35  # motion is smoothed over this long when looking for the event
+UNIQUE_GAP_S = 1.0  # another peak this far away in the same cell makes the event periodic
+
+
+@dataclass(frozen=True)
+class VideoClap:
+    """Where and when a camera saw the clap; ``clap_ns`` is in that camera's stamp clock."""
+
+    stream: str
+    clap_ns: int
+    frame_index: int  # the frame nearest the clap
+    score: float  # event contrast x uniqueness; higher is clearer
+    method: str  # "v-fit" (sub-frame, from the hands' approach and separation) or "peak"
+    roi: tuple[int, int, int, int]  # x, y, w, h in full-frame pixels
+    period_ns: int  # median frame period of the stream
+
+    def to_dict(self) -> dict:
+        """JSON-ready form."""
+        return {"name": self.stream, "clap_ns": self.clap_ns, "frame_index": self.frame_index,
+                "score": round(self.score, 3), "method": self.method, "roi": list(self.roi),
+                "period_ns": self.period_ns}
+
+
+def to_gray_small(frame: np.ndarray, width: int = WORK_WIDTH) -> tuple[np.ndarray, float]:
+    """Gray float32 image at about ``width`` pixels wide, and the scale factor applied."""
+    img = frame
+    if img.ndim == 3:
+        img = cv2.cvtColor(img, cv2.COLOR_BGR2GRAY) if img.shape[2] == 3 else img[..., 0]
+    img = img.astype(np.float32)
+    if img.max(initial=0) > 255.0:  # 16-bit
+        img = img / 257.0
+    scale = min(1.0, width / img.shape[1])
+    if scale < 1.0:
+        size = (max(1, round(img.shape[1] * scale)), max(1, round(img.shape[0] * scale)))
+        img = cv2.resize(img, size, interpolation=cv2.INTER_AREA)
+    return img, scale
+
+
+def find_video_clap(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np.ndarray,
+                    *, stream: str = "") -> VideoClap | None:
+    """The clap event in a run of frames (any size, gray or colour) with their stamps.
+
+    Looks for the grid cell with one sharp, unique burst of motion (periodic motion such
+    as a fan or a blinking light repeats and is ignored), then times the event to a
+    fraction of a frame from the closing and opening gap between the two moving parts.
+    Returns None when no such event is there.
+    """
+    stamps = np.asarray(stamps_ns, dtype=np.int64)
+    if len(frames) < 5 or stamps.size != len(frames):
+        return None
+    small = [to_gray_small(f)[0] for f in frames]
+    scale = to_gray_small(frames[0])[1]
+    stack = np.stack(small)
+    t = (stamps - stamps[0]).astype(np.float64) / 1e9
+    period = float(np.median(np.diff(t))) if t.size > 1 else 1 / 30
+    event = _best_event(stack, t, period)
+    if event is None:
+        return None
+    k, cell_box, score = event
+    x, y, w, h = cell_box
+    roi_full = (int(x / scale), int(y / scale), int(w / scale), int(h / scale))
+    refined = _refine(stack[:, y:y + h, x:x + w], t, k, period)
+    if refined is not None:
+        t_clap = refined
+        method = "v-fit"
+    else:
+        t_clap = t[k]
+        method = "peak"
+    clap_ns = int(stamps[0] + round(t_clap * 1e9))
+    nearest = int(np.argmin(np.abs(stamps - clap_ns)))
+    return VideoClap(stream, clap_ns, nearest, float(score), method, roi_full,
+                     round(period * 1e9))
+
+
+def _best_event(stack: np.ndarray, t: np.ndarray,
+                period: float) -> tuple[int, tuple[int, int, int, int], float] | None:
+    """(frame index, cell box, score) of the most clap-like motion burst."""
+    n, hgt, wid = stack.shape
+    cell = max(4, wid // GRID)
+    ny, nx = hgt // cell, wid // cell
+    if ny < 1 or nx < 1:
+        return None
+    diff = np.abs(np.diff(stack, axis=0))  # n-1 frames
+    crop = diff[:, : ny * cell, : nx * cell]
+    energy = crop.reshape(n - 1, ny, cell, nx, cell).mean(axis=(2, 4))  # (n-1, ny, nx)
+    energy = np.concatenate([energy[:1], energy], axis=0)  # align with frames
+    w = max(1, round(EVENT_S / period))
+    kernel = np.ones(w) / w
+    smooth = np.apply_along_axis(lambda v: np.convolve(v, kernel, mode="same"), 0, energy)
+    noise = max(float(np.median(energy)), 0.05)
+    base = np.median(smooth, axis=0)  # per cell
+    peak_k = np.argmax(smooth, axis=0)
+    peak = np.max(smooth, axis=0)
+    far = max(1, round(UNIQUE_GAP_S / period))
+    idx = np.arange(n)[:, None, None]
+    outside = np.abs(idx - peak_k[None]) > far
+    second = np.where(outside, smooth, 0.0).max(axis=0)
+    contrast = (peak - base) / (base + noise)
+    unique = (peak - base) / (second - base + noise)
+    # how many cells are busy at each cell's peak: a local event keeps most cells quiet
+    busy = smooth > 3 * (base + noise)[None]
+    busy_frac = busy.reshape(n, -1).mean(axis=1)
+    local = 1.0 / (1.0 + 8.0 * busy_frac[peak_k])
+    score = np.minimum(contrast, 20.0) * np.minimum(unique, 5.0) * local
+    score[peak - base < 2.0] = 0.0
+    best = np.unravel_index(int(np.argmax(score)), score.shape)
+    if score[best] < 2.0:
+        return None
+    k = int(peak_k[best])
+    # the event region: connected cells busy around the event and quiet otherwise
+    span = max(1, round(0.8 / period))
+    lo, hi = max(0, k - span), min(n, k + span + 1)
+    around = energy[lo:hi].mean(axis=0)
+    rest = np.concatenate([energy[:lo], energy[hi:]], axis=0)
+    calm = np.median(rest, axis=0) if rest.shape[0] >= 3 else base
+    ev = (around - calm) / (calm + noise)
+    near = ev > max(0.5, 0.05 * float(ev[best]))
+    near[best] = True
+    near &= _connected(near, best)
+    ys, xs = np.nonzero(near)
+    y0, y1 = max(0, ys.min() - 1), min(ny, ys.max() + 2)
+    x0, x1 = max(0, xs.min() - 1), min(nx, xs.max() + 2)
+    box = (x0 * cell, y0 * cell, (x1 - x0) * cell, (y1 - y0) * cell)
+    return k, box, float(score[best])
+
+
+def _connected(mask: np.ndarray, seed: tuple[int, ...]) -> np.ndarray:
+    """The 8-connected component of ``mask`` holding ``seed``."""
+    _, labels = cv2.connectedComponents(mask.astype(np.uint8), connectivity=8)
+    return labels == labels[seed]
+
+
+def _refine(roi: np.ndarray, t: np.ndarray, k: int, period: float) -> float | None:
+    """Sub-frame clap time from the V of the distance between the two moving parts."""
+    n = roi.shape[0]
+    bg = _background(roi, k, period)
+    resid = np.abs(roi - bg[None])
+    noise = float(np.median(resid)) * 1.4826 + 1.0
+    thr = max(10.0, 4.0 * noise)
+    lo, hi = max(0, k - round(0.8 / period)), min(n, k + round(0.8 / period) + 1)
+    fg = resid[lo:hi] > thr
+    pts = np.argwhere(fg)
+    if pts.shape[0] < 20:
+        return None
+    coords = pts[:, 1:].astype(np.float64)  # (y, x)
+    centre = coords.mean(axis=0)
+    _, vecs = np.linalg.eigh(np.cov((coords - centre).T))
+    axis = vecs[:, -1]  # major axis: the approach direction
+    yy, xx = np.mgrid[0: roi.shape[1], 0: roi.shape[2]]
+    proj = (yy - centre[0]) * axis[0] + (xx - centre[1]) * axis[1]
+    times, dists = [], []
+    for j in range(lo, hi):
+        m = resid[j] > thr
+        if m.sum() < 6:
+            continue
+        d = _blob_distance(proj[m], resid[j][m])
+        if d is not None:
+            times.append(t[j])
+            dists.append(d)
+    if len(times) < 4:
+        return None
+    return _vertex(np.array(times), np.array(dists), t[k], period)
+
+
+def _background(roi: np.ndarray, k: int, period: float) -> np.ndarray:
+    """Median of the frames just before the event (or just after, if it starts the clip)."""
+    n = roi.shape[0]
+    near, far = round(0.9 / period), round(1.8 / period)
+    before = roi[max(0, k - far): max(0, k - near)]
+    if before.shape[0] >= 3:
+        return np.median(before, axis=0)
+    after = roi[min(n, k + near): min(n, k + far)]
+    if after.shape[0] >= 3:
+        return np.median(after, axis=0)
+    return np.median(roi, axis=0)
+
+
+def _blob_distance(p: np.ndarray, wgt: np.ndarray) -> float | None:
+    """Distance between the weighted centroids of two parts split by the widest gap."""
+    order = np.argsort(p)
+    ps, ws = p[order], wgt[order]
+    gaps = np.diff(ps)
+    if gaps.size == 0:
+        return None
+    g = int(np.argmax(gaps))
+    if gaps[g] < 1.5:  # touching: no gap between the parts
+        return None
+    left, right = slice(0, g + 1), slice(g + 1, None)
+    wl, wr = ws[left].sum(), ws[right].sum()
+    if min(wl, wr) < 0.15 * max(wl, wr):
+        return None
+    return float(np.dot(ps[right], ws[right]) / wr - np.dot(ps[left], ws[left]) / wl)
+
+
+def _vertex(times: np.ndarray, dists: np.ndarray, t_peak: float, period: float) -> float | None:
+    """Time where the closing line meets the opening line (continuous two-line fit)."""
+    i_min = int(np.argmin(dists))
+    t_min = times[i_min]
+    sel = (times >= t_min - 0.5) & (times <= t_min + 0.28)
+    x, y = times[sel], dists[sel]
+    if x.size < 4 or not (x < t_min + 1e-9).sum() >= 2 or not (x > t_min - 1e-9).sum() >= 2:
+        return None
+    keep = np.ones(x.size, dtype=bool)
+    tc = t_min
+    for _ in range(3):
+        tc, _ = _fit_v(x[keep], y[keep], t_min, period)
+        if tc is None:
+            return None
+        r = np.abs(y - _v_model(x, y, keep, tc))
+        tol = max(0.75, 3.0 * 1.4826 * float(np.median(r[keep])))
+        new_keep = r <= tol
+        if new_keep.sum() < 4 or np.array_equal(new_keep, keep):
+            break
+        keep = new_keep
+    if tc is None or not np.isfinite(tc) or abs(tc - t_peak) > 0.6 + period:
+        return None
+    return float(tc)
+
+
+def _basis(x: np.ndarray, tc: float) -> np.ndarray:
+    return np.stack([np.ones_like(x), np.minimum(x - tc, 0.0), np.maximum(x - tc, 0.0)], axis=1)
+
+
+def _v_model(x: np.ndarray, y: np.ndarray, keep: np.ndarray, tc: float) -> np.ndarray:
+    coef, *_ = np.linalg.lstsq(_basis(x[keep], tc), y[keep], rcond=None)
+    return _basis(x, tc) @ coef
+
+
+def _fit_v(x: np.ndarray, y: np.ndarray, t_min: float,
+           period: float) -> tuple[float | None, float]:
+    """Vertex time minimising the squared residual of a V (closing slope < 0 < opening)."""
+    grid = np.arange(t_min - 1.5 * period, t_min + 1.5 * period, 2e-4)
+    best, best_err = None, np.inf
+    for tc in grid:
+        b = _basis(x, tc)
+        if (x < tc).sum() < 2 or (x > tc).sum() < 1:
+            continue
+        coef, *_ = np.linalg.lstsq(b, y, rcond=None)
+        if coef[1] >= 0 or coef[2] <= 0:
+            continue
+        err = float(np.sum((b @ coef - y) ** 2))
+        if err < best_err:
+            best, best_err = float(tc), err
+    return best, best_err
+
+
+def _robust_line(x: np.ndarray, y: np.ndarray) -> tuple[float, float] | None:
+    """Least-squares line, refitted without points far off it."""
+    if x.size < 2:
+        return None
+    keep = np.ones(x.size, dtype=bool)
+    for _ in range(2):
+        if keep.sum() < 2:
+            return None
+        a, b = np.polyfit(x[keep], y[keep], 1)
+        r = np.abs(y - (a * x + b))
+        tol = max(1.0, 3.0 * float(np.median(r[keep])) * 1.4826)
+        keep = r <= tol
+    if keep.sum() < 2:
+        return None
+    a, b = np.polyfit(x[keep], y[keep], 1)
+    return float(a), float(b)

@@ -1,0 +1,140 @@
+"""Offset and drift from claps seen in both clocks, with per-camera residuals."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from speechcal_core.sync.model import SyncModel
+
+MAX_DRIFT = 1e-3  # 1000 ppm: anything larger means the two claps were mismatched
+
+
+@dataclass(frozen=True)
+class CameraClap:
+    """One camera's view of one clap, in its own header-stamp clock."""
+
+    name: str
+    clap_ns: int
+    period_ns: int = 0
+    method: str = "auto"  # "v-fit", "peak" or "manual"
+    frame_index: int = -1
+
+
+@dataclass(frozen=True)
+class Clap:
+    """One clap in both clocks: audio onset and the cameras' stamps of the hands meeting."""
+
+    audio_s: float
+    cameras: tuple[CameraClap, ...]
+    audio_source: str = "auto"  # "auto" or "manual"
+    video_source: str = "auto"
+    session_override_ns: int | None = None  # a clap set by hand on the session clock
+
+    @property
+    def session_ns(self) -> int:
+        """The clap on the session clock: the cameras' robust mean, or the manual value."""
+        if self.session_override_ns is not None:
+            return int(self.session_override_ns)
+        stamps = np.array([c.clap_ns for c in self.cameras], dtype=np.int64)
+        if stamps.size == 0:
+            raise ValueError("a clap needs at least one camera or a manual session time")
+        base = int(stamps.min())
+        rel = (stamps - base).astype(np.float64)
+        centre = float(np.median(rel)) if rel.size >= 3 else float(np.mean(rel))
+        return base + round(centre)
+
+    @property
+    def edited(self) -> bool:
+        """Whether any part of this clap was set by hand."""
+        return "manual" in (self.audio_source, self.video_source)
+
+
+@dataclass(frozen=True)
+class SyncResult:
+    """The sync model with the claps it came from and what they say about each camera."""
+
+    model: SyncModel
+    claps: tuple[Clap, ...]
+    warnings: tuple[str, ...] = ()
+    extra: dict = field(default_factory=dict)
+
+    def residuals(self) -> list[dict]:
+        """Per camera: its clap stamp (first clap) and how far it sits from the model."""
+        out = []
+        names = [c.name for clap in self.claps for c in clap.cameras]
+        for name in dict.fromkeys(names):
+            res, stamp, period = [], None, 0
+            for clap in self.claps:
+                for cam in clap.cameras:
+                    if cam.name != name:
+                        continue
+                    r = cam.clap_ns - int(self.model.to_session(clap.audio_s))
+                    res.append(r)
+                    stamp = cam.clap_ns if stamp is None else stamp
+                    period = cam.period_ns
+            out.append({"name": name, "clap_ns": int(stamp) if stamp is not None else None,
+                        "residual_ns": int(res[0]), "residuals_ns": [int(r) for r in res],
+                        "period_ns": int(period)})
+        return out
+
+    def to_dict(self) -> dict:
+        """The ``speechcal sync`` JSON document (DESIGN.md §2) plus detail keys."""
+        doc = {
+            "offset_ns": self.model.offset_ns,
+            "drift": self.model.drift,
+            "drift_ppm": round(self.model.drift * 1e6, 3),
+            "source": self.model.source,
+            "claps": [{"audio_s": c.audio_s, "session_ns": c.session_ns,
+                       "audio_source": c.audio_source, "video_source": c.video_source}
+                      for c in self.claps],
+            "cameras": self.residuals(),
+            "warnings": list(self.warnings),
+        }
+        doc.update(self.extra)
+        return doc
+
+
+def model_from_claps(claps: list[Clap] | tuple[Clap, ...], source: str = "auto") -> SyncModel:
+    """Offset from the first clap; drift from the first and last when there are two or more."""
+    if not claps:
+        raise ValueError("at least one clap is needed")
+    ordered = sorted(claps, key=lambda c: c.audio_s)
+    first, last = ordered[0], ordered[-1]
+    drift = 0.0
+    if len(ordered) >= 2 and last.audio_s - first.audio_s > 1.0:
+        drift = _pair_drift(first, last)
+    offset = first.session_ns - round(first.audio_s * (1.0 + drift) * 1e9)
+    return SyncModel(int(offset), float(drift), source)
+
+
+def _pair_drift(first: Clap, last: Clap) -> float:
+    """Drift from two claps, camera by camera where a camera saw both (its offset cancels)."""
+    da = last.audio_s - first.audio_s
+    if first.session_override_ns is None and last.session_override_ns is None:
+        both = {c.name: c.clap_ns for c in first.cameras}
+        pairs = [(both[c.name], c.clap_ns) for c in last.cameras if c.name in both]
+        if pairs:
+            ds = np.array([b - a for a, b in pairs], dtype=np.float64)
+            return float(np.median(ds) if ds.size >= 3 else np.mean(ds)) / (da * 1e9) - 1.0
+    return (last.session_ns - first.session_ns) / (da * 1e9) - 1.0
+
+
+def build_result(claps: list[Clap], warnings: list[str] | None = None,
+                 extra: dict | None = None) -> SyncResult:
+    """A result from claps; the source is "manual" when any clap was edited."""
+    source = "manual" if any(c.edited for c in claps) else "auto"
+    ordered = tuple(sorted(claps, key=lambda c: c.audio_s))
+    model = model_from_claps(ordered, source)
+    notes = list(warnings or [])
+    if abs(model.drift) > MAX_DRIFT:
+        notes.append(f"drift {model.drift * 1e6:.0f} ppm is implausible; "
+                     "check that both claps were matched (set them by hand)")
+    result = SyncResult(model, ordered, (), dict(extra or {}))
+    for cam in result.residuals():
+        period = cam["period_ns"] or 33_333_333
+        if abs(cam["residual_ns"]) > period / 2:
+            notes.append(f"{cam['name']}: clap {cam['residual_ns'] / 1e6:+.1f} ms off the "
+                         "other cameras; its clock may be off")
+    return replace(result, warnings=tuple(dict.fromkeys(notes)))

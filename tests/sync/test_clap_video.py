@@ -1,0 +1,45 @@
+"""The video clap detector: the one local burst, timed to a fraction of a frame."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from video_scenes import clap_clip
+
+from speechcal_core.sync.clap_video import find_video_clap
+
+
+@pytest.mark.parametrize("fps", [30.0, 15.0])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_clap_found_despite_fan_light_and_board_move(fps: float, seed: int) -> None:
+    clap_s = 1.5 + 0.013 * seed
+    frames, stamps = clap_clip(fps=fps, seed=seed, clap_s=clap_s)
+    c = find_video_clap(frames, stamps, stream="/cam0")
+    assert c is not None and c.stream == "/cam0"
+    assert c.method == "v-fit"
+    assert abs(c.clap_ns / 1e9 - clap_s) < 0.25 / fps  # a quarter of a frame
+    x, y, w, h = c.roi
+    assert x < 0.25 * 160 < x + w and y < 0.8 * 120 < y + h
+
+
+def test_colour_frames_and_other_place() -> None:
+    frames, stamps = clap_clip(seed=5, hands_at=(0.75, 0.85), board_move_s=None)
+    colour = [np.dstack([f, f, f]) for f in frames]
+    c = find_video_clap(colour, stamps)
+    assert c is not None and abs(c.clap_ns / 1e9 - 1.5) < 0.01
+
+
+def test_stamp_jitter_averages_out() -> None:
+    frames, stamps = clap_clip(seed=3, stamp_jitter_s=0.0008)
+    c = find_video_clap(frames, stamps)
+    assert c is not None and abs(c.clap_ns / 1e9 - 1.5) < 0.006
+
+
+def test_no_clap_no_event() -> None:
+    frames, stamps = clap_clip(seed=4, clap_s=99.0, board_move_s=None)
+    assert find_video_clap(frames, stamps) is None
+
+
+def test_too_few_frames() -> None:
+    frames, stamps = clap_clip(seconds=0.1)
+    assert find_video_clap(frames, stamps) is None

@@ -1,0 +1,74 @@
+"""Offset, drift and residuals from claps; manual edits make new results marked manual."""
+
+from __future__ import annotations
+
+import pytest
+
+from speechcal_core.sync.estimate import CameraClap, Clap, build_result, model_from_claps
+from speechcal_core.sync.manual import (
+    manual_sync,
+    nudge_audio,
+    nudge_video,
+    set_audio_clap,
+    set_video_clap,
+)
+
+PERIOD = 33_333_333
+
+
+def _clap(audio_s: float, session_ns: int, offsets: dict[str, int]) -> Clap:
+    return Clap(audio_s, tuple(CameraClap(n, session_ns + o, PERIOD, "v-fit")
+                               for n, o in offsets.items()))
+
+
+def test_one_clap_gives_offset_and_zero_drift() -> None:
+    r = build_result([_clap(2.5, 10_000_000_000, {"/a": 1_000_000, "/b": -1_000_000})])
+    assert r.model.drift == 0.0 and r.model.source == "auto"
+    assert r.model.offset_ns == 10_000_000_000 - 2_500_000_000
+    cams = {c["name"]: c for c in r.to_dict()["cameras"]}
+    assert cams["/a"]["residual_ns"] == 1_000_000 and cams["/b"]["residual_ns"] == -1_000_000
+    assert not r.warnings
+
+
+def test_two_claps_give_drift_and_camera_offsets_cancel() -> None:
+    drift = 37e-6
+    a1, a2 = 1.7, 58.3
+    s1 = 5_000_000_000 + round(a1 * (1 + drift) * 1e9)
+    s2 = 5_000_000_000 + round(a2 * (1 + drift) * 1e9)
+    offs = {"/a": 3_000_000, "/b": -2_000_000, "/c": 500_000}
+    r = build_result([_clap(a2, s2, offs), _clap(a1, s1, offs)])
+    assert r.model.drift == pytest.approx(drift, abs=1e-8)
+    doc = r.to_dict()
+    assert [c["audio_s"] for c in doc["claps"]] == [a1, a2]
+    assert set(doc) >= {"offset_ns", "drift", "claps", "cameras"}
+
+
+def test_camera_with_clock_off_is_reported() -> None:
+    r = build_result([_clap(1.0, 3_000_000_000, {"/a": 0, "/b": 0, "/c": 80_000_000})])
+    assert any("/c" in w and "clock" in w for w in r.warnings)
+
+
+def test_manual_edits_are_marked_and_move_the_offset() -> None:
+    r = build_result([_clap(1.0, 3_000_000_000, {"/a": 0, "/b": 0})])
+    r2 = nudge_audio(r, 0, +1)
+    assert r2.model.source == "manual" and r2.claps[0].audio_source == "manual"
+    assert r2.model.offset_ns == r.model.offset_ns - 1_000_000
+    r3 = nudge_video(r, 0, -1)
+    assert r3.model.offset_ns == r.model.offset_ns - PERIOD
+    r4 = set_video_clap(r, 0, 3_010_000_000, camera="/a")
+    assert r4.claps[0].session_ns == 3_005_000_000
+    r5 = set_audio_clap(r, 0, 0.5)
+    assert r5.model.offset_ns == 2_500_000_000
+    assert r.model.source == "auto"  # the original is unchanged
+
+
+def test_fully_manual_sync() -> None:
+    r = manual_sync([(1.0, 3_000_000_000), (101.0, 103_000_010_000)])
+    assert r.model.source == "manual"
+    assert r.model.drift == pytest.approx(1e-7)
+    assert r.to_dict()["cameras"] == []
+
+
+def test_model_needs_a_clap() -> None:
+    with pytest.raises(ValueError):
+        model_from_claps([])
