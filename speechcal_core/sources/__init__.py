@@ -54,8 +54,9 @@ def open_recording(
 ) -> FrameSource:
     """Open a recording (one or several files) as a ``FrameSource``.
 
-    ``paths``: ROS1 ``.bag`` files, ROS2 bag folders, bare ``.db3``/``.mcap`` files (several
-    are merged by topic), one video file, or one folder of per-camera image folders.
+    ``paths``: ROS1 ``.bag`` files, ROS2 bag folders, bare ``.db3``/``.mcap`` files (all
+    bags are merged by topic), video files (one stream each), or a folder of per-camera
+    image folders; different kinds together give one source with all their streams.
     ``scan`` recovers unindexed ROS1 bags and truncated MCAP files by walking their chunks.
     ``video_start_ns`` is the header stamp of a video's first frame (default: a
     ``<video>.start_ns`` text file beside it, else an integer file name, else 0).
@@ -68,26 +69,39 @@ def open_recording(
     for p in items:
         if not p.exists():
             raise SourceError(f"{p}: file not found")
-    first = items[0]
-    if len(items) == 1 and first.is_file() and first.suffix.lower() in VIDEO_SUFFIXES:
-        from speechcal_core.sources.video import VideoSource
-
-        return VideoSource(first, start_ns=video_start_ns)
-    if len(items) == 1 and first.is_dir() and not _is_ros2_folder(first):
-        from speechcal_core.sources.image_folder import ImageFolderSource
-
-        return ImageFolderSource(first)
-    from speechcal_core.sources.bag_source import BagSource
-
+    videos = [p for p in items if p.is_file() and p.suffix.lower() in VIDEO_SUFFIXES]
+    sources: list[FrameSource] = []
     files: list[MessageFile] = []
     try:
         for p in items:
-            files.extend(_bag_files(p, scan))
+            if p in videos:
+                from speechcal_core.sources.video import VideoSource
+
+                start = video_start_ns if len(videos) == 1 else None
+                sources.append(VideoSource(p, start_ns=start, use_cache=use_cache))
+            elif p.is_dir() and not _is_ros2_folder(p):
+                from speechcal_core.sources.image_folder import ImageFolderSource
+
+                sources.append(ImageFolderSource(p))
+            else:
+                files.extend(_bag_files(p, scan))
+        if files:
+            from speechcal_core.sources.bag_source import BagSource
+
+            bags = BagSource(files, use_cache=use_cache)
+            files = []
+            sources.insert(0, bags)
+        if len(sources) == 1:
+            return sources[0]
+        from speechcal_core.sources.combined import CombinedSource
+
+        return CombinedSource(sources)
     except BaseException:
         for f in files:
             f.close()
+        for src in sources:
+            src.close()
         raise
-    return BagSource(files, use_cache=use_cache)
 
 
 def _is_ros2_folder(path: Path) -> bool:

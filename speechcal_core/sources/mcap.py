@@ -147,6 +147,8 @@ class McapFile:
             if body + length > end:
                 if top:
                     result.notes.append(f"{self.name}: last record cut off at byte {pos}")
+                    if op == OP_CHUNK:  # complete messages of an uncompressed chunk survive
+                        self._chunk(body, length, collectors, result)
                 break
             if op == OP_MESSAGE:
                 if len(head) >= 9 + 22 + STAMP_PREFIX and length >= 22 + STAMP_PREFIX:
@@ -175,15 +177,21 @@ class McapFile:
     def _chunk(
         self, body: int, length: int, collectors: dict[int, TopicCollector], result: FileScan
     ) -> None:
-        head = self.f.pread(body, min(length, 28 + 4 + 64))
-        _start, _end, usize, _crc = _CHUNK.unpack_from(head)
-        (clen,) = _U32.unpack_from(head, 28)
-        compression = head[32 : 32 + clen].decode()
-        rstart = body + 32 + clen + 8
-        (rlen,) = struct.unpack("<Q", self.f.pread(rstart - 8, 8))
+        try:
+            head = self.f.pread(body, min(length, 28 + 4 + 64))
+            _start, _end, usize, _crc = _CHUNK.unpack_from(head)
+            (clen,) = _U32.unpack_from(head, 28)
+            compression = head[32 : 32 + clen].decode()
+            rstart = body + 32 + clen + 8
+            (rlen,) = struct.unpack("<Q", self.f.pread(rstart - 8, 8))
+        except (SourceError, struct.error):
+            return  # chunk head cut off
         if compression == "":
-            self._walk(Window(self.f).get, rstart, rstart + rlen, -1, collectors, result, top=False)
+            rend = min(rstart + rlen, self.f.size)
+            self._walk(Window(self.f).get, rstart, rend, -1, collectors, result, top=False)
             return
+        if rstart + rlen > self.f.size:
+            return  # a cut-off compressed chunk cannot be read
         data = decompress(self.name, compression, self.f.pread(rstart, rlen), usize)
         key = len(result.chunk_compression)
         result.chunk_compression.append(compression)

@@ -1,0 +1,106 @@
+"""Folders of ``<stamp_ns>.png|jpg`` images, one sub-folder per camera (Kalibr layout)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from speechcal_core.sources.base import RawFrame, StreamInfo
+from speechcal_core.sources.common import StreamTable
+from speechcal_core.sources.decode import decode_compressed
+from speechcal_core.sources.errors import BadFrameError, SourceError
+from speechcal_core.sources.stats import stamp_stats
+
+IMAGE_SUFFIXES = {".png": "png", ".jpg": "jpeg", ".jpeg": "jpeg"}
+
+
+def _stamped_images(folder: Path) -> list[tuple[int, str]]:
+    out: list[tuple[int, str]] = []
+    with os.scandir(folder) as it:
+        for entry in it:
+            stem, suffix = os.path.splitext(entry.name)
+            if suffix.lower() in IMAGE_SUFFIXES and stem.isdigit() and entry.is_file():
+                out.append((int(stem), entry.name))
+    return out
+
+
+class ImageFolderSource(StreamTable):
+    """``ROOT/cam0/<stamp_ns>.png``... (or images directly in ROOT: one stream)."""
+
+    def __init__(self, root: Path) -> None:
+        super().__init__()
+        self.root = Path(root)
+        if not self.root.is_dir():
+            raise SourceError(f"{self.root}: folder not found")
+        self._files: dict[str, tuple[Path, list[str]]] = {}
+        folders = [p for p in sorted(self.root.iterdir()) if p.is_dir()]
+        candidates = [(p.name, p) for p in folders]
+        if _stamped_images(self.root):
+            candidates.insert(0, (self.root.name, self.root))
+        for name, folder in candidates:
+            items = _stamped_images(folder)
+            if items:
+                self._add_folder(name, folder, items)
+        if not self._infos:
+            raise SourceError(
+                f"{self.root}: no <stamp_ns>.png/.jpg images in it or its sub-folders "
+                "(expected the Kalibr layout cam0/<stamp_ns>.png, cam1/...)"
+            )
+
+    def _add_folder(self, name: str, folder: Path, items: list[tuple[int, str]]) -> None:
+        st = stamp_stats([np.array([s for s, _ in items], np.int64)])
+        names = [items[k][1] for k in st.order]
+        first = cv2.imread(str(folder / names[0]), cv2.IMREAD_UNCHANGED)
+        height, width = first.shape[:2] if first is not None else (0, 0)
+        kinds = {IMAGE_SUFFIXES[os.path.splitext(n)[1].lower()] for n in names}
+        info = StreamInfo(
+            name=name,
+            msgtype="file",
+            encoding="/".join(sorted(kinds)),
+            width=int(width),
+            height=int(height),
+            count=len(names),
+            first_ns=int(st.stamps[0]),
+            last_ns=int(st.stamps[-1]),
+            median_period_ns=st.median_period_ns,
+            nominal_rate_hz=st.nominal_rate_hz,
+            dropped=st.dropped,
+            stamp_problems=st.problems,
+        )
+        self._files[name] = (folder, names)
+        self._add_stream(info, st.stamps)
+
+    def _path(self, stream: str, i: int) -> Path:
+        self._check(stream, i)
+        folder, names = self._files[stream]
+        return folder / names[i]
+
+    def frame(self, stream: str, i: int) -> np.ndarray:
+        """Decoded image file i; ``BadFrameError`` (and marked bad) if it is corrupt."""
+        path = self._path(stream, i)
+        try:
+            return decode_compressed(path.read_bytes())
+        except BadFrameError as exc:
+            self._mark_bad(stream, i)
+            raise BadFrameError(f"{path}: {exc}; frame marked bad") from None
+        except OSError as exc:
+            raise SourceError(f"{path}: cannot read ({exc.strerror})") from None
+
+    def raw(self, stream: str, i: int) -> RawFrame:
+        """The image file's bytes."""
+        path = self._path(stream, i)
+        info = self._infos[stream]
+        return RawFrame(
+            stream=stream,
+            msgtype="file",
+            rawdata=path.read_bytes(),
+            serialization="file",
+            stamp_ns=int(self._stamps[stream][i]),
+            log_time_ns=int(self._stamps[stream][i]),
+            width=info.width,
+            height=info.height,
+            suffix=path.suffix.lower(),
+        )

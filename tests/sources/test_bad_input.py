@@ -1,0 +1,177 @@
+"""Damaged and unusual recordings, each made for real: clear errors or marked-bad frames."""
+
+from __future__ import annotations
+
+import os
+import re
+import sqlite3
+import struct
+from pathlib import Path
+
+import numpy as np
+import pytest
+from source_data import T0, Cam, regular
+
+from speechcal_core.sources import BadFrameError, SourceError, open_recording
+from speechcal_core.sources.rosbag1 import Ros1Bag
+
+
+def _index_pos(path: Path) -> int:
+    bag = Ros1Bag(path)
+    try:
+        return bag.index_pos
+    finally:
+        bag.close()
+
+
+@pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4"])
+def test_unindexed_bag_names_reindex_command_and_scan_recovers(make_bag, fmt: str) -> None:
+    path = make_bag(fmt, imu=True)
+    os.truncate(path, _index_pos(path))  # the index section is gone, as after a crash
+    with pytest.raises(SourceError) as err:
+        open_recording([path])
+    msg = str(err.value)
+    assert path.name in msg and f"rosbag reindex {path.name}" in msg and "--scan" in msg
+    with open_recording([path], scan=True) as src:
+        assert [s.count for s in src.streams] == [20, 20]
+        assert src.frame("/cam0/image_raw", 19).shape == (12, 16, 3)
+
+
+def test_bag_with_zero_index_pos_and_cut_in_a_chunk_recovers_complete_messages(make_bag) -> None:
+    path = make_bag("ros1", [Cam("/cam0/image_raw", regular(40))])
+    with path.open("r+b") as fh:  # an interrupted recording: header never updated
+        data = fh.read(4096 + 13)
+        pos = data.index(b"index_pos=") + len(b"index_pos=")
+        fh.seek(pos)
+        fh.write(struct.pack("<Q", 0))
+    os.truncate(path, int(path.stat().st_size * 0.6))
+    with pytest.raises(SourceError, match="not indexed"):
+        open_recording([path])
+    with open_recording([path], scan=True) as src:
+        (info,) = src.streams
+        assert 10 < info.count < 40
+        assert list(src.stamps("/cam0/image_raw")) == regular(info.count)
+        src.frame("/cam0/image_raw", info.count - 1)
+
+
+def test_truncated_mcap_is_refused_then_recovered_by_scanning(make_bag) -> None:
+    # 40 frames of 57 kB: three 1 MB chunks, the file cut inside the second
+    folder = make_bag("ros2-mcap", [Cam("/cam0/image_raw", regular(40), width=160, height=120)])
+    (mcap,) = folder.glob("*.mcap")
+    os.truncate(mcap, int(mcap.stat().st_size * 0.7))
+    with pytest.raises(SourceError) as err:
+        open_recording([mcap])
+    assert "truncated" in str(err.value) and mcap.name in str(err.value)
+    assert "--scan" in str(err.value)
+    with open_recording([mcap], scan=True) as src:
+        (info,) = src.streams
+        assert 17 < info.count < 40
+        assert list(src.stamps("/cam0/image_raw")) == regular(info.count)
+        src.frame("/cam0/image_raw", info.count - 1)
+
+
+def test_missing_file_is_named(tmp_path: Path) -> None:
+    with pytest.raises(SourceError, match=re.escape("nothere.bag: file not found")):
+        open_recording([tmp_path / "nothere.bag"])
+
+
+def test_bag_without_image_topics_lists_what_it_has(make_bag) -> None:
+    path = make_bag("ros1", [], imu=True)
+    with pytest.raises(SourceError, match=r"no sensor_msgs/Image.*\/imu \[sensor_msgs/Imu\]"):
+        open_recording([path])
+
+
+@pytest.mark.parametrize("fmt", ["ros1-bz2", "ros2-sqlite3"])
+def test_corrupt_jpeg_is_marked_bad_and_the_stream_still_works(make_bag, fmt: str) -> None:
+    good = Cam("/cam0/image_raw", regular(10), encoding="jpeg")
+    path = make_bag(fmt, [good])
+    ok_jpeg = None
+    with open_recording([path]) as src:
+        ok_jpeg = bytes(src.raw("/cam0/image_raw", 0).rawdata)
+    assert ok_jpeg
+    # the same JPEG with its second half replaced by garbage, and one cut short
+    cut = Cam("/cam0/image_raw", regular(10), encoding="jpeg")
+    frames = {4: b"\xff\xd8\xff\xe0" + bytes(range(256)) * 3 + b"\xff\xd9", 7: b"\xff\xd8\xff\xdb"}
+    cut.payloads.update(frames)
+    path = make_bag(fmt, [cut], name=f"bad_{fmt}")
+    with open_recording([path]) as src:
+        for i in (4, 7):
+            with pytest.raises(BadFrameError, match=f"frame {i}"):
+                src.frame("/cam0/image_raw", i)
+        assert src.streams[0].bad_frames == (4, 7)
+        assert src.frame("/cam0/image_raw", 5).shape == (12, 16, 3)
+
+
+@pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4", "ros2-sqlite3", "ros2-mcap"])
+def test_wrong_size_raw_payload_is_found_while_indexing(make_bag, fmt: str) -> None:
+    cam = Cam("/cam0/image_raw", regular(10))
+    cam.payloads[6] = bytes(100)  # 100 bytes where 16x12 bgr8 needs 576
+    with open_recording([make_bag(fmt, [cam])]) as src:
+        assert src.streams[0].bad_frames == (6,)
+        with pytest.raises(BadFrameError, match="payload has 100 bytes"):
+            src.frame("/cam0/image_raw", 6)
+        assert src.frame("/cam0/image_raw", 7).shape == (12, 16, 3)
+
+
+def test_unordered_and_duplicate_stamps_are_sorted_and_reported(make_bag) -> None:
+    stamps = regular(10)
+    stamps[3], stamps[4] = stamps[4], stamps[3]
+    stamps[8] = stamps[7]
+    with open_recording([make_bag("ros2-sqlite3", [Cam("/cam0/image_raw", stamps)])]) as src:
+        got = src.stamps("/cam0/image_raw")
+        assert list(got) == sorted(stamps)
+        problems = src.streams[0].stamp_problems
+        assert "1 stamp out of order (sorted)" in problems and "1 duplicate stamp" in problems
+        # frame 3 in stamp order is the message stored 4th (it carries pixel value 4)
+        assert src.frame("/cam0/image_raw", 3)[5, 5, 1] == 4
+
+
+def test_unknown_encoding_is_named_in_the_error(make_bag) -> None:
+    cam = Cam("/cam0/image_raw", regular(3), encoding="weird24")
+    with open_recording([make_bag("ros1", [cam])]) as src:
+        assert src.streams[0].encoding == "weird24"
+        with pytest.raises(SourceError, match="unknown image encoding 'weird24'"):
+            src.frame("/cam0/image_raw", 0)
+
+
+def test_damaged_lz4_chunk_names_the_file(make_bag) -> None:
+    path = make_bag("ros1-lz4", [Cam("/cam0/image_raw", regular(5))])
+    with open_recording([path], use_cache=False):
+        pass
+    data = bytearray(path.read_bytes())
+    start = 4096 + 13 + 200
+    data[start : start + 300] = bytes(300)
+    path.write_bytes(bytes(data))
+    with pytest.raises(SourceError, match=f"{path.name}.*(damaged|truncated)"):
+        open_recording([path])
+
+
+def test_damaged_sqlite_file_names_the_file(make_bag) -> None:
+    folder = make_bag("ros2-sqlite3")
+    (db3,) = folder.glob("*.db3")
+    data = bytearray(db3.read_bytes())
+    data[100:4096] = b"\x5a" * (4096 - 100)  # first page (schema) overwritten
+    db3.write_bytes(bytes(data))
+    with pytest.raises(SourceError, match=db3.name):
+        open_recording([folder])
+
+
+def test_file_that_is_not_a_bag_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "notes.bag"
+    path.write_text("hello")
+    with pytest.raises(SourceError, match=re.escape("notes.bag: not a ROS1 bag")):
+        open_recording([path])
+    db = tmp_path / "empty.db3"
+    sqlite3.connect(db).close()
+    with pytest.raises(SourceError, match=re.escape("empty.db3: not a rosbag2 file")):
+        open_recording([db])
+
+
+def test_jpeg_stream_dimensions_come_from_the_first_decodable_frame(make_bag) -> None:
+    cam = Cam("/cam0/image_raw", regular(4), encoding="png")
+    cam.payloads[0] = b"\x89PNG\r\n\x1a\n" + bytes(20)
+    with open_recording([make_bag("ros2-mcap", [cam])]) as src:
+        info = src.streams[0]
+        assert (info.encoding, info.width, info.height) == ("png", 16, 12)
+        assert src.stamps("/cam0/image_raw")[0] == T0
+        assert np.asarray(src.frame("/cam0/image_raw", 1)).shape == (12, 16, 3)

@@ -1,0 +1,115 @@
+"""Video files and folders of stamped images through the same FrameSource."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+from source_data import PERIOD, T0, pixels
+
+from speechcal_core.sources import BadFrameError, SourceError, open_recording
+
+
+def write_video(path: Path, n: int = 20, fourcc: str = "mp4v", fps: float = 20.0) -> Path:
+    """n frames whose green channel encodes the frame number (10 * i)."""
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*fourcc), fps, (32, 24))
+    assert writer.isOpened()
+    for i in range(n):
+        writer.write(np.full((24, 32, 3), (60, 10 * i, 200), np.uint8))
+    writer.release()
+    return path
+
+
+@pytest.mark.parametrize(
+    ("suffix", "fourcc"), [(".mp4", "mp4v"), (".avi", "MJPG"), (".mkv", "MJPG")]
+)
+def test_video_frames_are_stamped_from_container_times_plus_start(
+    tmp_path: Path, suffix: str, fourcc: str
+) -> None:
+    path = write_video(tmp_path / f"cam0{suffix}", fourcc=fourcc)
+    (tmp_path / f"cam0{suffix}.start_ns").write_text(f"{T0}\n")
+    with open_recording([path]) as src:
+        (info,) = src.streams
+        assert info.name == "cam0" and info.msgtype == "video"
+        assert (info.width, info.height, info.count) == (32, 24, 20)
+        assert info.median_period_ns == PERIOD and info.stamp_problems == ""
+        assert list(src.stamps("cam0")) == [T0 + k * PERIOD for k in range(20)]
+        for i in (13, 2, 3, 19, 0):  # random order forces seeks
+            img = src.frame("cam0", i)
+            assert img.shape == (24, 32, 3) and img.dtype == np.uint8
+            assert abs(int(img[12, 16, 1]) - 10 * i) <= 4
+        raw = src.raw("cam0", 5)
+        assert raw.serialization == "bgr8" and len(raw.rawdata) == 24 * 32 * 3
+        assert raw.stamp_ns == T0 + 5 * PERIOD
+
+
+def test_video_start_stamp_argument_and_missing_start_is_reported(tmp_path: Path) -> None:
+    path = write_video(tmp_path / "side.avi", n=5, fourcc="MJPG")
+    with open_recording([path], video_start_ns=1000) as src:
+        assert src.stamps("side")[0] == 1000
+    with open_recording([path]) as src:
+        assert src.stamps("side")[0] == 0
+        assert "no start stamp" in src.streams[0].stamp_problems
+
+
+def test_two_videos_give_two_streams(tmp_path: Path) -> None:
+    a = write_video(tmp_path / "cam0.avi", n=5, fourcc="MJPG")
+    b = write_video(tmp_path / "cam1.avi", n=7, fourcc="MJPG")
+    with open_recording([a, b]) as src:
+        assert [(s.name, s.count) for s in src.streams] == [("cam0", 5), ("cam1", 7)]
+
+
+def test_damaged_video_is_refused_with_its_name(tmp_path: Path) -> None:
+    path = tmp_path / "broken.mp4"
+    path.write_bytes(b"\0\0\0\x18ftypmp42" + bytes(range(256)) * 4)
+    with pytest.raises(SourceError, match=re.escape("broken.mp4")):
+        open_recording([path])
+
+
+def make_kalibr_folder(root: Path, cams: int = 2, n: int = 6) -> Path:
+    """``root/cam{k}/<stamp_ns>.png`` (cam1 as JPEG) plus an imu0.csv to ignore."""
+    for k in range(cams):
+        folder = root / f"cam{k}"
+        folder.mkdir(parents=True)
+        for i in range(n):
+            suffix = ".png" if k == 0 else ".jpg"
+            cv2.imwrite(str(folder / f"{T0 + i * PERIOD + k}{suffix}"), pixels(k, i))
+    (root / "imu0.csv").write_text("timestamp,wx\n")
+    return root
+
+
+def test_kalibr_image_folders_are_streams(tmp_path: Path) -> None:
+    root = make_kalibr_folder(tmp_path / "dataset")
+    (root / "cam0" / "notes.txt").write_text("ignored")
+    with open_recording([root]) as src:
+        info = {s.name: s for s in src.streams}
+        assert set(info) == {"cam0", "cam1"}
+        assert (info["cam0"].encoding, info["cam1"].encoding) == ("png", "jpeg")
+        assert info["cam0"].count == 6 and info["cam0"].width == 16
+        assert src.stamps("cam1")[2] == T0 + 2 * PERIOD + 1
+        np.testing.assert_array_equal(src.frame("cam0", 4), pixels(0, 4))
+        raw = src.raw("cam0", 4)
+        assert raw.serialization == "file" and raw.suffix == ".png"
+        assert raw.rawdata.startswith(b"\x89PNG")
+        assert src.nearest("cam0", T0 + 10 * PERIOD) == 5
+
+
+def test_corrupt_image_file_is_marked_bad_and_the_rest_still_works(tmp_path: Path) -> None:
+    root = make_kalibr_folder(tmp_path / "dataset", cams=2)
+    jpg = sorted((root / "cam1").iterdir())[3]
+    jpg.write_bytes(jpg.read_bytes()[:200])  # truncated JPEG
+    with open_recording([root]) as src:
+        with pytest.raises(BadFrameError, match=jpg.name):
+            src.frame("cam1", 3)
+        assert {s.name: s.bad_frames for s in src.streams}["cam1"] == (3,)
+        assert src.frame("cam1", 4).shape == (12, 16, 3)
+
+
+def test_folder_without_stamped_images_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "cam0").mkdir()
+    (tmp_path / "cam0" / "image.png").write_bytes(b"x")
+    with pytest.raises(SourceError, match=re.escape("no <stamp_ns>.png")):
+        open_recording([tmp_path])
