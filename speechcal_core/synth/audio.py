@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from bisect import bisect_left
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -13,7 +14,7 @@ from scipy.signal import butter, fftconvolve, lfilter, resample_poly, sosfilt
 from speechcal_core.synth.voices import Clip, VoiceBank, check_trigger_word, load_bank
 
 if TYPE_CHECKING:
-    from collections.abc import Callable
+    from collections.abc import Callable, Iterator
     from pathlib import Path
 
     from speechcal_core.synth.timeline import SpeechSlot, Timeline
@@ -26,7 +27,9 @@ RATE_RANGE = (0.95, 1.05)  # resampling factor: pitch and tempo together
 RT60_RANGE = (0.15, 0.5)
 CLAP_PEAK = 0.85
 DOOR_PEAK = 0.55
-PEAK_LIMIT = 0.98  # the whole mix is scaled down (ratios kept) if it would exceed this
+PEAK_LIMIT = 0.98  # the whole mix is scaled down (ratios kept) if it could exceed this
+NOISE_CREST = 5.0  # noise peaks assumed up to this many RMS when sizing the headroom
+CHUNK_S = 10.0  # rendered and written piece by piece: memory does not grow with duration
 SPEECH_GUARD_S = 0.15  # a distractor keeps this far from any trigger
 PRE_CLAP_GAP_S = (0.2, 1.0)  # the pre-clap chatter ends this long before the first clap
 PRE_CLAP_TEXTS = ("ready", "okay")
@@ -61,6 +64,14 @@ class _Placed:
     end_s: float
     rate: float
     hold: int = -1
+    gain: float = SPEECH_RMS  # RMS of the loud part of the dry clip
+    drr_db: float = 6.0  # direct-to-reverberant ratio of its room response
+    ir_seed: int = 0
+
+    @property
+    def first_sample(self) -> int:
+        """Index of the first output sample the dry clip touches."""
+        return math.ceil(self.start_s * SAMPLE_RATE)
 
 
 def render_audio(
@@ -87,37 +98,42 @@ def render_audio(
     # chatter never shares the door's moment, so speech and transients stay separable
     placed = [p for p in placed if p.kind == "trigger"
               or p.end_s + DOOR_CLEAR_S[0] <= door_s or p.start_s >= door_s + DOOR_CLEAR_S[1]]
-    report(0.05)
+    placed = [replace(p, gain=SPEECH_RMS * 10 ** (rng.uniform(*GAIN_DB) / 20),
+                      drr_db=float(rng.uniform(4.0, 10.0)), ir_seed=int(rng.integers(2**31)))
+              for p in placed]
+    transients = [(math.ceil(t0 * SAMPLE_RATE), _clap(ev_rng, t0, rt60)) for t0 in claps_s]
+    transients.append((math.ceil(door_s * SAMPLE_RATE), _door(ev_rng, door_s)))
+    bounds = np.linspace(0, n, max(1, round(n / (CHUNK_S * SAMPLE_RATE))) + 1).astype(int)
+    report(0.02)
 
-    speech = np.zeros(n)
-    for item in placed:
-        gain = SPEECH_RMS * 10 ** (rng.uniform(*GAIN_DB) / 20)
-        ir = _room_ir(rng, rt60, direct_to_reverb_db=float(rng.uniform(4.0, 10.0)))
-        _add_clip(speech, bank, item, gain, ir)
-    report(0.25)
-
-    mask = np.zeros(n, dtype=bool)
-    for item in placed:
-        mask[_span(item.start_s, item.end_s, n)] = True
-    speech_rms = float(np.sqrt(np.mean(speech[mask] ** 2))) if mask.any() else SPEECH_RMS
-
-    noise = _room_noise(n, timeline.rng("audio-noise"))
+    # pass 1, speech only: its level inside the spoken intervals and its peak
+    spans = [(p.first_sample, math.ceil(p.end_s * SAMPLE_RATE)) for p in placed]
+    energy, count, speech_peak = 0.0, 0, 0.0
+    for a, b, buf in _speech_chunks(bank, placed, rt60, bounds):
+        inside = buf[_mask(spans, a, b)]
+        energy += float(np.sum(inside**2))
+        count += len(inside)
+        speech_peak = max(speech_peak, float(np.max(np.abs(buf))))
+    report(0.15)
+    speech_rms = math.sqrt(energy / count) if count else SPEECH_RMS
     noise_rms = speech_rms / 10 ** (timeline.options.snr_db / 20)
-    noise *= noise_rms / float(np.sqrt(np.mean(noise**2)))
-    report(0.45)
+    loudest = max([speech_peak] + [float(np.max(np.abs(sig))) for _, sig in transients])
+    scale = min(1.0, PEAK_LIMIT / (loudest + NOISE_CREST * noise_rms))
 
-    mix = speech + noise
-    del speech, noise
-    for t0 in claps_s:
-        _add_at(mix, t0, _clap(ev_rng, t0, rt60))
-    _add_at(mix, door_s, _door(ev_rng, door_s))
-    peak = float(np.max(np.abs(mix)))
-    scale = PEAK_LIMIT / peak if peak > PEAK_LIMIT else 1.0
-    if scale != 1.0:
-        mix *= scale
-    report(0.55)
-
-    _write_ogg(out_path, mix.astype(np.float32), lambda f: report(0.55 + 0.45 * f))
+    # pass 2: speech + noise + transients, scaled, written chunk by chunk
+    noise = _RoomNoise(timeline.rng("audio-noise"))
+    with sf.SoundFile(str(out_path), "w", SAMPLE_RATE, 1, format="OGG",
+                      subtype="VORBIS") as f:
+        for a, b, buf in _speech_chunks(bank, placed, rt60, bounds):
+            buf += noise_rms * noise.take(b - a)
+            for k0, sig in transients:
+                _add_at_index(buf, k0 - a, sig)
+            buf *= scale
+            np.clip(buf, -1.0, 1.0, out=buf)
+            chunk = buf.astype(np.float32)
+            for i in range(0, len(chunk), WRITE_BLOCK):  # DESIGN.md §5: small writes
+                f.write(chunk[i:i + WRITE_BLOCK])
+            report(0.15 + 0.85 * b / n)
     truth = AudioTruth(
         triggers=[{"word": p.clip.text, "start_s": p.start_s, "end_s": p.end_s, "hold": p.hold,
                    "voice": p.clip.voice, "clip": p.clip.file}
@@ -133,7 +149,6 @@ def render_audio(
         speech_rms=speech_rms * scale,
         noise_rms=noise_rms * scale,
     )
-    report(1.0)
     return truth
 
 
@@ -198,25 +213,52 @@ def _fits(clip: Clip, rate: float, anchor: float, slot: SpeechSlot,
     return all(p.end_s <= a or p.start_s >= b for a, b in busy)
 
 
-def _span(start_s: float, end_s: float, n: int) -> slice:
-    """Sample indices covering [start_s, end_s)."""
-    return slice(max(0, math.ceil(start_s * SAMPLE_RATE)),
-                 min(n, math.ceil(end_s * SAMPLE_RATE)))
+def _mask(spans: list[tuple[int, int]], a: int, b: int) -> np.ndarray:
+    """Boolean mask of samples [a, b) inside any of the sorted sample spans."""
+    mask = np.zeros(b - a, dtype=bool)
+    longest = max((e - s for s, e in spans), default=0)
+    j = bisect_left(spans, (a - longest, -1))
+    while j < len(spans) and spans[j][0] < b:
+        s0, s1 = spans[j]
+        if s1 > a:
+            mask[max(s0, a) - a:min(s1, b) - a] = True
+        j += 1
+    return mask
 
 
-def _add_clip(out: np.ndarray, bank: VoiceBank, item: _Placed, gain: float,
-              ir: np.ndarray) -> None:
-    """Resample the clip to 48 kHz at its rate, place it sub-sample exactly, add reverb."""
+def _speech_chunks(bank: VoiceBank, placed: list[_Placed], rt60: float,
+                   bounds: np.ndarray) -> Iterator[tuple[int, int, np.ndarray]]:
+    """Yield ``(a, b, speech[a:b])`` chunk by chunk; each instance is rendered when reached."""
+    order = sorted(placed, key=lambda p: p.first_sample)
+    active: list[tuple[int, np.ndarray]] = []
+    i = 0
+    for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
+        while i < len(order) and order[i].first_sample < b:
+            active.append(_render_instance(bank, order[i], rt60))
+            i += 1
+        buf = np.zeros(b - a)
+        for k0, sig in active:
+            _add_at_index(buf, k0 - a, sig)
+        active = [(k0, sig) for k0, sig in active if k0 + len(sig) > b]
+        yield a, b, buf
+
+
+def _render_instance(bank: VoiceBank, item: _Placed, rt60: float) -> tuple[int, np.ndarray]:
+    """Resample the clip to 48 kHz at its rate, place it sub-sample exactly, add reverb.
+
+    Returns the first sample index and the wet signal; deterministic for an instance.
+    """
     x = bank.samples(item.clip)
     g = math.gcd(bank.sample_rate, SAMPLE_RATE)
     x = resample_poly(x, SAMPLE_RATE // g, bank.sample_rate // g)
-    x = x * (gain / _active_rms(x))
-    k0 = math.ceil(item.start_s * SAMPLE_RATE)
+    x = x * (item.gain / _active_rms(x))
+    k0 = item.first_sample
     k1 = math.ceil(item.end_s * SAMPLE_RATE)
     # output sample k sits at clip time (k / sr - start) * rate
     pos = (np.arange(k0, k1) / SAMPLE_RATE - item.start_s) * item.rate * SAMPLE_RATE
     dry = np.interp(pos, np.arange(len(x)), x, left=0.0, right=0.0)
-    _add_at_index(out, k0, fftconvolve(dry, ir))
+    ir = _room_ir(np.random.default_rng(item.ir_seed), rt60, item.drr_db)
+    return k0, fftconvolve(dry, ir)
 
 
 def _active_rms(x: np.ndarray) -> float:
@@ -311,34 +353,65 @@ def _door_time(placed: list[_Placed], claps_s: list[float], duration_s: float,
     return float(grid[int(np.argmax(from_triggers))])
 
 
-def _room_noise(n: int, rng: np.random.Generator) -> np.ndarray:
-    """Room tone (pink plus a little brown), mains hum and faint breathing; unscaled."""
-    white = rng.standard_normal(n)
-    pink = lfilter([0.049922035, -0.095993537, 0.050612699, -0.004408786],
-                   [1.0, -2.494956002, 2.017265875, -0.522189400], white)
-    brown = lfilter([1.0], [1.0, -0.995], rng.standard_normal(n))
-    hp = butter(2, 25, "highpass", fs=SAMPLE_RATE, output="sos")
-    room = sosfilt(hp, pink / np.std(pink) + 0.5 * brown / np.std(brown))
-    room /= np.std(room)
-    t = np.arange(SAMPLE_RATE) / SAMPLE_RATE  # one second holds whole hum periods
-    mains = 50.0 if rng.random() < 0.5 else 60.0
-    hum = sum(a * np.sin(2 * np.pi * mains * h * t + rng.uniform(0, 2 * np.pi))
-              for h, a in ((1, 0.12), (2, 0.05), (3, 0.03)))
-    hum = np.resize(hum, n)
-    breath = sosfilt(butter(2, (400, 2500), "bandpass", fs=SAMPLE_RATE, output="sos"),
-                     rng.standard_normal(n))
-    breath /= np.std(breath)
-    period = float(rng.uniform(3.5, 5.0))
-    hop = SAMPLE_RATE // 100  # the breathing envelope changes slowly: 10 ms steps
-    tc = np.arange(n // hop + 1) * hop / SAMPLE_RATE
-    cycle = np.maximum(np.sin(2 * np.pi * tc / period + rng.uniform(0, 2 * np.pi)), 0.0) ** 2
-    cycle = np.repeat(cycle, hop)[:n]
-    return room + hum + 0.25 * cycle * breath
+class _RoomNoise:
+    """Room tone (pink plus a little brown), mains hum and faint breathing, as a stream.
+
+    Filter states carry over between pieces; each piece is scaled to unit RMS, so the
+    whole file's noise RMS is exactly the factor applied to it.
+    """
+
+    def __init__(self, rng: np.random.Generator) -> None:
+        self.rng = rng
+        self.pink_ba = ([0.049922035, -0.095993537, 0.050612699, -0.004408786],
+                        [1.0, -2.494956002, 2.017265875, -0.522189400])
+        self.brown_ba = ([1.0], [1.0, -0.995])
+        self.hp = butter(2, 25, "highpass", fs=SAMPLE_RATE, output="sos")
+        self.bp = butter(2, (400, 2500), "bandpass", fs=SAMPLE_RATE, output="sos")
+        self.pink_std = _impulse_std(*self.pink_ba)
+        self.brown_std = _impulse_std(*self.brown_ba)
+        self.zi_pink = np.zeros(3)
+        self.zi_brown = np.zeros(1)
+        self.zi_hp = np.zeros((self.hp.shape[0], 2))
+        self.zi_bp = np.zeros((self.bp.shape[0], 2))
+        t = np.arange(SAMPLE_RATE) / SAMPLE_RATE  # one second holds whole hum periods
+        mains = 50.0 if rng.random() < 0.5 else 60.0
+        self.hum = sum(a * np.sin(2 * np.pi * mains * h * t + rng.uniform(0, 2 * np.pi))
+                       for h, a in ((1, 0.12), (2, 0.05), (3, 0.03)))
+        self.breath_std = float(np.sqrt(np.sum(sosfilt(self.bp, np.eye(1, 1 << 14)[0]) ** 2)))
+        self.breath_period = float(rng.uniform(3.5, 5.0))
+        self.breath_phase = float(rng.uniform(0, 2 * np.pi))
+        self.pos = 0
+        self._raw(SAMPLE_RATE // 2)  # settle the filters
+
+    def _raw(self, m: int) -> tuple[np.ndarray, np.ndarray]:
+        """Unscaled room tone and breath noise for the next m samples."""
+        pink, self.zi_pink = lfilter(*self.pink_ba, self.rng.standard_normal(m),
+                                     zi=self.zi_pink)
+        brown, self.zi_brown = lfilter(*self.brown_ba, self.rng.standard_normal(m),
+                                       zi=self.zi_brown)
+        room, self.zi_hp = sosfilt(self.hp, pink / self.pink_std + 0.5 * brown / self.brown_std,
+                                   zi=self.zi_hp)
+        breath, self.zi_bp = sosfilt(self.bp, self.rng.standard_normal(m), zi=self.zi_bp)
+        return room, breath
+
+    def take(self, m: int) -> np.ndarray:
+        """The next m samples at unit RMS."""
+        room, breath = self._raw(m)
+        idx = self.pos + np.arange(m)
+        hum = self.hum[idx % SAMPLE_RATE]
+        hop = SAMPLE_RATE // 100  # the breathing envelope changes slowly: 10 ms steps
+        tc = (idx[::hop] / SAMPLE_RATE) * (2 * np.pi / self.breath_period) + self.breath_phase
+        cycle = np.repeat(np.maximum(np.sin(tc), 0.0) ** 2, hop)[:m]
+        self.pos += m
+        out = room / max(float(np.std(room)), 1e-12) + hum + 0.3 * cycle * breath / self.breath_std
+        return out / max(float(np.sqrt(np.mean(out**2))), 1e-12)
 
 
-def _add_at(out: np.ndarray, t0: float, sig: np.ndarray) -> None:
-    """Add ``sig`` whose first sample is ``ceil(t0 * sr)``."""
-    _add_at_index(out, math.ceil(t0 * SAMPLE_RATE), sig)
+def _impulse_std(b: list[float], a: list[float]) -> float:
+    """Output standard deviation of the filter b/a driven by unit white noise."""
+    impulse = np.zeros(1 << 17)
+    impulse[0] = 1.0
+    return float(np.sqrt(np.sum(lfilter(b, a, impulse) ** 2)))
 
 
 def _add_at_index(out: np.ndarray, k0: int, sig: np.ndarray) -> None:
@@ -346,14 +419,3 @@ def _add_at_index(out: np.ndarray, k0: int, sig: np.ndarray) -> None:
     a, b = max(0, k0), min(len(out), k0 + len(sig))
     if b > a:
         out[a:b] += sig[a - k0:b - k0]
-
-
-def _write_ogg(path: Path, data: np.ndarray, progress: Callable[[float], None]) -> None:
-    """Write mono Ogg Vorbis in small blocks (libsndfile segfaults on one long write)."""
-    with sf.SoundFile(str(path), "w", SAMPLE_RATE, 1, format="OGG", subtype="VORBIS") as f:
-        step = WRITE_BLOCK * 64
-        for a in range(0, len(data), WRITE_BLOCK):
-            f.write(data[a:a + WRITE_BLOCK])
-            if a % step == 0:
-                progress(a / max(1, len(data)))
-    progress(1.0)
