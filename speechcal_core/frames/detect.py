@@ -1,0 +1,221 @@
+"""Calibration target detection per frame: AprilGrid (Kalibr order), checkerboard, ChArUco."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from speechcal_core.target import TargetSpec
+
+#: longest image side used for the coarse search; corners are refined at full resolution
+DETECT_MAX_SIDE = 800
+_SUBPIX = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 30, 0.01)
+# OpenCV's corners run TL, TR, BR, BL around its marker image, which is the AprilTag turned
+# by 180 degrees. Kalibr prints the AprilTag upright (y up) and numbers corners
+# counter-clockwise from the lower left: (x, y), (x+s, y), (x+s, y+s), (x, y+s).
+_KALIBR_FROM_CV = np.array([1, 0, 3, 2])
+# the same sheet drawn with y pointing down (tags upright in image rows)
+_MIRRORED_FROM_CV = np.array([2, 3, 0, 1])
+
+
+@dataclass(frozen=True)
+class CharucoSpec:
+    """A ChArUco board: ``squares_x`` x ``squares_y`` squares of ``square`` metres."""
+
+    squares_x: int = 7
+    squares_y: int = 5
+    square: float = 0.04
+    marker: float = 0.03
+    dictionary: int = cv2.aruco.DICT_5X5_100
+    kind: str = "charuco"
+
+    def board(self) -> cv2.aruco.CharucoBoard:
+        """The OpenCV board object."""
+        d = cv2.aruco.getPredefinedDictionary(self.dictionary)
+        return cv2.aruco.CharucoBoard((self.squares_x, self.squares_y), self.square,
+                                      self.marker, d)
+
+    def object_points(self) -> np.ndarray:
+        """Inner chessboard corners (N x 3), ids as OpenCV numbers them."""
+        return np.asarray(self.board().getChessboardCorners(), np.float64).reshape(-1, 3)
+
+
+Target = TargetSpec | CharucoSpec
+
+
+@dataclass(frozen=True)
+class Detection:
+    """Corners found in one image: ``points`` (N x 2 px, full resolution) for object ``ids``."""
+
+    points: np.ndarray
+    ids: np.ndarray
+
+    @property
+    def count(self) -> int:
+        """Number of corners."""
+        return int(self.ids.size)
+
+    def hull(self) -> np.ndarray:
+        """Convex hull of the corners (M x 2 int32), for masks and overlays."""
+        return cv2.convexHull(self.points.astype(np.float32)).reshape(-1, 2).astype(np.int32)
+
+
+def to_gray(image: np.ndarray) -> np.ndarray:
+    """Mono uint8 view of a mono uint8/uint16 or BGR frame."""
+    if image.ndim == 3:
+        image = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+    if image.dtype == np.uint16:
+        image = (image >> 8).astype(np.uint8)
+    return image
+
+
+class TargetDetector:
+    """Finds one target in frames; reuse one instance per thread for speed."""
+
+    def __init__(self, target: Target, max_side: int = DETECT_MAX_SIDE) -> None:
+        self.target = target
+        self.max_side = max_side
+        self.object_points = target.object_points()
+        self._order: np.ndarray | None = None  # AprilGrid corner order, once known
+        if isinstance(target, CharucoSpec):
+            self._charuco = cv2.aruco.CharucoDetector(target.board())
+        elif target.kind == "aprilgrid":
+            params = cv2.aruco.DetectorParameters()
+            params.markerBorderBits = 2
+            params.cornerRefinementMethod = cv2.aruco.CORNER_REFINE_NONE
+            # small threshold windows keep tags apart from Kalibr's corner squares
+            params.adaptiveThreshWinSizeMin = 3
+            params.adaptiveThreshWinSizeMax = 5
+            params.adaptiveThreshWinSizeStep = 2
+            params.minMarkerPerimeterRate = 0.03
+            full = cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_APRILTAG_36h11)
+            # only the board's own ids: identification time grows with the dictionary
+            n = target.rows * target.cols
+            d = cv2.aruco.Dictionary(full.bytesList[:n], full.markerSize, full.maxCorrectionBits)
+            self._aruco = cv2.aruco.ArucoDetector(d, params)
+
+    def detect(self, image: np.ndarray) -> Detection | None:
+        """Corners of the target in ``image`` (None when it is not found).
+
+        The search runs on a shrunk copy first; when it finds less than most of the
+        target it looks again at full resolution (and 1.5x), around what it found.
+        """
+        gray = to_gray(image)
+        h, w = gray.shape[:2]
+        best: tuple[np.ndarray, np.ndarray, float] | None = None
+        scales = [min(1.0, self.max_side / max(h, w))]
+        scales += [s for s in (1.0, 1.5) if s > scales[0]]
+        x0, y0, x1, y1 = 0, 0, w, h
+        for scale in scales:
+            crop = gray[y0:y1, x0:x1]
+            interp = cv2.INTER_AREA if scale < 1 else cv2.INTER_LINEAR
+            small = crop if scale == 1.0 else cv2.resize(crop, None, fx=scale, fy=scale,
+                                                         interpolation=interp)
+            found = self._detect_kind(small)
+            if found is not None:
+                points, ids, win = found
+                found = (points / scale + (x0, y0), ids, win / scale)
+                if best is None or found[1].size > best[1].size:
+                    best = found
+            if best is not None and (best[1].size >= 0.6 * len(self.object_points)
+                                     or not isinstance(self.target, TargetSpec)
+                                     or self.target.kind != "aprilgrid"):
+                break
+            if best is not None:  # look closer around what was found
+                lo, hi = best[0].min(axis=0), best[0].max(axis=0)
+                pad = (hi - lo) * 0.4 + 16
+                x0, y0 = (int(v) for v in np.maximum(lo - pad, 0))
+                x1, y1 = (int(v) for v in np.minimum(hi + pad, (w, h)))
+        if best is None:
+            return None
+        points, ids, win = best
+        win = max(2, round(win))
+        refined = cv2.cornerSubPix(gray, points.reshape(-1, 1, 2).astype(np.float32),
+                                   (win, win), (-1, -1), _SUBPIX).reshape(-1, 2)
+        return Detection(refined.astype(np.float64), ids.astype(np.int32))
+
+    def _detect_kind(self, small: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
+        if isinstance(self.target, CharucoSpec):
+            return self._detect_charuco(small)
+        if self.target.kind == "aprilgrid":
+            return self._detect_aprilgrid(small)
+        return self._detect_checkerboard(small)
+
+    # -- per kind: (points in the small image, ids, refinement half-window in small px) ---
+
+    def _detect_aprilgrid(self, small: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
+        corners, tag_ids, _ = self._aruco.detectMarkers(small)
+        assert isinstance(self.target, TargetSpec)
+        n_tags = self.target.rows * self.target.cols
+        if tag_ids is None:
+            return None
+        keep = [k for k, t in enumerate(tag_ids.ravel()) if 0 <= t < n_tags]
+        if not keep:
+            return None
+        quads = np.stack([corners[k].reshape(4, 2) for k in keep])  # (T, 4, 2) TL TR BR BL
+        tags = tag_ids.ravel()[keep]
+        order = self._order
+        if order is None:
+            order, decisive = _tag_corner_order(quads, tags, self.object_points)
+            if decisive:
+                self._order = order
+        points = quads[:, order, :].reshape(-1, 2)
+        ids = (tags[:, None] * 4 + np.arange(4)[None, :]).ravel()
+        side = float(np.median(np.linalg.norm(quads[:, 1] - quads[:, 0], axis=1)))
+        # corners of neighbouring tags sit spacing*size apart: keep the window inside the gap
+        win = max(1.5, min(side * self.target.spacing * 0.45, side / 8))
+        return points, ids, win
+
+    def _detect_checkerboard(
+        self, small: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, float] | None:
+        assert isinstance(self.target, TargetSpec)
+        size = (self.target.cols, self.target.rows)
+        flags = cv2.CALIB_CB_NORMALIZE_IMAGE | cv2.CALIB_CB_EXHAUSTIVE
+        ok, corners = cv2.findChessboardCornersSB(small, size, flags=flags)
+        if not ok:
+            return None
+        points = corners.reshape(-1, 2).astype(np.float64)
+        step = np.linalg.norm(points[1] - points[0])
+        return points, np.arange(points.shape[0]), max(1.5, step * 0.3)
+
+    def _detect_charuco(self, small: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
+        corners, ids, _, _ = self._charuco.detectBoard(small)
+        if ids is None or len(ids) < 4:
+            return None
+        points = corners.reshape(-1, 2).astype(np.float64)
+        d = np.linalg.norm(points[:, None] - points[None], axis=2)
+        np.fill_diagonal(d, np.inf)
+        assert isinstance(self.target, CharucoSpec)
+        gap = (1 - self.target.marker / self.target.square) / 2  # corner to marker, in squares
+        return points, ids.ravel(), max(1.5, float(np.median(d.min(axis=1))) * gap * 0.8)
+
+
+def _tag_corner_order(
+    quads: np.ndarray, tags: np.ndarray, obj: np.ndarray
+) -> tuple[np.ndarray, bool]:
+    """Corner order mapping OpenCV tag corners to Kalibr's object points, and if it is sure.
+
+    A board printed as Kalibr prints it (tags upright with y up) needs the reversed order; a
+    board drawn with y pointing down needs OpenCV's own. Tags spanning two rows and two
+    columns tell them apart (only the right order fits one homography); otherwise Kalibr's.
+    """
+    src_all = obj[(tags[:, None] * 4 + np.arange(4)[None, :]).ravel(), :2]
+    spread = np.ptp(src_all, axis=0)
+    pitch = float(np.linalg.norm(obj[4, :2] - obj[0, :2])) if len(obj) > 4 else 0.0
+    if len(tags) < 3 or min(spread) <= pitch:
+        return _KALIBR_FROM_CV, False
+    errors = []
+    for order in (_KALIBR_FROM_CV, _MIRRORED_FROM_CV):
+        img = quads[:, order, :].reshape(-1, 2)
+        h, _ = cv2.findHomography(src_all, img, 0)
+        if h is None:
+            errors.append(np.inf)
+            continue
+        proj = cv2.perspectiveTransform(src_all.reshape(-1, 1, 2), h).reshape(-1, 2)
+        errors.append(float(np.mean(np.linalg.norm(proj - img, axis=1))))
+    k = int(np.argmin(errors))
+    decisive = errors[k] * 4 < errors[1 - k]
+    return (_KALIBR_FROM_CV, _MIRRORED_FROM_CV)[k], decisive

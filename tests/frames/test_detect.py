@@ -1,0 +1,76 @@
+"""Target detection: corners land on the projected object points, in Kalibr order."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+from board_images import facing_pose, render_view
+
+from speechcal_core.frames.detect import CharucoSpec, TargetDetector
+from speechcal_core.synth.options import SynthOptions
+from speechcal_core.synth.render import render_frame
+from speechcal_core.synth.timeline import plan_session
+from speechcal_core.target import TargetSpec
+
+K = np.array([[600.0, 0, 322], [0, 600, 238], [0, 0, 1]])
+
+
+def _errors(target, det, rvec, tvec) -> np.ndarray:
+    proj, _ = cv2.projectPoints(target.object_points()[det.ids], rvec, tvec, K, None)
+    return np.linalg.norm(proj.reshape(-1, 2) - det.points, axis=1)
+
+
+@pytest.mark.parametrize("mirrored", [False, True])
+def test_aprilgrid_corners_follow_kalibr_order_on_either_drawing(mirrored: bool) -> None:
+    target = TargetSpec()
+    rvec, tvec = facing_pose(target, 0.7, (0.3, -0.2), (0.02, 0.01), 0.2, flip_y=not mirrored)
+    img = render_view(target, K, rvec, tvec, (640, 480), mirrored=mirrored)
+    det = TargetDetector(target).detect(img)
+    assert det is not None and det.count == 144
+    assert _errors(target, det, rvec, tvec).max() < 0.3
+
+
+def test_checkerboard_corners_are_found_row_major_up_to_board_symmetry() -> None:
+    target = TargetSpec("checkerboard", 6, 8, 0.045)
+    rvec, tvec = facing_pose(target, 0.7, (0.3, -0.2), (0.02, 0.01), 0.1)
+    img = render_view(target, K, rvec, tvec, (640, 480))
+    det = TargetDetector(target).detect(img)
+    assert det is not None and det.count == 48
+    proj, _ = cv2.projectPoints(target.object_points(), rvec, tvec, K, None)
+    grid = proj.reshape(6, 8, 2)
+    # a checkerboard has no marked origin: any corner may come first (all are planar-valid)
+    flips = [grid, grid[::-1], grid[:, ::-1], grid[::-1, ::-1]]
+    err = min(np.abs(f.reshape(-1, 2) - det.points).max() for f in flips)
+    assert err < 0.3
+
+
+def test_charuco_corners_match_board_ids() -> None:
+    target = CharucoSpec()
+    rvec, tvec = facing_pose(target, 0.7, (0.3, -0.2), (0.02, 0.01), 0.2)
+    img = render_view(target, K, rvec, tvec, (640, 480))
+    det = TargetDetector(target).detect(img)
+    assert det is not None and det.count >= 20
+    assert _errors(target, det, rvec, tvec).max() < 0.3
+
+
+def test_empty_scene_gives_no_detection() -> None:
+    img = np.random.default_rng(0).integers(0, 255, (240, 320), dtype=np.uint8)
+    assert TargetDetector(TargetSpec()).detect(img) is None
+
+
+def test_aprilgrid_on_synthetic_frames_matches_truth_projection() -> None:
+    from speechcal_core.synth.camera_model import project_points
+    from speechcal_core.synth.render import renderer_for
+
+    timeline = plan_session(SynthOptions(cameras=1, duration=12, seed=5))
+    renderer = renderer_for(timeline)
+    hold = timeline.holds[0]
+    t = (hold.start_ns + hold.end_ns) // 2
+    img = render_frame(timeline, 0, t)
+    det = TargetDetector(timeline.target).detect(img)
+    assert det is not None and det.count >= 100
+    rot, trans = renderer._target_in_camera(renderer._state(0), t)
+    pts = (rot @ timeline.target.object_points()[det.ids].T).T + trans
+    err = np.linalg.norm(project_points(timeline.cameras[0], pts) - det.points, axis=1)
+    assert err.mean() < 0.3 and err.max() < 1.0
