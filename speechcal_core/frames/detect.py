@@ -43,6 +43,8 @@ class CharucoSpec:
 
 
 Target = TargetSpec | CharucoSpec
+#: corners in the searched image, their object ids, corner refinement half-window (px)
+_Found = tuple[np.ndarray, np.ndarray, float]
 
 
 @dataclass(frozen=True)
@@ -104,7 +106,7 @@ class TargetDetector:
         """
         gray = to_gray(image)
         h, w = gray.shape[:2]
-        best: tuple[np.ndarray, np.ndarray, float] | None = None
+        best: _Found | None = None
         scales = [min(1.0, self.max_side / max(h, w))]
         scales += [s for s in (1.0, 1.5) if s > scales[0]]
         x0, y0, x1, y1 = 0, 0, w, h
@@ -136,7 +138,7 @@ class TargetDetector:
                                    (win, win), (-1, -1), _SUBPIX).reshape(-1, 2)
         return Detection(refined.astype(np.float64), ids.astype(np.int32))
 
-    def _detect_kind(self, small: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
+    def _detect_kind(self, small: np.ndarray) -> _Found | None:
         if isinstance(self.target, CharucoSpec):
             return self._detect_charuco(small)
         if self.target.kind == "aprilgrid":
@@ -145,7 +147,7 @@ class TargetDetector:
 
     # -- per kind: (points in the small image, ids, refinement half-window in small px) ---
 
-    def _detect_aprilgrid(self, small: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
+    def _detect_aprilgrid(self, small: np.ndarray) -> _Found | None:
         corners, tag_ids, _ = self._aruco.detectMarkers(small)
         assert isinstance(self.target, TargetSpec)
         n_tags = self.target.rows * self.target.cols
@@ -170,7 +172,7 @@ class TargetDetector:
 
     def _detect_checkerboard(
         self, small: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, float] | None:
+    ) -> _Found | None:
         assert isinstance(self.target, TargetSpec)
         size = (self.target.cols, self.target.rows)
         flags = cv2.CALIB_CB_NORMALIZE_IMAGE | cv2.CALIB_CB_EXHAUSTIVE
@@ -181,7 +183,7 @@ class TargetDetector:
         step = np.linalg.norm(points[1] - points[0])
         return points, np.arange(points.shape[0]), max(1.5, step * 0.3)
 
-    def _detect_charuco(self, small: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
+    def _detect_charuco(self, small: np.ndarray) -> _Found | None:
         corners, ids, _, _ = self._charuco.detectBoard(small)
         if ids is None or len(ids) < 4:
             return None
