@@ -175,7 +175,7 @@ def main() -> int:
             clips.append({
                 "file": rel, "text": text, "kind": kind, "near": near,
                 "voice": voice, "engine": engine, "take": k + 1,
-                "duration_s": round(len(y) / SAMPLE_RATE, 6),
+                "frames": len(y), "duration_s": round(len(y) / SAMPLE_RATE, 7),
                 "pitch": round(float(f0), 1), "duration_stretch": stretch,
             })
     index = {

@@ -24,7 +24,7 @@ class Clip:
     voice: str
     engine: str  # "flite" | "espeak-ng"
     take: int
-    duration_s: float
+    duration_s: float  # exact: frames / sample rate
     near: str | None = None  # the trigger word a distractor resembles
 
 
@@ -37,7 +37,9 @@ class VoiceBank:
         self.sample_rate = int(index["sample_rate"])
         self.clips: tuple[Clip, ...] = tuple(
             Clip(file=c["file"], text=c["text"], kind=c["kind"], voice=c["voice"],
-                 engine=c["engine"], take=int(c["take"]), duration_s=float(c["duration_s"]),
+                 engine=c["engine"], take=int(c["take"]),
+                 duration_s=(int(c["frames"]) / self.sample_rate if "frames" in c
+                             else float(c["duration_s"])),
                  near=c.get("near"))
             for c in index["clips"]
         )
