@@ -4,18 +4,59 @@ from __future__ import annotations
 
 import argparse
 
-from speechcal_core.errors import NotYetAvailableError
+from speechcal_core.cli._output import emit_json, progress
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("sync", help="find the clap and the audio-to-camera offset")
     p.add_argument("recording", metavar="RECORDING", nargs="+")
-    p.add_argument("--audio", required=True, metavar="AUDIO")
+    p.add_argument("--audio", required=True, metavar="AUDIO",
+                   help="microphone file, or an audio topic inside the recording")
     p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--channel", type=int, default=None, metavar="N",
+                   help="use this audio channel (0-based) instead of mixing all")
+    p.add_argument("--search-s", type=float, default=20.0, metavar="S",
+                   help="look for the clap in this many seconds from each camera's start")
+    p.add_argument("--audio-clap", type=float, default=None, metavar="SECONDS",
+                   help="the clap's time in the audio, set by hand")
+    p.add_argument("--video-clap-ns", type=int, default=None, metavar="NS",
+                   help="the clap's header stamp in the cameras, set by hand")
     return p
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand."""
-    raise NotYetAvailableError("sync is not yet available")
+    from speechcal_core.errors import UsageError
+    from speechcal_core.sources import open_recording
+    from speechcal_core.sync.manual import manual_sync
+    from speechcal_core.sync.pipeline import sync_recording, sync_with_video_clap
+    from speechcal_core.sync.sources import load_sync_audio
+
+    if args.search_s <= 0:
+        raise UsageError(f"--search-s must be positive, got {args.search_s:g}")
+    with open_recording(args.recording) as source:
+        audio, stamped = load_sync_audio(args.audio, args.recording, channel=args.channel)
+        if stamped is not None and args.audio_clap is None and args.video_clap_ns is None:
+            result = stamped
+        elif args.audio_clap is not None and args.video_clap_ns is not None:
+            result = manual_sync([(args.audio_clap, args.video_clap_ns)])
+        elif args.video_clap_ns is not None:
+            result = sync_with_video_clap(audio, args.video_clap_ns)
+        else:
+            result = sync_recording(source, audio, search_s=args.search_s,
+                                    audio_clap_s=args.audio_clap, progress=progress)
+    for note in result.warnings:
+        progress(f"warning: {note}")
+    doc = result.to_dict()
+    if args.json:
+        emit_json(doc)
+    else:
+        print(f"offset_ns {doc['offset_ns']}  drift {doc['drift_ppm']:+.2f} ppm  "
+              f"({doc['source']})")
+        for c in doc["claps"]:
+            print(f"clap  audio {c['audio_s']:.6f} s  session {c['session_ns']} ns")
+        for cam in doc["cameras"]:
+            print(f"{cam['name']}  clap {cam['clap_ns']} ns  "
+                  f"residual {cam['residual_ns'] / 1e6:+.2f} ms")
+    return 0

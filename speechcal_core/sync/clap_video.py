@@ -49,20 +49,24 @@ def to_gray_small(frame: np.ndarray, width: int = WORK_WIDTH) -> tuple[np.ndarra
 
 
 def find_video_clap(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np.ndarray,
-                    *, stream: str = "") -> VideoClap | None:
+                    *, stream: str = "", scale: float | None = None) -> VideoClap | None:
     """The clap event in a run of frames (any size, gray or colour) with their stamps.
 
     Looks for the grid cell with one sharp, unique burst of motion (periodic motion such
     as a fan or a blinking light repeats and is ignored), then times the event to a
-    fraction of a frame from the closing and opening gap between the two moving parts.
-    Returns None when no such event is there.
+    fraction of a frame from the closing and opening distance between the two moving
+    parts. ``scale``: the frames are already gray float32 from :func:`to_gray_small` at
+    this scale (the ROI is still reported in full-frame pixels). None when no event is there.
     """
     stamps = np.asarray(stamps_ns, dtype=np.int64)
     if len(frames) < 5 or stamps.size != len(frames):
         return None
-    small = [to_gray_small(f)[0] for f in frames]
-    scale = to_gray_small(frames[0])[1]
-    stack = np.stack(small)
+    if scale is None:
+        small = [to_gray_small(f)[0] for f in frames]
+        scale = to_gray_small(frames[0])[1]
+    else:
+        small = list(frames)
+    stack = np.stack(small).astype(np.float32, copy=False)
     t = (stamps - stamps[0]).astype(np.float64) / 1e9
     period = float(np.median(np.diff(t))) if t.size > 1 else 1 / 30
     event = _best_event(stack, t, period)

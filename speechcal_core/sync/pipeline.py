@@ -1,0 +1,172 @@
+"""Sync a recording with its microphone track: claps in audio and in every camera."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from speechcal_core.sources.errors import SourceError
+from speechcal_core.sync.clap_audio import ClapCandidate, audio_levels, find_audio_claps
+from speechcal_core.sync.clap_video import VideoClap, find_video_clap, to_gray_small
+from speechcal_core.sync.errors import SyncError
+from speechcal_core.sync.estimate import CameraClap, Clap, SyncResult, build_result
+
+if TYPE_CHECKING:
+    from speechcal_core.audio.loader import Audio
+    from speechcal_core.sources.base import FrameSource
+
+SEARCH_S = 20.0  # the first clap is looked for in this much video from each stream's start
+NEAR_S = 2.0  # other cameras (and the closing clap) are looked for this close to the expected time
+MIN_CLAP_GAP_S = 5.0  # a closing clap lies at least this long after the first
+
+Progress = Callable[[str], None]
+
+
+def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list[str]]:
+    """The first clap, the closing clap (or None) and warnings about the audio itself.
+
+    Raises :class:`SyncError` for silent audio or audio without any clap-like sound.
+    """
+    name = audio.path.name if audio.path else "audio"
+    levels = audio_levels(audio)
+    notes: list[str] = []
+    if levels.silent:
+        raise SyncError(f"{name}: the audio is silent (peak {levels.peak_dbfs:.0f} dBFS); "
+                        "check the microphone and the channel, or set the clap by hand "
+                        "(--audio-clap SECONDS)")
+    if levels.clipped:
+        notes.append(f"{name}: {levels.clipped_fraction * 100:.3f}% of samples clip at full "
+                     "scale; clap timing still works, but lower the input gain next time")
+    cands = find_audio_claps(audio, max_candidates=20)
+    claps = [c for c in cands if c.is_clap]
+    if not claps:
+        best = (f"; the sharpest sound, at {cands[0].time_s:.3f} s, does not look like a "
+                "clap") if cands else ""
+        raise SyncError(f"{name}: no clap found in the audio{best}; clap once, sharply, "
+                        "where camera and microphone both catch it, or set the clap by hand "
+                        "(--audio-clap SECONDS)")
+    half = audio.duration_s / 2
+    early = [c for c in claps if c.time_s <= half] or claps
+    first = max(early, key=lambda c: c.score)
+    late = [c for c in claps if c.time_s >= first.time_s + max(MIN_CLAP_GAP_S, 0.4 * half)]
+    last = max(late, key=lambda c: c.score) if late else None
+    if any(c.clipped for c in (first, last) if c is not None):
+        notes.append(f"{name}: the clap clips; its onset is still used")
+    return first, last, notes
+
+
+def video_clap(source: FrameSource, stream: str, t0_ns: int, t1_ns: int) -> VideoClap | None:
+    """The clap seen by one camera between two of its header stamps."""
+    stamps = source.stamps(stream)
+    i0, i1 = np.searchsorted(stamps, [t0_ns, t1_ns])
+    if i1 - i0 < 5:
+        return None
+    frames, kept, scale = [], [], 1.0
+    for i in range(int(i0), int(i1)):
+        try:
+            img, scale = to_gray_small(source.frame(stream, i))
+        except SourceError:  # a bad frame is skipped, not fatal
+            continue
+        if frames and img.shape != frames[0].shape:
+            continue
+        frames.append(img)
+        kept.append(int(stamps[i]))
+    if len(frames) < 5:
+        return None
+    return find_video_clap(frames, np.array(kept), stream=stream, scale=scale)
+
+
+def video_claps(source: FrameSource, t0: dict[str, int], t1: dict[str, int],
+                progress: Progress | None = None) -> list[VideoClap]:
+    """Each stream's clap in its window [t0, t1]; the first find narrows the others."""
+    found: list[VideoClap] = []
+    for name in t0:
+        if progress:
+            progress(f"looking for the clap in {name}")
+        lo, hi = t0[name], t1[name]
+        if found:
+            centre = found[0].clap_ns
+            near = video_clap(source, name, max(lo, centre - int(NEAR_S * 1e9)),
+                              min(hi, centre + int(NEAR_S * 1e9)))
+            if near is not None:
+                found.append(near)
+                continue
+        clap = video_clap(source, name, lo, hi)
+        if clap is not None:
+            found.append(clap)
+    return found
+
+
+def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARCH_S,
+                   streams: list[str] | None = None,
+                   audio_clap_s: float | None = None,
+                   progress: Progress | None = None) -> SyncResult:
+    """Find the clap(s) in audio and video and return the sync model with its evidence.
+
+    ``audio_clap_s`` replaces the audio detection with a clap time set by hand.
+    Raises :class:`SyncError` when no clap can be found on either side.
+    """
+    infos = [s for s in source.streams if streams is None or s.name in streams]
+    if not infos:
+        raise SyncError("the recording has no image streams to find the clap in")
+    notes: list[str] = []
+    if audio_clap_s is None:
+        first, last, notes = audio_claps(audio)
+        a1, a2 = first.time_s, (last.time_s if last else None)
+        audio_source = "auto"
+    else:
+        a1, a2, audio_source = float(audio_clap_s), None, "manual"
+    t0 = {s.name: s.first_ns for s in infos}
+    t1 = {s.name: min(s.last_ns, s.first_ns + int(search_s * 1e9)) for s in infos}
+    cams1 = video_claps(source, t0, t1, progress)
+    if not cams1:
+        raise SyncError(f"no clap seen in the first {search_s:g} s of any camera "
+                        f"({', '.join(t0)}); make the clap visible to the cameras, search "
+                        "longer (--search-s), or set it by hand (--video-clap-ns)")
+    missing = [n for n in t0 if n not in {c.stream for c in cams1}]
+    if missing:
+        notes.append(f"no clap seen by {', '.join(missing)}")
+    claps = [Clap(a1, tuple(_camera(c) for c in cams1), audio_source, "auto")]
+    if a2 is not None:
+        second = _closing_clap(source, claps[0], a2, infos, progress)
+        if second is not None:
+            claps.append(second)
+        else:
+            notes.append(f"a second clap at {a2:.3f} s of audio was not seen by the cameras; "
+                         "drift set to 0")
+    result = build_result(claps, notes, extra={
+        "audio": {"path": str(audio.path) if audio.path else None, "rate": audio.rate,
+                  "duration_s": round(audio.duration_s, 6)},
+        "video": [c.to_dict() for c in cams1],
+    })
+    if len(result.claps) == 2 and any("implausible" in w for w in result.warnings):
+        keep = build_result(claps[:1], [*notes, "the second clap did not match; drift set "
+                                        "to 0"], extra=result.extra)
+        return keep
+    return result
+
+
+def _closing_clap(source: FrameSource, first: Clap, a2: float, infos: list,
+                  progress: Progress | None) -> Clap | None:
+    """The second clap in video, looked for where the first clap's offset puts it."""
+    expected = first.session_ns + round((a2 - first.audio_s) * 1e9)
+    span = int(max(NEAR_S, 3.0) * 1e9)
+    t0 = {s.name: max(s.first_ns, expected - span) for s in infos}
+    t1 = {s.name: min(s.last_ns, expected + span) for s in infos}
+    cams = [c for c in video_claps(source, t0, t1, progress)
+            if abs(c.clap_ns - expected) < span]
+    if not cams:
+        return None
+    return Clap(a2, tuple(_camera(c) for c in cams), first.audio_source, "auto")
+
+
+def _camera(c: VideoClap) -> CameraClap:
+    return CameraClap(c.stream, c.clap_ns, c.period_ns, c.method, c.frame_index)
+
+
+def sync_with_video_clap(audio: Audio, session_ns: int) -> SyncResult:
+    """Audio clap found automatically, its session time set by hand."""
+    first, _last, notes = audio_claps(audio)
+    return build_result([Clap(first.time_s, (), "auto", "manual", int(session_ns))], notes)

@@ -1,0 +1,31 @@
+"""Where the sync audio comes from: a microphone file or an audio topic in the recording."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from speechcal_core.audio.bag_audio import audio_topics, load_bag_audio
+from speechcal_core.audio.errors import AudioError
+from speechcal_core.audio.loader import Audio, load_audio
+from speechcal_core.sync.estimate import SyncResult
+from speechcal_core.sync.stamped import stamped_sync
+
+
+def load_sync_audio(audio: str, recording: Sequence[str | Path], *,
+                    channel: int | None = None) -> tuple[Audio, SyncResult | None]:
+    """The audio, and for stamped bag audio the sync it implies (else None).
+
+    ``audio`` is a file path, or an audio topic of the recording (e.g. ``/audio/audio``).
+    """
+    p = Path(audio)
+    if p.exists() or not audio.startswith("/"):
+        return load_audio(p, channel=channel), None
+    bags = [Path(r) for r in recording]
+    topics = audio_topics(bags)
+    if audio not in topics:
+        listed = ", ".join(sorted(topics)) or "none"
+        raise AudioError(f"{audio}: neither an audio file nor an audio topic of the "
+                         f"recording (audio topics: {listed})")
+    bag = load_bag_audio(bags, audio, channel=channel)
+    return bag.audio, stamped_sync(bag)
