@@ -16,6 +16,12 @@ class OutputExistsError(SpeechCalError):
     """The output exists and replacing it was not asked for."""
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def atomic_write_text(path: str | Path, text: str, *, keep_backup: bool = False) -> None:
     """Write ``text`` to ``path`` atomically (temp file in the same folder, fsync, replace).
 
@@ -24,6 +30,8 @@ def atomic_write_text(path: str | Path, text: str, *, keep_backup: bool = False)
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
+        mode = path.stat().st_mode & 0o777 if path.exists() else 0o666 & ~_umask()
+        os.chmod(tmp, mode)  # mkstemp makes 0600; give the file its usual permissions
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
             handle.write(text)
             handle.flush()
@@ -51,6 +59,7 @@ def staged_directory(target: str | Path, *, force: bool = False) -> Iterator[Pat
     try:
         parent.mkdir(parents=True, exist_ok=True)
         staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=parent))
+        os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes 0700
     except OSError as exc:
         raise SpeechCalError(
             f"{target}: cannot write there ({exc.strerror}); choose a writable folder"

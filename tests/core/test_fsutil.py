@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -40,3 +41,12 @@ def test_existing_output_needs_force(tmp_path: Path) -> None:
     with staged_directory(target, force=True) as staging:
         (staging / "new.txt").write_text("x")
     assert sorted(p.name for p in target.iterdir()) == ["new.txt"]
+
+
+def test_written_files_and_folders_get_ordinary_permissions(tmp_path: Path) -> None:
+    with staged_directory(tmp_path / "out") as staging:
+        atomic_write_text(staging / "a.json", "{}")
+    mask = os.umask(0)
+    os.umask(mask)
+    assert (tmp_path / "out").stat().st_mode & 0o777 == 0o777 & ~mask
+    assert (tmp_path / "out" / "a.json").stat().st_mode & 0o777 == 0o666 & ~mask
