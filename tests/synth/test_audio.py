@@ -167,3 +167,14 @@ def test_progress_reports_rise_to_one(tmp_path):
     render_audio(plan_session(SynthOptions(duration=6.0, seed=1)), tmp_path / "audio.ogg",
                  progress=seen.append)
     assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) >= 3
+
+
+def test_distractors_mix_near_homophones_and_chatter_clear_of_triggers(tmp_path):
+    _, truth, _, _ = _render(tmp_path, duration=40.0, seed=11, snr_db=30.0)
+    near = [d for d in truth.distractors if d["near"] == "capture"]
+    assert near and len(near) < len(truth.distractors)
+    for d in truth.distractors:
+        for t in truth.triggers:
+            assert d["end_s"] <= t["start_s"] - 0.1 or d["start_s"] >= t["end_s"] + 0.1
+    assert len({t["voice"] for t in truth.triggers}) >= 2
+    assert {t["voice"] for t in truth.triggers} <= {"slt", "rms", "awb", "kal16"}
