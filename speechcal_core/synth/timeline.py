@@ -87,6 +87,7 @@ class Segment:
     end_ns: int
     from_pose: int
     to_pose: int
+    kind: str = "hold"  # "hold" (a trigger is said), "move", or "rest" (before/after)
 
     @property
     def is_hold(self) -> bool:
@@ -128,8 +129,8 @@ class Timeline:
 
     @property
     def holds(self) -> list[Segment]:
-        """The still holds in time order."""
-        return [s for s in self.segments if s.is_hold and s.from_pose >= 0]
+        """The still holds in which a trigger is said, in time order (index = hold index)."""
+        return [s for s in self.segments if s.kind == "hold"]
 
     def rng(self, purpose: str) -> np.random.Generator:
         """An independent generator per purpose, stable for a given seed."""
@@ -172,7 +173,7 @@ def plan_session(options: SynthOptions) -> Timeline:
     claps = [start_ns + int(LEAD_IN_S * NS)]
     t = claps[0] + int(CLAP_TO_FIRST_MOVE_S * NS)
     # the board rests at pose 0 from the start through the clap
-    segments.append(Segment(start_ns, t, 0, 0))
+    segments.append(Segment(start_ns, t, 0, 0, "rest"))
     tail_ns = int((3.0 if options.claps == 2 else 0.8) * NS)
     hold_index = 0
     while True:
@@ -184,7 +185,7 @@ def plan_session(options: SynthOptions) -> Timeline:
             break
         poses.append(_random_pose(target, rng))
         p = len(poses) - 1
-        segments.append(Segment(t, t + move_ns, p - 1, p))
+        segments.append(Segment(t, t + move_ns, p - 1, p, "move"))
         # distractor speech during some moves
         if rng.random() < 0.6:
             speech.append(SpeechSlot("distractor", t + move_ns // 2, "center", -1,
@@ -207,7 +208,7 @@ def plan_session(options: SynthOptions) -> Timeline:
             f"{options.triggers} asked; give a longer --duration"
         )
     # rest at the last pose until the end; optional closing clap
-    segments.append(Segment(t, end_ns + NS, len(poses) - 1, len(poses) - 1))
+    segments.append(Segment(t, end_ns + NS, len(poses) - 1, len(poses) - 1, "rest"))
     if options.claps == 2:
         claps.append(end_ns - int(1.5 * NS))
 
@@ -264,7 +265,9 @@ def _random_pose(target: TargetSpec, rng: np.random.Generator, first: bool = Fal
     tilt = 0.0 if first else 0.6
     rx, ry = rng.uniform(-tilt, tilt, 2)
     rz = rng.uniform(-0.3, 0.3) if not first else 0.0
-    rot = _rot_z(rz) @ _rot_y(ry) @ _rot_x(rx)
+    # printed side towards the rig: target z points at the cameras, x right, y up, so the
+    # cameras see Kalibr's sheet as printed (tag 0 lower left), not its mirror image
+    rot = _rot_z(rz) @ _rot_y(ry) @ _rot_x(rx) @ _rot_x(np.pi)
     centre = np.array([rng.uniform(-0.08, 0.08), rng.uniform(-0.06, 0.06), dist])
     if first:
         centre[:2] = 0.0
