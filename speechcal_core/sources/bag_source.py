@@ -155,13 +155,20 @@ class BagSource:
         candidates = np.flatnonzero(s.sizes != usual)[:_MAX_VERIFY]
         usual_first = np.flatnonzero(s.sizes == usual)[:1]
         bad: set[int] = set()
-        for i in np.concatenate([usual_first, candidates]):
+        cdr = s.serialization == "cdr"
+        for i in (int(k) for k in np.concatenate([usual_first, candidates])):
+            # the message head says how long the payload is: no need to read the pixels
+            f = self._files[int(s.files[i])]
+            size = int(s.sizes[i])
             try:
-                msg = self._message(s, int(i))
-                if raw_size_problem(len(msg.data), msg.encoding, msg.width, msg.height, msg.step):
-                    bad.add(int(i))
+                head = f.read(int(s.offsets[i]), int(s.chunks[i]), min(size, 4096))
+                msg = parse_image(head, cdr, False, header_only=True)
             except BadFrameError:
-                bad.add(int(i))
+                bad.add(i)
+                continue
+            available = min(msg.data_len, size - msg.data_offset)
+            if raw_size_problem(available, msg.encoding, msg.width, msg.height, msg.step):
+                bad.add(i)
         return bad
 
     # -- FrameSource ---------------------------------------------------------------------

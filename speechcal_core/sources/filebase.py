@@ -74,6 +74,11 @@ class PFile:
         if hasattr(os, "posix_fadvise"):
             os.posix_fadvise(self.fd, 0, 0, os.POSIX_FADV_NORMAL)
 
+    def will_need(self, pos: int, n: int) -> None:
+        """Start reading a range in the background (next compressed chunk while decoding)."""
+        if hasattr(os, "posix_fadvise") and n > 0:
+            os.posix_fadvise(self.fd, pos, n, os.POSIX_FADV_WILLNEED)
+
     def pread(self, pos: int, n: int) -> bytes:
         """Exactly n bytes at pos, or ``SourceError`` when the file ends first."""
         data = os.pread(self.fd, n, pos)
@@ -91,7 +96,7 @@ class PFile:
             self._chunks.move_to_end(key)
             return data
         assert self.scan_result is not None
-        start, length, usize = (int(v) for v in self.scan_result.chunk_table[key])
+        start, length, usize = self.scan_result.chunk_rows[key]
         comp = self.scan_result.chunk_compression[key]
         data = decompress(self.name, comp, self.pread(start, length), usize)
         self._chunks[key] = data
@@ -141,3 +146,45 @@ class Window:
             if len(self.buf) < n:
                 return None
         return self.buf[off : off + n]
+
+
+class StreamedChunk:
+    """The decompressed bytes of a chunk, produced only as far as they are asked for.
+
+    Indexing a compressed chunk needs just the record heads; when a chunk holds one big
+    image, only its first compressed block is read from disk and decompressed.
+    """
+
+    def __init__(self, f: PFile, compression: str, start: int, length: int, piece: int = 16384):
+        import lz4.frame
+
+        self.f = f
+        self.compression = compression
+        self.pos = start
+        self.end = start + length
+        self.piece = piece
+        self.buf = bytearray()
+        if compression == "lz4":
+            self.dec: lz4.frame.LZ4FrameDecompressor | bz2.BZ2Decompressor = (
+                lz4.frame.LZ4FrameDecompressor()
+            )
+        elif compression == "bz2":
+            self.dec = bz2.BZ2Decompressor()
+        else:
+            raise SourceError(f"{f.name}: unsupported chunk compression {compression!r}")
+
+    def get(self, pos: int, n: int) -> bytes | None:
+        """n decompressed bytes at pos, or None past the end of the chunk."""
+        while len(self.buf) < pos + n:
+            if self.pos >= self.end:
+                return None
+            k = min(self.piece, self.end - self.pos)
+            data = self.f.pread(self.pos, k)
+            self.pos += k
+            self.piece = min(self.piece * 2, 1 << 20)
+            try:
+                self.buf += self.dec.decompress(data)
+            except Exception as exc:  # each codec has its own error type
+                msg = f"{self.f.name}: a {self.compression} chunk is damaged ({exc})"
+                raise SourceError(msg) from None
+        return bytes(self.buf[pos : pos + n])

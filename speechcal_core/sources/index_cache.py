@@ -55,7 +55,10 @@ def load(path: Path) -> FileScan | None:
                     topics.append(ts)
                 return FileScan(
                     topics=topics,
-                    chunk_table=np.asarray(z["chunk_table"], np.int64).reshape(-1, 3),
+                    chunk_rows=[
+                        (int(a), int(b), int(c))
+                        for a, b, c in np.asarray(z["chunk_table"], np.int64).reshape(-1, 3)
+                    ],
                     chunk_compression=list(meta["chunk_compression"]),
                     notes=list(meta["notes"]),
                     other_topics=list(meta["other_topics"]),

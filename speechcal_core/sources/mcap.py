@@ -6,8 +6,6 @@ import struct
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sources.filebase import PFile, Window, decompress
 from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_cdr
@@ -192,11 +190,13 @@ class McapFile:
             return
         if rstart + rlen > self.f.size:
             return  # a cut-off compressed chunk cannot be read
-        data = decompress(self.name, compression, self.f.pread(rstart, rlen), usize)
+        self.f.advise_normal()  # compressed chunks are read whole
+        packed = self.f.pread(rstart, rlen)
+        self.f.will_need(rstart + rlen, rlen + 4096)  # most likely the next chunk
+        data = decompress(self.name, compression, packed, usize)
         key = len(result.chunk_compression)
         result.chunk_compression.append(compression)
-        row = np.array([[rstart, rlen, usize]], np.int64)
-        result.chunk_table = np.concatenate([result.chunk_table, row])
+        result.chunk_rows.append((rstart, rlen, usize))
 
         def get(pos: int, n: int) -> bytes | None:
             return data[pos : pos + n] if pos + n <= len(data) else None

@@ -28,6 +28,8 @@ class ImageMsg:
     step: int
     data: memoryview
     compressed: bool
+    data_len: int = -1  # declared payload length (also known with header_only)
+    data_offset: int = -1  # where the payload starts in the message
 
 
 def stamp_ros1(raw: bytes | memoryview) -> int:
@@ -116,7 +118,15 @@ def parse_image(
         encoding = cur.string()
         is_bigendian = bool(cur.uint8())
         step = cur.uint32()
-        data = memoryview(b"") if header_only else cur.blob()
+        if header_only:
+            data_len = cur.uint32()
+            data, data_offset = memoryview(b""), cur.pos
+        else:
+            data = cur.blob()
+            data_len, data_offset = len(data), cur.pos - len(data)
     except (struct.error, IndexError, ValueError) as exc:
         raise BadFrameError(f"malformed message ({exc})") from None
-    return ImageMsg(stamp, frame_id, height, width, encoding, is_bigendian, step, data, False)
+    return ImageMsg(
+        stamp, frame_id, height, width, encoding, is_bigendian, step, data, False,
+        data_len, data_offset,
+    )  # fmt: skip

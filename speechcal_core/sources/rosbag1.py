@@ -6,10 +6,8 @@ import struct
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from speechcal_core.sources.errors import SourceError
-from speechcal_core.sources.filebase import PFile, Window, decompress
+from speechcal_core.sources.filebase import PFile, StreamedChunk, Window, decompress
 from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_ros1
 from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
 
@@ -94,7 +92,7 @@ class Ros1Bag:
         self.index_pos = _U64.unpack(fields["index_pos"][:8])[0]
         self.first_record = dpos + dlen
         self.conns: dict[int, dict[str, str]] = {}
-        self.chunk_infos: list[tuple[int, set[int]]] = []
+        self.chunk_infos: list[tuple[int, set[int], int]] = []  # position, conns, messages
 
     # -- reading -----------------------------------------------------------------------
 
@@ -148,8 +146,9 @@ class Ros1Bag:
                     self._add_conn(_u32(fields, "conn"), data, fields.get("topic", b"").decode())
                 elif op == OP_CHUNKINFO:
                     data = self.f.pread(dpos, dlen)
-                    ids = {_U32.unpack_from(data, k)[0] for k in range(0, len(data) - 7, 8)}
-                    self.chunk_infos.append((_U64.unpack(fields["chunk_pos"][:8])[0], ids))
+                    pairs = [_U32.unpack_from(data, k)[0] for k in range(0, len(data) - 3, 4)]
+                    ids, total = set(pairs[0::2]), sum(pairs[1::2])
+                    self.chunk_infos.append((_U64.unpack(fields["chunk_pos"][:8])[0], ids, total))
                 pos = dpos + dlen
         except (ValueError, KeyError, struct.error, SourceError):
             return False
@@ -165,9 +164,9 @@ class Ros1Bag:
             if indexed:
                 self._make_collectors(collectors)
                 wanted = set(collectors)
-                for chunk_pos, ids in sorted(self.chunk_infos):
+                for chunk_pos, ids, total in sorted(self.chunk_infos):
                     if ids & wanted:
-                        self._walk_chunk(chunk_pos, collectors, result, learn=False)
+                        self._walk_chunk(chunk_pos, collectors, result, learn=False, total=total)
             else:
                 why = "no index section" if self.index_pos == 0 else "index section missing"
                 if not self.allow_scan:
@@ -222,7 +221,10 @@ class Ros1Bag:
         result: FileScan,
         *,
         learn: bool,
+        total: int = -1,
     ) -> None:
+        """Index one chunk; with ``total`` (messages in it) a compressed chunk is decompressed
+        only up to its last message head."""
         window = Window(self.f)
         try:
             rec = _Reader(window.get).record(chunk_pos)
@@ -238,16 +240,21 @@ class Ros1Bag:
         usize = _u32(fields, "size")
         truncated = dpos + dlen > self.f.size
         if compression == "none":
-            self._walk_records(_Reader(window.get), dpos, dpos + dlen, -1, collectors, learn)
+            end = min(dpos + dlen, self.f.size)
+            self._walk_records(_Reader(window.get), dpos, end, -1, collectors, learn)
         elif truncated:
             result.notes.append(f"{self.name}: last {compression} chunk is cut off; skipped")
             return
         else:
-            data = decompress(self.name, compression, self.f.pread(dpos, dlen), usize)
             key = len(result.chunk_compression)
             result.chunk_compression.append(compression)
-            row = np.array([[dpos, dlen, usize]], np.int64)
-            result.chunk_table = np.concatenate([result.chunk_table, row])
+            result.chunk_rows.append((dpos, dlen, usize))
+            if total >= 0 and compression in ("lz4", "bz2"):
+                streamed = StreamedChunk(self.f, compression, dpos, dlen)
+                reader = _Reader(streamed.get)
+                self._walk_records(reader, 0, usize, key, collectors, learn, limit=total)
+                return
+            data = decompress(self.name, compression, self.f.pread(dpos, dlen), usize)
             mem = memoryview(data)
 
             def get(pos: int, n: int) -> bytes | None:
@@ -263,9 +270,11 @@ class Ros1Bag:
         chunk: int,
         collectors: dict[int, TopicCollector],
         learn: bool,
+        limit: int = -1,
     ) -> None:
         pos = start
-        while pos < end:
+        seen = 0
+        while pos < end and seen != limit:
             try:
                 rec = reader.record(pos)
             except (ValueError, struct.error):
@@ -275,10 +284,11 @@ class Ros1Bag:
             fields, dpos, dlen = rec
             op = fields.get("op", b"\0")[0]
             if op == OP_MSG:
+                seen += 1
                 col = collectors.get(_u32(fields, "conn"))
                 if col is not None:
                     head = reader.get(dpos, STAMP_PREFIX) if dlen >= STAMP_PREFIX else None
-                    if head is None or dpos + dlen > (end if chunk >= 0 else self.f.size):
+                    if head is None or dpos + dlen > end:
                         return  # cut off by truncation
                     col.add(stamp_ros1(head), _time(fields["time"]), dpos, chunk, dlen)
             elif op == OP_CONN and learn:

@@ -106,12 +106,14 @@ class Sqlite3File:
                 result.topics.append(col.finish())
         return result
 
-    def _prefix(self, rowid: int) -> bytes:
-        if hasattr(self.con, "blobopen"):  # Python >= 3.11: touches only the blob's first page
+    def _prefix(self, rowid: int, n: int = STAMP_PREFIX) -> bytes:
+        # blobopen (Python >= 3.11) reads only the pages holding the prefix; substr() would
+        # load the whole blob, overflow pages and all
+        if hasattr(self.con, "blobopen"):
             with self.con.blobopen("messages", "data", rowid, readonly=True) as blob:
-                return blob.read(STAMP_PREFIX)
+                return blob.read(n)
         row = self.con.execute(
-            "SELECT substr(data, 1, ?) FROM messages WHERE id=?", (STAMP_PREFIX, rowid)
+            "SELECT substr(data, 1, ?) FROM messages WHERE id=?", (n, rowid)
         ).fetchone()
         return bytes(row[0])
 
@@ -119,9 +121,11 @@ class Sqlite3File:
         """Nothing to keep: rows are addressed by id."""
 
     def read(self, offset: int, chunk: int, size: int) -> bytes:
-        """The message with row id ``offset``."""
+        """The message with row id ``offset`` (its first ``size`` bytes when that is small)."""
         with self.lock:
             try:
+                if size <= 65536:
+                    return self._prefix(offset, size)
                 row = self.con.execute("SELECT data FROM messages WHERE id=?", (offset,)).fetchone()
             except sqlite3.DatabaseError as exc:
                 raise self._err(exc) from None

@@ -46,11 +46,16 @@ class FileScan:
     """Index of one file: image topics, the compressed chunks they point into, and notes."""
 
     topics: list[TopicScan]
-    #: rows of (data_start, data_len, uncompressed_size) for compressed chunks
-    chunk_table: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), np.int64))
+    #: (data_start, data_len, uncompressed_size) of each compressed chunk
+    chunk_rows: list[tuple[int, int, int]] = field(default_factory=list)
     chunk_compression: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     other_topics: list[str] = field(default_factory=list)  # "topic [type]" of non-image topics
+
+    @property
+    def chunk_table(self) -> np.ndarray:
+        """``chunk_rows`` as an (n, 3) int64 array."""
+        return np.array(self.chunk_rows, np.int64).reshape(-1, 3)
 
 
 class TopicCollector:
