@@ -1,0 +1,66 @@
+"""Fast reduced-size grey decoding of frames for window scans (JPEG decodes at 1/2 or 1/4)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import cv2
+import numpy as np
+
+from speechcal_core.frames.detect import to_gray
+from speechcal_core.sources.base import COMPRESSED_MSGTYPE
+from speechcal_core.sources.errors import BadFrameError
+from speechcal_core.sources.msgparse import parse_image
+
+if TYPE_CHECKING:
+    from speechcal_core.sources.base import FrameSource
+
+_REDUCED = {1: cv2.IMREAD_GRAYSCALE, 2: cv2.IMREAD_REDUCED_GRAYSCALE_2,
+            4: cv2.IMREAD_REDUCED_GRAYSCALE_4, 8: cv2.IMREAD_REDUCED_GRAYSCALE_8}
+
+
+def preview_factor(width: int, height: int, target_side: int = 640) -> int:
+    """Reduction (1, 2, 4 or 8) that brings the longer side near ``target_side`` pixels."""
+    factor = 1
+    while factor < 8 and max(width, height) / (factor * 2) >= target_side * 0.75:
+        factor *= 2
+    return factor
+
+
+def preview_gray(source: FrameSource, stream: str, i: int, factor: int,
+                 compressed: bool | None = None) -> np.ndarray:
+    """Frame ``i`` as mono uint8 at ``1/factor`` size; compressed payloads skip full decoding.
+
+    ``compressed`` says the stream holds CompressedImage messages (None: ask the source).
+    Raises ``BadFrameError`` for an undecodable frame.
+    """
+    if compressed is None or compressed:
+        try:
+            raw = source.raw(stream, i)
+        except (AttributeError, NotImplementedError):
+            raw = None
+        payload = _compressed_payload(raw) if raw is not None else None
+        if payload is not None:
+            img = cv2.imdecode(np.frombuffer(payload, np.uint8), _REDUCED[factor])
+            if img is None:
+                raise BadFrameError(f"{stream}: frame {i} cannot be decoded")
+            return img
+    gray = to_gray(source.frame(stream, i))
+    if factor == 1:
+        return gray
+    h, w = gray.shape[:2]
+    return cv2.resize(gray, (max(1, w // factor), max(1, h // factor)),
+                      interpolation=cv2.INTER_AREA)
+
+
+def _compressed_payload(raw: object) -> memoryview | bytes | None:
+    """The JPEG/PNG bytes inside a raw frame, or None when it is not compressed."""
+    msgtype = getattr(raw, "msgtype", "")
+    serialization = getattr(raw, "serialization", "")
+    data = getattr(raw, "rawdata", b"")
+    if serialization == "file" and getattr(raw, "suffix", "").lower() in (".jpg", ".jpeg",
+                                                                         ".png"):
+        return data
+    if msgtype == COMPRESSED_MSGTYPE and serialization in ("ros1", "cdr"):
+        return parse_image(data, serialization == "cdr", True).data
+    return None

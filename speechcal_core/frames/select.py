@@ -1,0 +1,119 @@
+"""Best still frame: one common time for all cameras maximizing the worst camera's quality."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from speechcal_core.frames.window import CameraWindow
+
+#: a frame is still when its motion is at most this many times the camera's noise floor
+STILL_RATIO = 2.0
+#: candidates within this fraction of the best score count as equally good
+TIE_FRACTION = 0.9
+
+
+@dataclass(frozen=True)
+class CameraScore:
+    """Per-frame quality of one camera's window (aligned with ``CameraWindow.indices``)."""
+
+    quality: np.ndarray  # in [0, 1]: relative sharpness in the window times stillness
+    still: np.ndarray  # bool
+    motion_ratio: np.ndarray  # motion / the camera's noise floor
+
+
+@dataclass(frozen=True)
+class Choice:
+    """The chosen common time and, per camera, the position in its window (-1: none)."""
+
+    t_ns: int
+    positions: tuple[int, ...]
+    score: float
+    still: bool
+    still_ns: tuple[int, int] | None  # all cameras still around t_ns, as far as scanned
+
+
+def score_camera(win: CameraWindow, noise_floor: float) -> CameraScore:
+    """Quality in [0, 1] per frame: sharpness relative to the window's best, damped by motion."""
+    usable = ~win.bad
+    best = float(win.sharpness[usable & win.inside].max()) if (usable & win.inside).any() else 0.0
+    rel = np.where(usable, win.sharpness / best, 0.0) if best > 0 else np.zeros(win.stamps.size)
+    ratio = win.motion / noise_floor if noise_floor > 0 else np.where(win.motion > 0, np.inf, 0.0)
+    ratio = np.where(np.isfinite(ratio), ratio, 1e9)
+    still = (ratio <= STILL_RATIO) & usable
+    damp = np.where(still, 1.0, (STILL_RATIO / np.maximum(ratio, STILL_RATIO)) ** 2)
+    return CameraScore(np.clip(rel, 0, 1) * damp, still, ratio)
+
+
+def choose_common_time(
+    windows: Sequence[CameraWindow], scores: Sequence[CameraScore], t_trigger_ns: int
+) -> Choice | None:
+    """The common time (a frame stamp in the window) whose worst camera quality is highest.
+
+    Each camera contributes its frame nearest the candidate time if it lies within half a
+    frame period (otherwise that camera scores 0). Near-ties go to the time deepest inside
+    a stretch where every camera is still, then to the one nearest the trigger.
+    """
+    cands = np.unique(np.concatenate([w.stamps[w.inside] for w in windows] or [np.zeros(0)]))
+    if cands.size == 0:
+        return None
+    n = cands.size
+    worst = np.full(n, np.inf)
+    all_still = np.ones(n, bool)
+    pos = np.full((len(windows), n), -1, np.int64)
+    for c, (w, s) in enumerate(zip(windows, scores, strict=True)):
+        if w.stamps.size == 0:
+            worst[:] = 0.0
+            all_still[:] = False
+            continue
+        j = nearest_indices(w.stamps, cands)
+        ok = np.abs(w.stamps[j] - cands) <= (w.period_ns // 2 + 1 if w.period_ns else np.inf)
+        q = np.where(ok, s.quality[j], 0.0)
+        worst = np.minimum(worst, q)
+        all_still &= ok & s.still[j]
+        pos[c] = np.where(ok, j, -1)
+    best = float(worst.max())
+    good = np.flatnonzero(worst >= best * TIE_FRACTION) if best > 0 else np.arange(n)
+    depth = _still_depth(all_still)
+    key = [(-depth[k], abs(int(cands[k]) - t_trigger_ns)) for k in good]
+    k = int(good[min(range(len(good)), key=key.__getitem__)])
+    return Choice(int(cands[k]), tuple(int(p) for p in pos[:, k]), float(worst[k]),
+                  bool(all_still[k]), _still_run(cands, all_still, k))
+
+
+def nearest_indices(stamps: np.ndarray, times: np.ndarray) -> np.ndarray:
+    """For each time, the index of the nearest stamp (stamps sorted, not empty)."""
+    right = np.clip(np.searchsorted(stamps, times), 0, stamps.size - 1)
+    left = np.clip(right - 1, 0, stamps.size - 1)
+    closer_left = np.abs(stamps[left] - times) <= np.abs(stamps[right] - times)
+    return np.where(closer_left, left, right)
+
+
+def _still_depth(still: np.ndarray) -> np.ndarray:
+    """Per candidate, how many candidates separate it from the nearest non-still one."""
+    n = still.size
+    depth = np.zeros(n, np.int64)
+    run = 0
+    left = np.zeros(n, np.int64)
+    for k in range(n):
+        run = run + 1 if still[k] else 0
+        left[k] = run
+    run = 0
+    for k in range(n - 1, -1, -1):
+        run = run + 1 if still[k] else 0
+        depth[k] = min(left[k], run)
+    return depth
+
+
+def _still_run(cands: np.ndarray, still: np.ndarray, k: int) -> tuple[int, int] | None:
+    if not still[k]:
+        return None
+    a = k
+    while a > 0 and still[a - 1]:
+        a -= 1
+    b = k
+    while b < still.size - 1 and still[b + 1]:
+        b += 1
+    return int(cands[a]), int(cands[b])

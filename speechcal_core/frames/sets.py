@@ -1,0 +1,292 @@
+"""Frame sets per trigger: nearest frames, best still frame search, target corners, flags."""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from speechcal_core.frames.detect import Detection, Target, TargetDetector, to_gray
+from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
+from speechcal_core.frames.preview import preview_factor
+from speechcal_core.frames.quality import region_mask, sharpness
+from speechcal_core.frames.select import CameraScore, Choice, choose_common_time, score_camera
+from speechcal_core.frames.window import CameraWindow, scan_window
+from speechcal_core.session.model import FrameChoice, FrameSet, Trigger
+from speechcal_core.sources.base import COMPRESSED_MSGTYPE
+from speechcal_core.sources.errors import BadFrameError
+
+if TYPE_CHECKING:
+    from speechcal_core.sources.base import FrameSource, StreamInfo
+    from speechcal_core.sync.model import SyncModel
+
+Progress = Callable[[str, float], None]
+NS = 1_000_000_000
+BLURRED_BELOW = 0.25  # session-normalized sharpness under which a frame is flagged blurred
+MIN_CORNERS = 8
+
+
+@dataclass(frozen=True)
+class FrameSetOptions:
+    """How frame sets are built.
+
+    ``window_s``: search window around the trigger (seconds); ``search``: best still frame
+    (False: nearest frame only); ``extend_s``: how far the window grows forward, once, when
+    no still moment is found in it; ``workers``: threads (0: one per CPU).
+    """
+
+    window_s: tuple[float, float] = (-0.3, 0.7)
+    search: bool = True
+    extend_s: float = 0.5
+    workers: int = 0
+
+
+@dataclass
+class FrameSetResult:
+    """Frame sets plus what the session keeps beside them (details, corner detections)."""
+
+    sets: list[FrameSet]
+    details: dict[str, Any] = field(default_factory=dict)  # set id (str) -> JSON-ready dict
+    detections: dict[tuple[int, str], Detection] = field(default_factory=dict)
+    image_sizes: dict[str, tuple[int, int]] = field(default_factory=dict)  # stream -> (w, h)
+
+
+class _Detectors(threading.local):
+    """One detector per thread (OpenCV detectors and the corner-order memory are stateful)."""
+
+    def __init__(self, target: Target | None) -> None:
+        self.target = target
+        self.preview: TargetDetector | None = TargetDetector(target) if target else None
+        self.full: TargetDetector | None = TargetDetector(target) if target else None
+
+
+def build_frame_sets(
+    source: FrameSource,
+    sync: SyncModel,
+    triggers: Sequence[Trigger],
+    target: Target | None,
+    options: FrameSetOptions | None = None,
+    progress: Progress | None = None,
+) -> FrameSetResult:
+    """One frame set per trigger (sorted by time), every camera's frame chosen and measured."""
+    options = options or FrameSetOptions()
+    report = progress or (lambda _stage, _f: None)
+    infos = list(source.streams)
+    stamps = {s.name: source.stamps(s.name) for s in infos}
+    periods = {s.name: s.median_period_ns or frame_period_ns(stamps[s.name]) for s in infos}
+    trig = sorted(triggers, key=lambda t: t.t_s)
+    t_ns = [int(sync.to_session(t.t_s)) for t in trig]
+    nearest = [{s.name: nearest_choice(s.name, stamps[s.name], t) for s in infos} for t in t_ns]
+    local = _Detectors(target)
+    workers = options.workers or min(4, os.cpu_count() or 1)
+
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        if options.search and infos and trig:
+            choices, windows, scores = _search(source, infos, stamps, periods, t_ns, options,
+                                               local, pool, report)
+        else:
+            choices, windows, scores = [None] * len(trig), [None] * len(trig), [None] * len(trig)
+        picks: list[dict[str, tuple[int, int]]] = []
+        for n, t in enumerate(t_ns):
+            row = {}
+            for c, s in enumerate(infos):
+                choice, wins = choices[n], windows[n]
+                if choice is not None and wins is not None:
+                    p = choice.positions[c]
+                    w = wins[c]
+                    row[s.name] = (int(w.indices[p]), int(w.stamps[p])) if p >= 0 else (-1, t)
+                else:
+                    near = nearest[n][s.name]
+                    row[s.name] = (near.index, near.stamp_ns)
+            picks.append(row)
+        jobs = [(n, s.name, idx) for n, row in enumerate(picks) for s in infos
+                for idx, _ in [row[s.name]] if idx >= 0]
+        done = [0]
+
+        def measure(job: tuple[int, str, int]) -> tuple[int, str, float, Detection | None,
+                                                        tuple[int, int] | None]:
+            n, name, idx = job
+            try:
+                img = to_gray(source.frame(name, idx))
+            except BadFrameError:
+                return n, name, -1.0, None, None
+            det = local.full.detect(img) if local.full is not None else None
+            hulls = [det.hull()] if det is not None else []
+            sharp = sharpness(img, region_mask(img.shape[:2], hulls, 0))
+            done[0] += 1
+            report("corners", done[0] / max(1, len(jobs)))
+            return n, name, sharp, det, (img.shape[1], img.shape[0])
+
+        measured = list(pool.map(measure, jobs))
+
+    result = FrameSetResult([])
+    sharp_raw: dict[tuple[int, str], float] = {}
+    for n, name, sharp, det, size in measured:
+        sharp_raw[(n, name)] = sharp
+        if det is not None:
+            result.detections[(n + 1, name)] = det
+        if size is not None:
+            result.image_sizes[name] = size
+    refs = {}
+    for s in infos:
+        vals = [v for (n, name), v in sharp_raw.items() if name == s.name and v > 0]
+        refs[s.name] = float(np.percentile(vals, 90)) if vals else 0.0
+    # cameras run free: a set's skew up to half the slowest camera's period is unavoidable
+    tol = max((p // 2 for p in periods.values() if p), default=0)
+    for n, (trigger, t) in enumerate(zip(trig, t_ns, strict=True)):
+        set_id = n + 1
+        choice, wins = choices[n], windows[n]
+        frames = []
+        for c, s in enumerate(infos):
+            idx, stamp = picks[n][s.name]
+            flags: list[str] = []
+            sharp_norm = None
+            corners = None
+            if idx < 0:
+                flags.append("no-frame")
+            else:
+                raw = sharp_raw.get((n, s.name), -1.0)
+                if raw < 0:
+                    flags.append("bad-frame")
+                else:
+                    sharp_norm = round(raw / refs[s.name], 3) if refs[s.name] > 0 else None
+                    if sharp_norm is not None and sharp_norm < BLURRED_BELOW:
+                        flags.append("blurred")
+                det = result.detections.get((set_id, s.name))
+                corners = det.count if det is not None else 0
+                if target is not None and corners < MIN_CORNERS:
+                    flags.append("no-target")
+                cam_scores = scores[n]
+                if choice is not None and cam_scores is not None:
+                    p = choice.positions[c]
+                    if p < 0 or not cam_scores[c].still[p]:
+                        flags.append("moving")
+            frames.append(FrameChoice(s.name, idx, stamp, sharp_norm, corners, tuple(flags)))
+        fs = FrameSet(set_id, t, trigger, tuple(frames))
+        if tol and fs.skew_ns > tol:
+            fs = FrameSet(set_id, t, trigger, tuple(
+                FrameChoice(f.stream, f.index, f.stamp_ns, f.sharpness, f.corners,
+                            (*f.flags, "skew")) for f in frames))
+        result.sets.append(fs)
+        result.details[str(set_id)] = _details(set_id, t, choice, wins, nearest[n], infos,
+                                               result.detections, options)
+    return result
+
+
+def _search(
+    source: FrameSource,
+    infos: list[StreamInfo],
+    stamps: dict[str, np.ndarray],
+    periods: dict[str, int],
+    t_ns: list[int],
+    options: FrameSetOptions,
+    local: _Detectors,
+    pool: ThreadPoolExecutor,
+    report: Progress,
+) -> tuple[list[Choice | None], list[list[CameraWindow] | None],
+           list[list[CameraScore] | None]]:
+    """Scan every trigger's window in every camera, then pick each set's common time."""
+    w0, w1 = (int(v * NS) for v in options.window_s)
+    factors = {s.name: preview_factor(s.width, s.height) if s.width else 1 for s in infos}
+    compressed = {s.name: _is_compressed(s) for s in infos}
+    done = [0]
+    total = len(t_ns) * len(infos)
+
+    def scan(job: tuple[int, int, int]) -> CameraWindow:
+        n, c, extra = job
+        s = infos[c]
+        win = scan_window(source, s.name, stamps[s.name], t_ns[n] + w0, t_ns[n] + w1 + extra,
+                          detector=local.preview, factor=factors[s.name],
+                          compressed=compressed[s.name], period_ns=periods[s.name])
+        done[0] += 1
+        report("windows", min(1.0, done[0] / total))
+        return win
+
+    jobs = [(n, c, 0) for n in range(len(t_ns)) for c in range(len(infos))]
+    flat = list(pool.map(scan, jobs))
+    windows: list[list[CameraWindow] | None] = [
+        flat[n * len(infos):(n + 1) * len(infos)] for n in range(len(t_ns))]
+    floors = _noise_floors(infos, windows)
+    choices: list[Choice | None] = []
+    scores: list[list[CameraScore] | None] = []
+    retry = []
+    for n, wins in enumerate(windows):
+        assert wins is not None
+        sc = [score_camera(w, floors[w.stream]) for w in wins]
+        ch = choose_common_time(wins, sc, t_ns[n])
+        choices.append(ch)
+        scores.append(sc)
+        if (ch is None or not ch.still) and options.extend_s > 0:
+            retry.append(n)
+    if retry:
+        extra = int(options.extend_s * NS)
+        more = list(pool.map(scan, [(n, c, extra) for n in retry for c in range(len(infos))]))
+        for k, n in enumerate(retry):
+            wins = more[k * len(infos):(k + 1) * len(infos)]
+            sc = [score_camera(w, floors[w.stream]) for w in wins]
+            ch = choose_common_time(wins, sc, t_ns[n])
+            old = choices[n]
+            if ch is not None and (old is None or (ch.still and not old.still)):
+                choices[n], windows[n], scores[n] = ch, wins, sc
+    return choices, windows, scores
+
+
+def _noise_floors(infos: list[StreamInfo],
+                  windows: list[list[CameraWindow] | None]) -> dict[str, float]:
+    """Per camera, the frame-to-frame difference of still frames: a low percentile."""
+    floors = {}
+    for c, s in enumerate(infos):
+        vals = np.concatenate([w[c].motion[w[c].inside & ~w[c].bad & np.isfinite(w[c].motion)]
+                               for w in windows if w is not None] or [np.zeros(0)])
+        vals = vals[vals > 0]
+        floors[s.name] = float(np.percentile(vals, 10)) if vals.size else 0.0
+    return floors
+
+
+def _is_compressed(info: StreamInfo) -> bool | None:
+    if info.msgtype == COMPRESSED_MSGTYPE:
+        return True
+    if info.msgtype == "file":
+        return None
+    return False
+
+
+def _details(
+    set_id: int,
+    t_ns: int,
+    choice: Choice | None,
+    wins: list[CameraWindow] | None,
+    nearest: dict[str, FrameChoice],
+    infos: list[StreamInfo],
+    detections: dict[tuple[int, str], Detection],
+    options: FrameSetOptions,
+) -> dict[str, Any]:
+    """JSON-ready figures of one set: chosen time, stillness, nearest frames, corners."""
+    out: dict[str, Any] = {
+        "trigger_ns": t_ns,
+        "chosen_ns": choice.t_ns if choice else t_ns,
+        "method": "best-still" if choice else "nearest",
+        "window_s": list(options.window_s),
+        "score": round(choice.score, 4) if choice else None,
+        "still_ns": list(choice.still_ns) if choice and choice.still_ns else None,
+        "nearest": {name: {"index": f.index, "stamp_ns": f.stamp_ns}
+                    for name, f in nearest.items()},
+        "frames": {},
+    }
+    for c, s in enumerate(infos):
+        entry: dict[str, Any] = {}
+        if choice is not None and wins is not None and choice.positions[c] >= 0:
+            w, p = wins[c], choice.positions[c]
+            entry["motion"] = round(float(w.motion[p]), 3)
+            entry["target_region"] = w.target_found
+        det = detections.get((set_id, s.name))
+        if det is not None:
+            entry["ids"] = det.ids.tolist()
+            entry["points"] = np.round(det.points, 2).tolist()
+        out["frames"][s.name] = entry
+    return out

@@ -1,0 +1,119 @@
+"""Scan one camera's frames in a time window: target region, sharpness and motion per frame."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from speechcal_core.frames.preview import preview_gray
+from speechcal_core.frames.quality import (
+    difference,
+    mask_box,
+    motion_against_neighbours,
+    region_mask,
+    sharpness,
+)
+from speechcal_core.sources.errors import BadFrameError
+
+if TYPE_CHECKING:
+    from speechcal_core.frames.detect import TargetDetector
+    from speechcal_core.sources.base import FrameSource
+
+#: the target region grows by this fraction of its own size (holds are not perfectly still
+#: in real life, and the end of a move must fall inside the region)
+ROI_GROWTH = 0.15
+
+
+@dataclass(frozen=True)
+class CameraWindow:
+    """Raw quality figures of the frames of one camera inside one search window.
+
+    ``indices``/``stamps`` cover the window plus one neighbour each side (for motion);
+    ``inside`` marks the frames that lie in the window itself. ``motion`` is the larger
+    difference to the previous and next frame over the target region; ``bad`` frames could
+    not be decoded. ``target_found`` tells whether the region came from a detection.
+    """
+
+    stream: str
+    indices: np.ndarray
+    stamps: np.ndarray
+    inside: np.ndarray
+    sharpness: np.ndarray
+    motion: np.ndarray
+    bad: np.ndarray
+    target_found: bool
+    period_ns: int
+
+
+def window_indices(stamps: np.ndarray, t0_ns: int, t1_ns: int) -> tuple[int, int]:
+    """Index range [lo, hi) of frames in [t0, t1] plus one neighbour on each side."""
+    lo = max(0, int(np.searchsorted(stamps, t0_ns, "left")) - 1)
+    hi = min(len(stamps), int(np.searchsorted(stamps, t1_ns, "right")) + 1)
+    return lo, hi
+
+
+def scan_window(
+    source: FrameSource,
+    stream: str,
+    stamps: np.ndarray,
+    t0_ns: int,
+    t1_ns: int,
+    *,
+    detector: TargetDetector | None,
+    factor: int,
+    compressed: bool | None,
+    period_ns: int,
+    roi_hint_ns: tuple[int, ...] = (),
+) -> CameraWindow:
+    """Decode the window's frames at ``1/factor`` size and measure them.
+
+    The target region comes from detecting the target in the frame nearest each time of
+    ``roi_hint_ns`` in turn (default: the window's last frame, then its middle) until one is
+    found; without a target the whole image counts.
+    """
+    lo, hi = window_indices(stamps, t0_ns, t1_ns)
+    idx = np.arange(lo, hi)
+    st = stamps[lo:hi]
+    n = idx.size
+    frames: list[np.ndarray | None] = []
+    bad = np.zeros(n, bool)
+    for k in range(n):
+        try:
+            frames.append(preview_gray(source, stream, int(idx[k]), factor, compressed))
+        except BadFrameError:
+            frames.append(None)
+            bad[k] = True
+    good = [f for f in frames if f is not None]
+    if not good:
+        zeros = np.zeros(n)
+        return CameraWindow(stream, idx, st, (st >= t0_ns) & (st <= t1_ns), zeros, zeros,
+                            bad, False, period_ns)
+    shape = good[0].shape[:2]
+    hulls = []
+    if detector is not None:
+        hints = roi_hint_ns or (t1_ns, (t0_ns + t1_ns) // 2, t0_ns)
+        for t in hints:
+            k = int(np.argmin(np.abs(st - t)))
+            if frames[k] is None:
+                continue
+            det = detector.detect(frames[k])
+            if det is not None:
+                hull = det.hull().astype(np.float64)
+                centre = hull.mean(axis=0)
+                hulls.append(centre + (hull - centre) * (1 + ROI_GROWTH))
+                break
+    mask = region_mask(shape, hulls, grow_px=max(2, shape[1] // 100))
+    rows, cols = mask_box(mask)
+    sub_mask = mask[rows, cols]
+    crops = [f[rows, cols] if f is not None and f.shape[:2] == shape else None for f in frames]
+    sharp = np.array([sharpness(c, sub_mask) if c is not None else 0.0 for c in crops])
+    diffs = np.zeros(max(0, n - 1))
+    for k in range(n - 1):
+        a, b = crops[k], crops[k + 1]
+        diffs[k] = difference(a, b, sub_mask) if a is not None and b is not None else np.inf
+    motion = motion_against_neighbours(diffs)
+    bad |= np.array([c is None for c in crops])
+    inside = (st >= t0_ns) & (st <= t1_ns)
+    return CameraWindow(stream, idx, st, inside, sharp, motion, bad, bool(hulls), period_ns)
