@@ -87,8 +87,8 @@ def write_bag(path: Path, fmt: str, size_bytes: int, *, jpeg: bool = False) -> P
     n = max(2, size_bytes // sum(len(t) for t in templates))
     if ros1:
         writer: Writer1 | Writer2 = Writer1(path)
-        if fmt == "ros1-lz4":
-            writer.set_compression(Writer1.CompressionFormat.LZ4)
+        if fmt != "ros1":
+            writer.set_compression(Writer1.CompressionFormat[fmt.split("-")[1].upper()])
     else:
         plugin = StoragePlugin.MCAP if fmt == "ros2-mcap" else StoragePlugin.SQLITE3
         writer = Writer2(path, version=9, storage_plugin=plugin)

@@ -9,7 +9,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 from rosbags.rosbag1 import Writer as Writer1
-from rosbags.rosbag2 import StoragePlugin
+from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin
 from rosbags.rosbag2 import Writer as Writer2
 from rosbags.typesys import Stores, get_typestore
 
@@ -17,7 +17,7 @@ T0 = 1_700_000_000_000_000_000
 PERIOD = 50_000_000  # 20 Hz
 ROS1 = get_typestore(Stores.ROS1_NOETIC)
 ROS2 = get_typestore(Stores.ROS2_HUMBLE)
-FORMATS = ("ros1", "ros1-bz2", "ros1-lz4", "ros2-sqlite3", "ros2-mcap")
+FORMATS = ("ros1", "ros1-bz2", "ros1-lz4", "ros2-sqlite3", "ros2-mcap", "ros2-mcap-zstd")
 
 
 def pixels(cam: int, i: int, width: int = 16, height: int = 12) -> np.ndarray:
@@ -83,8 +83,10 @@ def write_bag(path: Path, fmt: str, cams: Sequence[Cam], *, imu: bool = False) -
         if fmt != "ros1":
             writer.set_compression(Writer1.CompressionFormat[fmt.split("-")[1].upper()])
     else:
-        plugin = StoragePlugin.MCAP if fmt == "ros2-mcap" else StoragePlugin.SQLITE3
+        plugin = StoragePlugin.MCAP if fmt.startswith("ros2-mcap") else StoragePlugin.SQLITE3
         writer = Writer2(path, version=9, storage_plugin=plugin)
+        if fmt == "ros2-mcap-zstd":
+            writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
     with writer:
         events: list[tuple[int, int, object, bytes]] = []
         for cam in cams:

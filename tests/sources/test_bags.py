@@ -73,6 +73,17 @@ def test_split_bags_and_two_pcs_merge_by_topic(make_bag) -> None:
         assert src.raw("/cam1/image_raw", 0).serialization == "cdr"
 
 
+def test_ros2_folder_with_several_storage_files_is_one_recording(make_bag) -> None:
+    first = make_bag("ros2-sqlite3", [Cam("/cam0/image_raw", regular(10))], name="split")
+    second = make_bag(
+        "ros2-sqlite3", [Cam("/cam0/image_raw", regular(10, start=T0 + 10 * PERIOD))], name="b"
+    )
+    (db3,) = second.glob("*.db3")
+    db3.rename(first / "split_1.db3")
+    with open_recording([first]) as src:
+        assert list(src.stamps("/cam0/image_raw")) == regular(20)
+
+
 def test_dropped_frames_are_counted_from_gaps(make_bag) -> None:
     stamps = [s for k, s in enumerate(regular(30)) if k not in (5, 6, 20)]
     with open_recording([make_bag("ros1", [Cam("/cam0/image_raw", stamps)])]) as src:
