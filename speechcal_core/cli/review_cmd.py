@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from speechcal_core.errors import NotYetAvailableError
+from speechcal_core.errors import UsageError
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -18,4 +18,21 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand."""
-    raise NotYetAvailableError("review is not yet available")
+    session_path = None
+    recording = None
+    if len(args.inputs) == 1 and args.inputs[0].endswith(".json"):
+        session_path = args.inputs[0]
+        if args.audio:
+            raise UsageError("--audio goes with a recording, not with a session file")
+    elif args.inputs:
+        if not args.audio:
+            raise UsageError("a recording needs its audio: add --audio AUDIO")
+        recording = args.inputs
+    from app.main import has_display, run_review
+
+    if not has_display() and not args.screenshot:
+        raise UsageError(
+            "no display (DISPLAY is not set): run it on a desktop, or use --screenshot PNG"
+        )
+    return run_review(session_path=session_path, recording=recording, audio=args.audio,
+                      screenshot=args.screenshot)

@@ -101,6 +101,8 @@ class Session:
     sets: list[FrameSet] = field(default_factory=list)
     triggers_word: list[str] = field(default_factory=lambda: ["capture"])
     calibration: dict[str, Any] = field(default_factory=dict)
+    #: what the sync was found from, as ``speechcal sync`` reports it (claps, cameras)
+    sync_evidence: dict[str, Any] = field(default_factory=dict)
     extra: dict[str, Any] = field(default_factory=dict)
 
     def set_by_id(self, set_id: int) -> FrameSet:

@@ -27,7 +27,7 @@ def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
         "recording": [_relative(p, base) for p in session.recording],
         "audio": _relative(session.audio, base) if session.audio else None,
         "trigger_words": session.triggers_word,
-        "sync": session.sync.to_dict(),
+        "sync": {**session.sync_evidence, **session.sync.to_dict()},
         "sets": [s.to_dict() for s in session.sets],
         "calibration": session.calibration,
         **session.extra,
@@ -76,6 +76,8 @@ def load_session(path: str | Path) -> Session:
             recording=[str(base / p) for p in data["recording"]],
             audio=str(base / data["audio"]) if data.get("audio") else None,
             sync=SyncModel.from_dict(data["sync"]),
+            sync_evidence={k: v for k, v in data["sync"].items()
+                           if k not in ("offset_ns", "drift", "source")},
             sets=[FrameSet.from_dict(s) for s in data.get("sets", [])],
             triggers_word=list(data.get("trigger_words", ["capture"])),
             calibration=dict(data.get("calibration", {})),

@@ -1,0 +1,166 @@
+"""The camera grid: one tile per stream, aspect kept, decision border, trigger-word overlay."""
+
+from __future__ import annotations
+
+import math
+
+from PySide6.QtCore import QRectF, Qt, Signal
+from PySide6.QtGui import QColor, QFont, QImage, QPainter, QPen
+from PySide6.QtWidgets import QGridLayout, QSizePolicy, QWidget
+
+from app.style import BACKGROUND, DECISION_COLOURS, DECISION_SYMBOLS, WARNING_COLOUR
+
+
+class CameraTile(QWidget):
+    """Shows one camera's frame scaled to fit, or says why there is none."""
+
+    double_clicked = Signal(str)
+
+    def __init__(self, stream: str, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.stream = stream
+        self.image: QImage | None = None
+        self.message = "loading…"
+        self.caption = ""
+        self.decision: str | None = None
+        self.warning = ""
+        self.setMinimumSize(160, 120)
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
+
+    def show_image(self, image: QImage, caption: str) -> None:
+        self.image, self.message, self.caption = image, "", caption
+        self.update()
+
+    def show_message(self, message: str) -> None:
+        self.image, self.message = None, message
+        self.update()
+
+    def set_state(self, decision: str | None, warning: str = "") -> None:
+        self.decision, self.warning = decision, warning
+        self.update()
+
+    def mouseDoubleClickEvent(self, event) -> None:
+        self.double_clicked.emit(self.stream)
+
+    def paintEvent(self, event) -> None:
+        p = QPainter(self)
+        p.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform)
+        p.fillRect(self.rect(), BACKGROUND)
+        header = 22
+        area = QRectF(self.rect()).adjusted(3, header, -3, -3)
+        if self.image is not None and not self.image.isNull():
+            iw, ih = self.image.width(), self.image.height()
+            scale = min(area.width() / iw, area.height() / ih)
+            w, h = iw * scale, ih * scale
+            target = QRectF(area.x() + (area.width() - w) / 2, area.y() + (area.height() - h) / 2,
+                            w, h)
+            p.drawImage(target, self.image)
+        else:
+            p.setPen(QColor(200, 200, 200))
+            p.drawText(area, Qt.AlignmentFlag.AlignCenter | Qt.TextFlag.TextWordWrap, self.message)
+        if self.decision:
+            pen = QPen(DECISION_COLOURS[self.decision], 3)
+            p.setPen(pen)
+            p.drawRect(QRectF(self.rect()).adjusted(1.5, 1.5, -1.5, -1.5))
+        p.setPen(QColor(235, 235, 235))
+        font = QFont(self.font())
+        font.setBold(True)
+        p.setFont(font)
+        title = self.stream
+        if self.decision:
+            title += f"  {DECISION_SYMBOLS[self.decision]} {self.decision}"
+        p.drawText(QRectF(6, 2, self.width() - 12, header - 4), Qt.AlignmentFlag.AlignLeft
+                   | Qt.AlignmentFlag.AlignVCenter, title)
+        font.setBold(False)
+        p.setFont(font)
+        if self.warning:
+            p.setPen(WARNING_COLOUR)
+            p.drawText(QRectF(6, 2, self.width() - 12, header - 4),
+                       Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter,
+                       f"▲ {self.warning}")
+        elif self.caption:
+            p.setPen(QColor(170, 170, 170))
+            p.drawText(QRectF(6, 2, self.width() - 12, header - 4),
+                       Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter, self.caption)
+        p.end()
+
+
+class FrameGrid(QWidget):
+    """All camera tiles in a near-square grid, with the heard word drawn large on top."""
+
+    def __init__(self, streams: list[str], parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.tiles: dict[str, CameraTile] = {}
+        self._layout = QGridLayout(self)
+        self._layout.setContentsMargins(0, 0, 0, 0)
+        self._layout.setSpacing(4)
+        self.word = ""
+        self.word_state: str | None = None
+        self._enlarged: str | None = None
+        self._overlay = WordOverlay(self)
+        self.set_streams(streams)
+
+    def set_streams(self, streams: list[str]) -> None:
+        for tile in self.tiles.values():
+            tile.setParent(None)
+        self.tiles = {s: CameraTile(s, self) for s in streams}
+        for tile in self.tiles.values():
+            tile.double_clicked.connect(self.toggle_enlarged)
+        self._arrange()
+
+    def _arrange(self) -> None:
+        visible = [self._enlarged] if self._enlarged else list(self.tiles)
+        cols = max(1, math.ceil(math.sqrt(len(visible)))) if visible else 1
+        for tile in self.tiles.values():
+            self._layout.removeWidget(tile)
+            tile.hide()
+        for n, name in enumerate(visible):
+            self._layout.addWidget(self.tiles[name], n // cols, n % cols)
+            self.tiles[name].show()
+
+    def toggle_enlarged(self, stream: str | None = None) -> None:
+        """Show one camera alone (double-click); again or Escape returns to the grid."""
+        self._enlarged = None if self._enlarged or stream is None else stream
+        self._arrange()
+
+    def set_word(self, word: str, state: str | None) -> None:
+        """Draw the trigger word of the set under the playhead large over the grid."""
+        self.word, self.word_state = word, state
+        self._overlay.word, self._overlay.state = word, state
+        self._overlay.raise_()
+        self._overlay.update()
+
+    def resizeEvent(self, event) -> None:
+        super().resizeEvent(event)
+        self._overlay.setGeometry(self.rect())
+        self._overlay.raise_()
+
+
+class WordOverlay(QWidget):
+    """Transparent layer that writes the heard word in large letters."""
+
+    def __init__(self, parent: QWidget) -> None:
+        super().__init__(parent)
+        self.setAttribute(Qt.WidgetAttribute.WA_TransparentForMouseEvents)
+        self.word = ""
+        self.state: str | None = None
+
+    def paintEvent(self, event) -> None:
+        if not self.word:
+            return
+        p = QPainter(self)
+        font = QFont(self.font())
+        font.setPixelSize(max(24, self.height() // 9))
+        font.setBold(True)
+        p.setFont(font)
+        text = f"“{self.word.upper()}”"
+        if self.state:
+            text = f"{DECISION_SYMBOLS[self.state]} {text}"
+        box = QRectF(self.rect()).adjusted(0, 0, 0, -self.height() * 0.06)
+        flags = Qt.AlignmentFlag.AlignHCenter | Qt.AlignmentFlag.AlignBottom
+        p.setPen(QColor(0, 0, 0, 200))
+        p.drawText(box.translated(2, 2), flags, text)
+        colour = DECISION_COLOURS.get(self.state or "", QColor(255, 255, 255))
+        p.setPen(colour.lighter(130))
+        p.drawText(box, flags, text)
+        p.end()

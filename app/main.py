@@ -1,0 +1,78 @@
+"""Start the review window (``speechcal review`` / ``speechcal demo``)."""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+
+def has_display() -> bool:
+    """True when Qt can open a real window here (or offscreen rendering was asked for)."""
+    if os.environ.get("QT_QPA_PLATFORM", "").startswith(("offscreen", "minimal")):
+        return True
+    if sys.platform.startswith("linux"):
+        return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+    return True
+
+
+def run_review(
+    *,
+    session_path: str | None = None,
+    recording: Sequence[str] | None = None,
+    audio: str | None = None,
+    screenshot: str | None = None,
+    on_demo: Callable[[], tuple[str, ...]] | None = None,
+) -> int:
+    """Open the window on the given input; with ``screenshot`` render it to PNG and exit."""
+    if screenshot and not has_display():
+        os.environ["QT_QPA_PLATFORM"] = "offscreen"
+    from PySide6.QtWidgets import QApplication
+
+    from app.main_window import ReviewWindow
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    app.setApplicationName("SpeechCal")
+    window = ReviewWindow()
+    window.setProperty("headless", bool(screenshot))
+    if on_demo is not None:
+        window.demo_button.clicked.connect(lambda: window.open(session_path=on_demo()[0]))
+    else:
+        window.demo_button.hide()
+    if session_path or recording:
+        window.open(session_path=session_path, recording=list(recording or []) or None,
+                    audio=audio)
+    window.show()
+    if screenshot:
+        ok = wait_until_settled(window, app, timeout_s=120.0)
+        save_screenshot(window, screenshot)
+        print(f"wrote {screenshot}", file=sys.stderr)
+        if window.load_error:
+            print(f"speechcal review: error: {window.load_error}", file=sys.stderr)
+            return 1
+        return 0 if ok else 1
+    return app.exec()
+
+
+def wait_until_settled(window, app, timeout_s: float = 60.0) -> bool:
+    """Process events until loading finished and every visible tile has its frame."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        app.processEvents()
+        if window.task is None and (window.loader is None or window.loader.idle()):
+            for _ in range(5):
+                app.processEvents()
+                time.sleep(0.02)
+            return True
+        time.sleep(0.02)
+    return False
+
+
+def save_screenshot(window, path: str) -> None:
+    """Render the whole window to a PNG file."""
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    if not window.grab().save(str(target)):
+        raise OSError(f"{target}: could not write the screenshot")

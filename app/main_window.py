@@ -1,0 +1,402 @@
+"""The review window: camera grid, frame-set list, waveform, offset controls, status line."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtGui import QAction, QKeySequence, QShortcut
+from PySide6.QtWidgets import (
+    QFileDialog,
+    QHBoxLayout,
+    QLabel,
+    QMainWindow,
+    QMessageBox,
+    QProgressBar,
+    QPushButton,
+    QSplitter,
+    QStackedWidget,
+    QVBoxLayout,
+    QWidget,
+)
+
+from app.frame_grid import FrameGrid
+from app.frame_loader import FrameLoader
+from app.set_table import SetTable
+from app.tasks import BackgroundTask, start
+from app.waveform import WaveformView
+from speechcal_core.review.loading import ReviewInputs, load_for_review
+from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
+from speechcal_core.session.store import save_session
+
+EMPTY_TEXT = (
+    "<h2>Open a calibration session</h2>"
+    "<p>Drag a recording (ROS bag, bag folder, .mcap, .db3) and its audio file here,<br>"
+    "or open a session file (SESSION.json).</p>"
+)
+
+
+class ReviewWindow(QMainWindow):
+    """Main window; all state lives in a :class:`ReviewModel`, the widgets only show it."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.setWindowTitle("SpeechCal")
+        self.resize(1400, 900)
+        self.model: ReviewModel | None = None
+        self.inputs: ReviewInputs | None = None
+        self.loader: FrameLoader | None = None
+        self.task: BackgroundTask | None = None
+        self.last_saved: float | None = None
+        self.load_error = ""
+        self._pending_tiles: set[str] = set()
+        self._playing = False
+
+        self.stack = QStackedWidget()
+        self.setCentralWidget(self.stack)
+        self.stack.addWidget(self._build_empty_page())
+        self.review_page = QWidget()
+        self.stack.addWidget(self.review_page)
+        self._build_status_line()
+        self._build_actions()
+        self.setAcceptDrops(True)
+        self._save_clock = QTimer(self)
+        self._save_clock.timeout.connect(self._update_saved_label)
+        self._save_clock.start(1000)
+        self._play_timer = QTimer(self)
+        self._play_timer.setInterval(40)
+        self._play_timer.timeout.connect(self._play_step)
+
+    # -- construction -------------------------------------------------------------------
+    def _build_empty_page(self) -> QWidget:
+        page = QWidget()
+        layout = QVBoxLayout(page)
+        layout.addStretch(1)
+        text = QLabel(EMPTY_TEXT)
+        text.setAlignment(Qt.AlignmentFlag.AlignCenter)
+        layout.addWidget(text)
+        row = QHBoxLayout()
+        row.addStretch(1)
+        open_button = QPushButton("Open session…")
+        open_button.clicked.connect(self.choose_session)
+        row.addWidget(open_button)
+        self.demo_button = QPushButton("Open the demo session")
+        row.addWidget(self.demo_button)
+        row.addStretch(1)
+        layout.addLayout(row)
+        layout.addStretch(2)
+        return page
+
+    def _build_status_line(self) -> None:
+        bar = self.statusBar()
+        self.status_text = QLabel("")
+        self.progress = QProgressBar()
+        self.progress.setMaximumWidth(220)
+        self.progress.setRange(0, 1000)
+        self.progress.hide()
+        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button.hide()
+        self.cancel_button.clicked.connect(self.cancel_task)
+        self.saved_label = QLabel("")
+        bar.addWidget(self.status_text, 1)
+        bar.addPermanentWidget(self.progress)
+        bar.addPermanentWidget(self.cancel_button)
+        bar.addPermanentWidget(self.saved_label)
+
+    def _build_actions(self) -> None:
+        menu = self.menuBar().addMenu("&File")
+        open_action = QAction("&Open session…", self)
+        open_action.setShortcut(QKeySequence.StandardKey.Open)
+        open_action.triggered.connect(self.choose_session)
+        menu.addAction(open_action)
+        quit_action = QAction("&Quit", self)
+        quit_action.setShortcut(QKeySequence.StandardKey.Quit)
+        quit_action.triggered.connect(self.close)
+        menu.addAction(quit_action)
+        for key, action in KEY_BINDINGS.items():
+            shortcut = QShortcut(QKeySequence(key), self)
+            shortcut.activated.connect(lambda a=action: self.run_action(a))
+        QShortcut(QKeySequence("Space"), self).activated.connect(self.toggle_play)
+        QShortcut(QKeySequence("Escape"), self).activated.connect(self._leave_enlarged)
+
+    def _build_review_page(self, inputs: ReviewInputs) -> None:
+        old = self.review_page.layout()
+        if old is not None:
+            QWidget().setLayout(old)  # reparent and drop the previous layout
+        model = self.model
+        assert model is not None
+        layout = QVBoxLayout(self.review_page)
+        layout.setContentsMargins(6, 6, 6, 6)
+        split = QSplitter(Qt.Orientation.Vertical)
+        top = QSplitter(Qt.Orientation.Horizontal)
+        left = QWidget()
+        left_layout = QVBoxLayout(left)
+        left_layout.setContentsMargins(0, 0, 0, 0)
+        self.grid = FrameGrid(model.streams)
+        left_layout.addWidget(self.grid, 1)
+        self.info_line = QLabel("")
+        left_layout.addWidget(self.info_line)
+        top.addWidget(left)
+        right = QWidget()
+        right_layout = QVBoxLayout(right)
+        right_layout.setContentsMargins(0, 0, 0, 0)
+        right_layout.addWidget(QLabel("<b>Frame sets</b>"))
+        self.table = SetTable()
+        right_layout.addWidget(self.table, 1)
+        buttons = QHBoxLayout()
+        for label, action in (("[A] accept", "accept"), ("[R] reject", "reject"),
+                              ("[U] undo", "undo")):
+            b = QPushButton(label)
+            b.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+            b.clicked.connect(lambda _=False, a=action: self.run_action(a))
+            buttons.addWidget(b)
+        right_layout.addLayout(buttons)
+        self.counts_label = QLabel("")
+        right_layout.addWidget(self.counts_label)
+        top.addWidget(right)
+        top.setStretchFactor(0, 3)
+        top.setStretchFactor(1, 1)
+        split.addWidget(top)
+        bottom = QWidget()
+        bottom_layout = QVBoxLayout(bottom)
+        bottom_layout.setContentsMargins(0, 0, 0, 0)
+        start_ns, end_ns = model.time_range_ns()
+        self.waveform = WaveformView(start_ns)
+        bottom_layout.addWidget(self.waveform, 1)
+        self.sync_line = QLabel("")
+        self.help_line = QLabel(
+            "Space play · ←/→ frame · J/K set · A/R/U decide · double-click a camera to "
+            "enlarge, Esc back · wheel zooms the waveform, click moves the playhead")
+        self.help_line.setStyleSheet("color: gray")
+        bottom_layout.addWidget(self.sync_line)
+        bottom_layout.addWidget(self.help_line)
+        split.addWidget(bottom)
+        split.setStretchFactor(0, 3)
+        split.setStretchFactor(1, 1)
+        layout.addWidget(split)
+
+        if inputs.pyramid is not None:
+            self.waveform.set_audio(inputs.pyramid, model.session.sync)
+        self.waveform.set_clap(inputs.clap_session_ns)
+        self.waveform.set_sets(model.session.sets)
+        self.waveform.show_all(start_ns, end_ns)
+        self.waveform.playhead_moved.connect(model.set_playhead)
+        self.table.set_sets(model.session.sets, start_ns)
+        self.table.set_chosen.connect(model.go_to_set)
+
+    # -- opening ------------------------------------------------------------------------
+    def choose_session(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Open session", "",
+                                              "SpeechCal sessions (*.json)")
+        if path:
+            self.open(session_path=path)
+
+    def open(self, *, session_path: str | None = None, recording: list[str] | None = None,
+             audio: str | None = None) -> None:
+        """Load a session file, or process a recording + audio, on a worker thread."""
+        self.load_error = ""
+        self.task = BackgroundTask(lambda report: load_for_review(
+            session_path=session_path, recording=recording, audio=audio, progress=report))
+        self.task.signals.progress.connect(self._on_progress)
+        self.task.signals.finished.connect(self._on_loaded)
+        self.task.signals.failed.connect(self._on_failed)
+        self._show_busy("opening…")
+        start(self.task)
+
+    def cancel_task(self) -> None:
+        if self.task is not None:
+            self.task.cancel()
+
+    def _show_busy(self, text: str) -> None:
+        self.status_text.setText(text)
+        self.progress.setValue(0)
+        self.progress.show()
+        self.cancel_button.show()
+
+    def _on_progress(self, text: str, fraction: float) -> None:
+        self.status_text.setText(text)
+        self.progress.setValue(int(fraction * 1000))
+
+    def _on_failed(self, message: str) -> None:
+        self.progress.hide()
+        self.cancel_button.hide()
+        self.task = None
+        self.load_error = message
+        self.status_text.setText(f"Could not open: {message}")
+        if not self.property("headless"):
+            QMessageBox.warning(self, "SpeechCal", message)
+
+    def _on_loaded(self, inputs: ReviewInputs) -> None:
+        self.progress.hide()
+        self.cancel_button.hide()
+        self.task = None
+        if self.loader is not None:
+            self.loader.shutdown()
+        self.inputs = inputs
+        self.model = ReviewModel(inputs.session, inputs.source, autosave=self._autosave)
+        self.loader = FrameLoader(inputs.source, parent=self)
+        self.loader.loaded.connect(self._on_frame)
+        self.loader.failed.connect(self._on_frame_failed)
+        self._build_review_page(inputs)
+        self.model.connect("playhead", lambda _t: self._refresh_playhead())
+        self.model.connect("current_set", self.table.select_row)
+        self.model.connect("decision", self._on_decision)
+        title = " + ".join(Path(p).name for p in [*inputs.session.recording,
+                                                   inputs.session.audio or ""] if p)
+        self.setWindowTitle(f"SpeechCal — {title}")
+        self.stack.setCurrentWidget(self.review_page)
+        n = len(inputs.session.sets)
+        self.status_text.setText(f"{len(self.model.streams)} cameras, {n} frame sets"
+                                 + (f" · {inputs.note}" if inputs.note else ""))
+        self._update_sync_line()
+        self._update_counts()
+        if n:
+            self.model.go_to_set(0)
+        else:
+            self._refresh_playhead()
+
+    # -- model -> view ------------------------------------------------------------------
+    def run_action(self, action: str) -> None:
+        if self.model is not None:
+            self.model.trigger(action)
+
+    def _refresh_playhead(self) -> None:
+        model = self.model
+        if model is None or self.loader is None:
+            return
+        self.waveform.set_playhead(model.playhead_ns)
+        if self._playing:
+            self.waveform.follow(model.playhead_ns)
+        current = model.set_at_playhead()
+        wanted = []
+        self._pending_tiles = set()
+        for tile in model.tiles():
+            widget = self.grid.tiles[tile.stream]
+            decision = current.decision if current else None
+            if tile.index < 0:
+                widget.show_message("no frame near the playhead"
+                                    if tile.stamp_ns else "no frames in this stream")
+                widget.set_state(decision, "no frame")
+                continue
+            widget.set_state(decision, "")
+            widget.caption = f"{tile.offset_ns / 1e6:+.1f} ms"
+            wanted.append((tile.stream, tile.index))
+            self._pending_tiles.add(tile.stream)
+        self.loader.request(wanted)
+        self.grid.set_word(current.trigger.word if current else "",
+                           current.decision if current else None)
+        start_ns, _ = model.time_range_ns()
+        rel = (model.playhead_ns - start_ns) / 1e9
+        set_text = ""
+        if current is not None:
+            idx = model.session.sets.index(current) + 1
+            set_text = (f"   set {idx}/{len(model.session.sets)}   "
+                        f"skew {current.skew_ns / 1e6:.1f} ms")
+        self.info_line.setText(f"t = {model.playhead_ns / 1e9:.3f} s  ({rel:.3f} s from start)"
+                               + set_text)
+
+    def _on_frame(self, stream: str, index: int, image) -> None:
+        tile = self.grid.tiles.get(stream)
+        if tile is not None:
+            tile.show_image(image, tile.caption)
+        self._pending_tiles.discard(stream)
+
+    def _on_frame_failed(self, stream: str, index: int, message: str) -> None:
+        tile = self.grid.tiles.get(stream)
+        if tile is not None:
+            tile.show_message(f"frame {index} cannot be shown: {message}")
+            tile.set_state(tile.decision, "bad frame")
+        self._pending_tiles.discard(stream)
+
+    def _on_decision(self, set_id: int, decision: str) -> None:
+        model = self.model
+        assert model is not None
+        row = next(i for i, s in enumerate(model.session.sets) if s.id == set_id)
+        self.table.update_row(row, model.session.sets[row])
+        self.waveform.set_sets(model.session.sets)
+        self._update_counts()
+        self._refresh_playhead()
+
+    def _update_counts(self) -> None:
+        if self.model is None:
+            return
+        c = self.model.session.counts()
+        self.counts_label.setText(f"✔ {c['accepted']} accepted   ✘ {c['rejected']} rejected   "
+                                  f"? {c['undecided']} undecided")
+
+    def _update_sync_line(self) -> None:
+        if self.model is None or self.inputs is None:
+            return
+        sync = self.model.session.sync
+        lead = (self.model.time_range_ns()[0] - sync.offset_ns) / 1e9
+        self.sync_line.setText(
+            f"audio offset {lead:+.3f} s before first frame · drift {sync.drift * 1e6:.1f} ppm"
+            f" · {sync.source}" + (f" · {self.inputs.sync_note}" if self.inputs.sync_note else ""))
+
+    def _autosave(self, session) -> None:
+        if self.inputs is None or self.inputs.session_path is None:
+            return
+        save_session(session, self.inputs.session_path)
+        self.last_saved = time.monotonic()
+        self._update_saved_label()
+
+    def _update_saved_label(self) -> None:
+        if self.last_saved is None:
+            path = self.inputs.session_path if self.inputs else None
+            self.saved_label.setText(f"session: {Path(path).name}" if path else "")
+            return
+        ago = int(time.monotonic() - self.last_saved)
+        self.saved_label.setText("saved just now" if ago < 2 else f"saved {ago} s ago")
+
+    # -- playback -----------------------------------------------------------------------
+    def toggle_play(self) -> None:
+        if self.model is None:
+            return
+        self._playing = not self._playing
+        self._play_started = (time.monotonic(), self.model.playhead_ns)
+        if self._playing:
+            self._play_timer.start()
+        else:
+            self._play_timer.stop()
+
+    def _play_step(self) -> None:
+        if self.model is None:
+            return
+        t0, p0 = self._play_started
+        target = p0 + int((time.monotonic() - t0) * 1e9)
+        if target >= self.model.time_range_ns()[1]:
+            self.toggle_play()
+        self.model.set_playhead(target)
+
+    def _leave_enlarged(self) -> None:
+        if self.model is not None and self.grid._enlarged:
+            self.grid.toggle_enlarged()
+
+    # -- drag and drop ------------------------------------------------------------------
+    def dragEnterEvent(self, event) -> None:
+        if event.mimeData().hasUrls():
+            event.acceptProposedAction()
+
+    def dropEvent(self, event) -> None:
+        paths = [u.toLocalFile() for u in event.mimeData().urls()]
+        sessions = [p for p in paths if p.endswith(".json")]
+        audio_ext = (".ogg", ".opus", ".wav", ".flac", ".mp3")
+        audio = [p for p in paths if p.lower().endswith(audio_ext)]
+        rest = [p for p in paths if p not in sessions and p not in audio]
+        if sessions:
+            self.open(session_path=sessions[0])
+        elif rest and audio:
+            self.open(recording=rest, audio=audio[0])
+        else:
+            self.status_text.setText("Drop a recording together with its audio file, "
+                                     "or a session file")
+
+    def closeEvent(self, event) -> None:
+        if self.task is not None:
+            self.task.cancel()
+        if self.loader is not None:
+            self.loader.shutdown()
+        if self.inputs is not None:
+            self.inputs.close()
+        super().closeEvent(event)

@@ -1,0 +1,142 @@
+"""Audio waveform on the session clock, with clap handle, trigger markers and playhead."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6.QtCore import Signal
+
+from app.style import DECISION_COLOURS, DECISION_SYMBOLS, PLAYHEAD_COLOUR
+
+if TYPE_CHECKING:
+    from speechcal_core.audio import EnvelopePyramid
+    from speechcal_core.session.model import FrameSet
+    from speechcal_core.sync.model import SyncModel
+
+
+class WaveformView(pg.PlotWidget):
+    """Min/max envelope from a pyramid, redrawn for the visible range at screen resolution.
+
+    The x axis is session time in seconds from ``origin_ns`` (the first camera frame).
+    """
+
+    playhead_moved = Signal(int)  # session ns
+    clap_moved = Signal(float)  # new session time of the clap, seconds from origin
+
+    def __init__(self, origin_ns: int, parent=None) -> None:
+        super().__init__(parent, background=(30, 32, 36))
+        self.origin_ns = origin_ns
+        self.pyramid: EnvelopePyramid | None = None
+        self.sync: SyncModel | None = None
+        self.setMouseEnabled(x=True, y=False)
+        self.setMenuEnabled(False)
+        self.hideButtons()
+        self.getPlotItem().hideAxis("left")
+        self.setLabel("bottom", "session time", units="s")
+        self.showGrid(x=True, y=False, alpha=0.15)
+        self._upper = pg.PlotDataItem(pen=pg.mkPen((110, 180, 255), width=1))
+        self._lower = pg.PlotDataItem(pen=pg.mkPen((110, 180, 255), width=1))
+        self._fill = pg.FillBetweenItem(self._lower, self._upper, brush=(110, 180, 255, 120))
+        for item in (self._upper, self._lower, self._fill):
+            self.addItem(item)
+        self.setYRange(-1, 1, padding=0.05)
+        self._markers: list[pg.GraphicsObject] = []
+        self.playhead = pg.InfiniteLine(0, movable=True,
+                                        pen=pg.mkPen(PLAYHEAD_COLOUR, width=2))
+        self.playhead.setZValue(20)
+        self.playhead.sigDragged.connect(
+            lambda line: self.playhead_moved.emit(self._to_ns(line.value())))
+        self.addItem(self.playhead)
+        self.clap = pg.InfiniteLine(0, movable=True, pen=pg.mkPen((255, 120, 40), width=2),
+                                    label="clap", labelOpts={"position": 0.9,
+                                                             "color": (255, 160, 90)})
+        self.clap.setZValue(15)
+        self.clap.sigPositionChangeFinished.connect(lambda line: self.clap_moved.emit(line.value()))
+        self.clap.hide()
+        self.addItem(self.clap)
+        self.getViewBox().sigXRangeChanged.connect(lambda *_: self.redraw())
+        self.scene().sigMouseClicked.connect(self._clicked)
+
+    def _to_ns(self, x: float) -> int:
+        return self.origin_ns + round(x * 1e9)
+
+    def _to_x(self, t_ns: int) -> float:
+        return (t_ns - self.origin_ns) / 1e9
+
+    def set_audio(self, pyramid: EnvelopePyramid, sync: SyncModel) -> None:
+        """Show this audio on the session clock given by ``sync``."""
+        self.pyramid, self.sync = pyramid, sync
+        peak = max(1e-6, float(np.max(np.abs(pyramid.levels[-1][1:]))) if pyramid.levels else 1)
+        self._scale = 1.0 / peak
+        self.redraw()
+
+    def set_sync(self, sync: SyncModel) -> None:
+        self.sync = sync
+        self.redraw()
+
+    def set_clap(self, clap_session_ns: int | None) -> None:
+        if clap_session_ns is None:
+            self.clap.hide()
+        else:
+            self.clap.setValue(self._to_x(clap_session_ns))
+            self.clap.show()
+
+    def show_all(self, start_ns: int, end_ns: int) -> None:
+        self.setXRange(self._to_x(start_ns), self._to_x(end_ns), padding=0.01)
+
+    def redraw(self) -> None:
+        if self.pyramid is None or self.sync is None:
+            return
+        x0, x1 = self.getViewBox().viewRange()[0]
+        a0 = float(self.sync.to_audio(self._to_ns(x0)))
+        a1 = float(self.sync.to_audio(self._to_ns(x1)))
+        width = max(100, int(self.getViewBox().width()))
+        t, mn, mx = self.pyramid.envelope(max(a0, 0.0), max(a1, 0.0), width)
+        if t.size == 0:
+            self._upper.setData([], [])
+            self._lower.setData([], [])
+            return
+        xs = (np.asarray(self.sync.to_session(t), dtype=np.int64) - self.origin_ns) / 1e9
+        self._upper.setData(xs, mx * self._scale)
+        self._lower.setData(xs, mn * self._scale)
+
+    def set_sets(self, sets: list[FrameSet]) -> None:
+        """One marker per frame set: the word's extent, coloured and labelled by decision."""
+        for item in self._markers:
+            self.removeItem(item)
+        self._markers = []
+        if self.sync is None:
+            return
+        for s in sets:
+            colour = DECISION_COLOURS[s.decision]
+            start = self._to_x(int(self.sync.to_session(s.trigger.start_s)))
+            end = self._to_x(int(self.sync.to_session(s.trigger.end_s)))
+            brush = pg.mkBrush(colour.red(), colour.green(), colour.blue(), 70)
+            region = pg.LinearRegionItem((start, end), movable=False, brush=brush,
+                                         pen=pg.mkPen(colour))
+            region.setZValue(5)
+            label = pg.TextItem(f"{DECISION_SYMBOLS[s.decision]}{s.trigger.word}",
+                                color=colour.lighter(140), anchor=(0.5, 1.0))
+            label.setPos((start + end) / 2, 1.0)
+            for item in (region, label):
+                self.addItem(item)
+                self._markers.append(item)
+
+    def set_playhead(self, t_ns: int) -> None:
+        self.playhead.setValue(self._to_x(t_ns))
+
+    def follow(self, t_ns: int) -> None:
+        """Scroll so the playhead stays visible (during playback)."""
+        x = self._to_x(t_ns)
+        x0, x1 = self.getViewBox().viewRange()[0]
+        if not x0 <= x <= x1:
+            span = x1 - x0
+            self.setXRange(x - span * 0.1, x + span * 0.9, padding=0)
+
+    def _clicked(self, event) -> None:
+        if event.button() != 1 or event.double():
+            return
+        pos = self.getViewBox().mapSceneToView(event.scenePos())
+        self.playhead_moved.emit(self._to_ns(pos.x()))

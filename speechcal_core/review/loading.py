@@ -1,0 +1,94 @@
+"""Everything the review window needs, loaded (off the UI thread) from a session or recording."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from speechcal_core.errors import SpeechCalError, UsageError
+from speechcal_core.session.model import Session
+from speechcal_core.session.store import load_session, save_session
+
+if TYPE_CHECKING:
+    from speechcal_core.audio import EnvelopePyramid
+    from speechcal_core.sources.base import FrameSource
+
+Progress = Callable[[str, float], None]
+
+
+@dataclass
+class ReviewInputs:
+    """An opened session: its recording, the audio envelope and where autosave writes."""
+
+    session: Session
+    source: FrameSource
+    pyramid: EnvelopePyramid | None
+    session_path: Path | None
+    clap_session_ns: int | None = None
+    note: str = ""
+    sync_note: str = ""
+
+    def close(self) -> None:
+        self.source.close()
+
+
+def default_session_path(recording: Sequence[str]) -> Path:
+    """Where a new session for this recording is saved: beside it, ``<name>.speechcal.json``."""
+    first = Path(recording[0])
+    stem = first.stem if first.suffix else first.name
+    return first.absolute().parent / f"{stem}.speechcal.json"
+
+
+def load_for_review(
+    *,
+    session_path: str | Path | None = None,
+    recording: Sequence[str] | None = None,
+    audio: str | None = None,
+    progress: Progress | None = None,
+) -> ReviewInputs:
+    """Open a session file, or process ``recording`` + ``audio`` into a new session.
+
+    A new session is saved beside the recording (or next to an existing session of the
+    same name, which is then opened instead of being overwritten).
+    """
+    from speechcal_core.audio import EnvelopePyramid, load_audio
+    from speechcal_core.sources import open_recording
+
+    report = progress or (lambda _t, _f: None)
+    note = ""
+    if session_path is not None:
+        report("reading session", 0.05)
+        path = Path(session_path)
+        session = load_session(path)
+    elif recording:
+        if audio is None:
+            raise UsageError("a recording needs its audio file: pass --audio AUDIO")
+        path = default_session_path(recording)
+        if path.exists():
+            report(f"reading existing session {path.name}", 0.05)
+            session = load_session(path)
+            note = f"opened the existing {path.name} (review work kept)"
+        else:
+            from speechcal_core.pipeline import process_recording
+
+            session = process_recording(list(recording), audio, progress=report)
+            save_session(session, path)
+            note = f"new session saved as {path.name}"
+    else:
+        raise UsageError("nothing to open: give a session file or a recording with --audio")
+
+    report("indexing recording", 0.6)
+    source = open_recording(session.recording)
+    pyramid = None
+    clap = session.extra.get("clap_session_ns")
+    if session.audio:
+        report("reading audio", 0.8)
+        try:
+            sound = load_audio(session.audio)
+            pyramid = EnvelopePyramid(sound.samples, sound.rate)
+        except SpeechCalError as exc:
+            note = f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
+    report("ready", 1.0)
+    return ReviewInputs(session, source, pyramid, path, int(clap) if clap else None, note)
