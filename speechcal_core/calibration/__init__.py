@@ -1,0 +1,1 @@
+"""Quick per-camera calibration check from the frame sets' target corners."""

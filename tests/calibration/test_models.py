@@ -1,0 +1,73 @@
+"""Calibration check: pinhole recovers intrinsics, fisheye and double sphere converge."""
+
+from __future__ import annotations
+
+import numpy as np
+from calib_views import synthetic_views
+
+from speechcal_core.calibration.check import best_model, calibration_entry, fit_models
+from speechcal_core.calibration.double_sphere import project_double_sphere
+from speechcal_core.calibration.views import View
+
+
+def _relative_error(found: list[float], truth: tuple[float, ...]) -> np.ndarray:
+    return np.abs(np.asarray(found[:4]) - np.asarray(truth)) / np.asarray(truth)
+
+
+def test_pinhole_recovers_intrinsics_within_one_percent() -> None:
+    cam, views = synthetic_views(fisheye=False)
+    fits = fit_models(views, (cam.width, cam.height), ("pinhole",))
+    pin = fits["pinhole"]
+    assert _relative_error(pin.intrinsics, cam.intrinsics).max() < 0.01
+    assert pin.rms_px < 0.5
+    assert len(pin.distortion) == 5
+
+
+def test_fisheye_and_double_sphere_converge_on_a_fisheye_camera() -> None:
+    cam, views = synthetic_views(fisheye=True)
+    fits = fit_models(views, (cam.width, cam.height))
+    assert fits["fisheye"].rms_px < 0.5
+    assert _relative_error(fits["fisheye"].intrinsics, cam.intrinsics).max() < 0.01
+    ds = fits["double-sphere"]
+    assert ds.rms_px < 0.5
+    fx, _fy, cx, cy, xi, _alpha = ds.intrinsics
+    # near the axis the double sphere acts like a pinhole of focal fx / (1 + xi)
+    assert abs(fx / (1 + xi) - cam.intrinsics[0]) / cam.intrinsics[0] < 0.02
+    assert abs(cx - cam.intrinsics[2]) < 5 and abs(cy - cam.intrinsics[3]) < 5
+
+
+def test_a_bad_view_stands_out_in_per_view_error() -> None:
+    cam, views = synthetic_views(fisheye=False, holds=10)
+    bad = views[3]
+    shuffled = bad.image_points.copy()
+    shuffled[:8] += 6.0  # eight corners off by 6 px (e.g. a mis-detected tag)
+    views[3] = View(bad.set_id, bad.object_points, shuffled)
+    pin = fit_models(views, (cam.width, cam.height), ("pinhole",))["pinhole"]
+    worst = int(np.argmax(pin.view_rms_px))
+    assert pin.set_ids[worst] == bad.set_id
+    assert pin.view_rms_px[worst] > 3 * np.median(pin.view_rms_px)
+
+
+def test_double_sphere_projection_matches_the_paper_on_axis_and_off() -> None:
+    params = np.array([300.0, 310.0, 320.0, 240.0, 0.0, 0.5])
+    # xi = 0, alpha = 0.5: u = fx * x / ((|p| + z) / 2) + cx
+    pts = np.array([[0.0, 0.0, 1.0], [0.3, -0.2, 1.0]])
+    uv = project_double_sphere(params, pts)
+    assert np.allclose(uv[0], [320, 240])
+    d = np.linalg.norm(pts[1])
+    assert np.allclose(uv[1], [300 * 0.3 / ((d + 1) / 2) + 320, 310 * -0.2 / ((d + 1) / 2) + 240])
+
+
+def test_calibration_entry_has_design_keys_and_all_models() -> None:
+    cam, views = synthetic_views(fisheye=False, holds=8)
+    fits = fit_models(views, (cam.width, cam.height), ("pinhole", "fisheye"))
+    entry = calibration_entry(fits)
+    assert entry is not None
+    assert {"model", "intrinsics", "distortion", "rms_px", "views", "models"} <= set(entry)
+    assert entry["model"] == best_model(fits).model == "pinhole"
+    assert [v["set"] for v in entry["views"]] == [v.set_id for v in views]
+
+
+def test_too_few_views_give_no_fit() -> None:
+    cam, views = synthetic_views(fisheye=False, holds=3)
+    assert fit_models(views[:3], (cam.width, cam.height)) == {}
