@@ -157,6 +157,8 @@ class ReviewWindow(QMainWindow):
         top.addWidget(right)
         top.setStretchFactor(0, 3)
         top.setStretchFactor(1, 1)
+        right.setMinimumWidth(400)
+        top.setSizes([980, 420])
         split.addWidget(top)
         bottom = QWidget()
         bottom_layout = QVBoxLayout(bottom)
@@ -164,21 +166,37 @@ class ReviewWindow(QMainWindow):
         start_ns, end_ns = model.time_range_ns()
         self.waveform = WaveformView(start_ns)
         bottom_layout.addWidget(self.waveform, 1)
+        sync_row = QHBoxLayout()
         self.sync_line = QLabel("")
+        sync_row.addWidget(self.sync_line, 1)
+        for label, action, tip in (
+            ("−1 frame", "offset_minus_frame", "audio one frame earlier  ({)"),
+            ("−1 ms", "offset_minus_ms", "audio 1 ms earlier  ([)"),
+            ("+1 ms", "offset_plus_ms", "audio 1 ms later  (])"),
+            ("+1 frame", "offset_plus_frame", "audio one frame later  (})"),
+        ):
+            b = QPushButton(label)
+            b.setToolTip(tip)
+            b.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+            b.clicked.connect(lambda _=False, a=action: self.run_action(a))
+            sync_row.addWidget(b)
         self.help_line = QLabel(
-            "Space play · ←/→ frame · J/K set · A/R/U decide · double-click a camera to "
-            "enlarge, Esc back · wheel zooms the waveform, click moves the playhead")
+            "Space play · ←/→ frame · J/K set · A/R/U decide · [ ] nudge audio 1 ms, { } one "
+            "frame · drag the clap handle · double-click a camera to enlarge, Esc back · "
+            "wheel zooms the waveform, click moves the playhead")
         self.help_line.setStyleSheet("color: gray")
-        bottom_layout.addWidget(self.sync_line)
+        bottom_layout.addLayout(sync_row)
         bottom_layout.addWidget(self.help_line)
         split.addWidget(bottom)
         split.setStretchFactor(0, 3)
         split.setStretchFactor(1, 1)
+        split.setSizes([600, 260])
         layout.addWidget(split)
 
         if inputs.pyramid is not None:
             self.waveform.set_audio(inputs.pyramid, model.session.sync)
-        self.waveform.set_clap(inputs.clap_session_ns)
+        self.waveform.set_clap(inputs.clap_audio_s)
+        self.waveform.clap_moved.connect(model.nudge_offset)
         self.waveform.set_sets(model.session.sets)
         self.waveform.show_all(start_ns, end_ns)
         self.waveform.playhead_moved.connect(model.set_playhead)
@@ -242,6 +260,7 @@ class ReviewWindow(QMainWindow):
         self.model.connect("playhead", lambda _t: self._refresh_playhead())
         self.model.connect("current_set", self.table.select_row)
         self.model.connect("decision", self._on_decision)
+        self.model.connect("sync", self._on_sync)
         title = " + ".join(Path(p).name for p in [*inputs.session.recording,
                                                    inputs.session.audio or ""] if p)
         self.setWindowTitle(f"SpeechCal — {title}")
@@ -318,6 +337,14 @@ class ReviewWindow(QMainWindow):
         self._update_counts()
         self._refresh_playhead()
 
+    def _on_sync(self, sync) -> None:
+        model = self.model
+        assert model is not None
+        self.waveform.set_sync(sync)
+        self.waveform.set_sets(model.session.sets)
+        self.table.set_sets(model.session.sets, model.time_range_ns()[0])
+        self._update_sync_line()
+
     def _update_counts(self) -> None:
         if self.model is None:
             return
@@ -328,11 +355,17 @@ class ReviewWindow(QMainWindow):
     def _update_sync_line(self) -> None:
         if self.model is None or self.inputs is None:
             return
-        sync = self.model.session.sync
+        session = self.model.session
+        sync = session.sync
         lead = (self.model.time_range_ns()[0] - sync.offset_ns) / 1e9
+        how = {"auto": "auto ✓", "manual": "edited ✎", "stamped": "stamped ✓"}.get(
+            sync.source, sync.source)
+        cams = session.sync_evidence.get("cameras") or []
+        residuals = [abs(c.get("residual_ns") or 0) for c in cams if isinstance(c, dict)]
+        worst = f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms" if residuals else ""
         self.sync_line.setText(
-            f"audio offset {lead:+.3f} s before first frame · drift {sync.drift * 1e6:.1f} ppm"
-            f" · {sync.source}" + (f" · {self.inputs.sync_note}" if self.inputs.sync_note else ""))
+            f"audio starts {lead:+.3f} s before the first frame · drift "
+            f"{sync.drift * 1e6:.1f} ppm · {how}{worst}")
 
     def _autosave(self, session) -> None:
         if self.inputs is None or self.inputs.session_path is None:

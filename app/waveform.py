@@ -23,13 +23,14 @@ class WaveformView(pg.PlotWidget):
     """
 
     playhead_moved = Signal(int)  # session ns
-    clap_moved = Signal(float)  # new session time of the clap, seconds from origin
+    clap_moved = Signal(int)  # how far the clap handle was dragged, ns
 
     def __init__(self, origin_ns: int, parent=None) -> None:
         super().__init__(parent, background=(30, 32, 36))
         self.origin_ns = origin_ns
         self.pyramid: EnvelopePyramid | None = None
         self.sync: SyncModel | None = None
+        self._clap_audio_s: float | None = None
         self.setMouseEnabled(x=True, y=False)
         self.setMenuEnabled(False)
         self.hideButtons()
@@ -53,7 +54,8 @@ class WaveformView(pg.PlotWidget):
                                     label="clap", labelOpts={"position": 0.9,
                                                              "color": (255, 160, 90)})
         self.clap.setZValue(15)
-        self.clap.sigPositionChangeFinished.connect(lambda line: self.clap_moved.emit(line.value()))
+        self.clap.sigPositionChangeFinished.connect(
+            lambda _line: self.clap_moved.emit(self.clap_shift_ns()))
         self.clap.hide()
         self.addItem(self.clap)
         self.getViewBox().sigXRangeChanged.connect(lambda *_: self.redraw())
@@ -74,14 +76,23 @@ class WaveformView(pg.PlotWidget):
 
     def set_sync(self, sync: SyncModel) -> None:
         self.sync = sync
+        self.set_clap(self._clap_audio_s)
         self.redraw()
 
-    def set_clap(self, clap_session_ns: int | None) -> None:
-        if clap_session_ns is None:
+    def set_clap(self, clap_audio_s: float | None) -> None:
+        """Mark where the audio clap lands on the session clock (a handle to drag)."""
+        self._clap_audio_s = clap_audio_s
+        if clap_audio_s is None or self.sync is None:
             self.clap.hide()
         else:
-            self.clap.setValue(self._to_x(clap_session_ns))
+            self.clap.setValue(self._to_x(int(self.sync.to_session(clap_audio_s))))
             self.clap.show()
+
+    def clap_shift_ns(self) -> int:
+        """How far the clap handle was dragged from where the current sync puts it."""
+        if self._clap_audio_s is None or self.sync is None:
+            return 0
+        return self._to_ns(self.clap.value()) - int(self.sync.to_session(self._clap_audio_s))
 
     def show_all(self, start_ns: int, end_ns: int) -> None:
         self.setXRange(self._to_x(start_ns), self._to_x(end_ns), padding=0.01)
@@ -118,7 +129,7 @@ class WaveformView(pg.PlotWidget):
                                          pen=pg.mkPen(colour))
             region.setZValue(5)
             label = pg.TextItem(f"{DECISION_SYMBOLS[s.decision]}{s.trigger.word}",
-                                color=colour.lighter(140), anchor=(0.5, 1.0))
+                                color=colour.lighter(140), anchor=(0.5, 0.0))
             label.setPos((start + end) / 2, 1.0)
             for item in (region, label):
                 self.addItem(item)

@@ -50,7 +50,6 @@ def process_recording(
         report("reading the audio", 0.1)
         sound = load_audio(audio)
         evidence: dict = {}
-        clap_ns = None
         if offset_ns is not None:
             sync = SyncModel(int(offset_ns), 0.0, "manual")
         else:
@@ -60,7 +59,6 @@ def process_recording(
             sync = result.model
             evidence = {k: v for k, v in result.to_dict().items()
                         if k not in ("offset_ns", "drift", "source")}
-            clap_ns = result.claps[0].session_ns
         report("finding the trigger words", 0.45)
         triggers = detect_trigger_words(sound.resampled(16000) if sound.rate != 16000
                                         else sound, trigger_words)
@@ -74,7 +72,5 @@ def process_recording(
         triggers_word=list(trigger_words),
         sync_evidence=evidence,
     )
-    if clap_ns is not None:
-        session.extra["clap_session_ns"] = int(clap_ns)
     report("done", 1.0)
     return session

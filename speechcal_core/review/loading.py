@@ -26,9 +26,8 @@ class ReviewInputs:
     source: FrameSource
     pyramid: EnvelopePyramid | None
     session_path: Path | None
-    clap_session_ns: int | None = None
+    clap_audio_s: float | None = None
     note: str = ""
-    sync_note: str = ""
 
     def close(self) -> None:
         self.source.close()
@@ -82,7 +81,8 @@ def load_for_review(
     report("indexing recording", 0.6)
     source = open_recording(session.recording)
     pyramid = None
-    clap = session.extra.get("clap_session_ns")
+    claps = session.sync_evidence.get("claps") or []
+    clap = claps[0].get("audio_s") if claps and isinstance(claps[0], dict) else None
     if session.audio:
         report("reading audio", 0.8)
         try:
@@ -91,4 +91,5 @@ def load_for_review(
         except SpeechCalError as exc:
             note = f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
     report("ready", 1.0)
-    return ReviewInputs(session, source, pyramid, path, int(clap) if clap else None, note)
+    return ReviewInputs(session, source, pyramid, path,
+                        float(clap) if clap is not None else None, note)

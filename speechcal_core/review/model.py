@@ -7,13 +7,14 @@ action is a named method here, so tests drive the review without a window.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from speechcal_core.frames.nearest import frame_period_ns, nearest_index
+from speechcal_core.frames.nearest import frame_period_ns, nearest_choice, nearest_index
 from speechcal_core.session.model import FrameSet, Session
+from speechcal_core.sync.model import SyncModel
 
 if TYPE_CHECKING:
     from speechcal_core.sources.base import FrameSource
@@ -33,6 +34,10 @@ KEY_BINDINGS: dict[str, str] = {
     "Left": "previous_frame",
     "Home": "first_set",
     "End": "last_set",
+    "[": "offset_minus_ms",
+    "]": "offset_plus_ms",
+    "{": "offset_minus_frame",
+    "}": "offset_plus_frame",
 }
 
 
@@ -160,6 +165,31 @@ class ReviewModel:
         if candidates:
             self.set_playhead(min(candidates) if direction > 0 else max(candidates))
 
+    # -- sync edits ---------------------------------------------------------------------
+    def nudge_offset(self, delta_ns: int) -> None:
+        """Shift the audio-to-session offset (manual clap correction) and re-pick frames."""
+        self.set_sync(self.session.sync.with_offset(self.session.sync.offset_ns + int(delta_ns)))
+
+    def nudge_offset_frame(self, direction: int) -> None:
+        """Shift the offset by one frame period of the fastest camera."""
+        periods = [p for p in self._periods.values() if p > 0]
+        self.nudge_offset(direction * (min(periods) if periods else 33_333_333))
+
+    def set_sync(self, sync: SyncModel) -> None:
+        """Use another sync model: every set's time and nearest frames follow it."""
+        old = self.session.sync
+        self.session.sync = sync
+        for i, s in enumerate(self.session.sets):
+            t_ns = int(sync.to_session(s.trigger.t_s))
+            frames = tuple(nearest_choice(name, st, t_ns) for name, st in self._stamps.items())
+            self.session.sets[i] = replace(s, t_ns=t_ns, frames=frames or s.frames)
+        if self.current_set is not None:
+            self.playhead_ns += self.current_set.t_ns - int(
+                old.to_session(self.current_set.trigger.t_s))
+        self._emit("sync", sync)
+        self._emit("playhead", self.playhead_ns)
+        self._save()
+
     # -- decisions ----------------------------------------------------------------------
     def accept(self) -> None:
         self.decide("accepted")
@@ -205,6 +235,18 @@ class ReviewModel:
     def _first_stamp(self) -> int:
         starts = [int(s[0]) for s in self._stamps.values() if len(s)]
         return min(starts) if starts else 0
+
+    def offset_minus_ms(self) -> None:
+        self.nudge_offset(-1_000_000)
+
+    def offset_plus_ms(self) -> None:
+        self.nudge_offset(1_000_000)
+
+    def offset_minus_frame(self) -> None:
+        self.nudge_offset_frame(-1)
+
+    def offset_plus_frame(self) -> None:
+        self.nudge_offset_frame(+1)
 
     def trigger(self, action: str) -> None:
         """Run a named action (what a key binding maps to)."""
