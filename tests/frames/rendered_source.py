@@ -64,3 +64,38 @@ class RenderedSource:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+class ArraySource:
+    """A FrameSource over frames held in memory: ``{stream: (stamps, frames)}``."""
+
+    def __init__(self, data: dict[str, tuple[np.ndarray, list[np.ndarray]]]) -> None:
+        self._data = data
+        self.streams = []
+        for name, (st, frames) in data.items():
+            h, w = frames[0].shape[:2]
+            period = int(np.median(np.diff(st))) if st.size > 1 else 0
+            self.streams.append(StreamInfo(name, "sensor_msgs/msg/Image", "mono8", w, h,
+                                           st.size, int(st[0]), int(st[-1]), period,
+                                           1e9 / period if period else 0.0, 0))
+
+    def stamps(self, stream: str) -> np.ndarray:
+        return self._data[stream][0]
+
+    def frame(self, stream: str, i: int) -> np.ndarray:
+        return self._data[stream][1][i]
+
+    def nearest(self, stream: str, t_ns: int) -> int:
+        return int(np.argmin(np.abs(self.stamps(stream) - t_ns)))
+
+    def raw(self, stream: str, i: int) -> RawFrame:
+        raise NotImplementedError("in-memory frames have no serialized form")
+
+    def close(self) -> None:
+        pass
+
+    def __enter__(self) -> ArraySource:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,61 @@
+"""Coverage figures and the common-time choice, on small hand-made inputs."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from speechcal_core.frames.coverage import coverage, coverage_image
+from speechcal_core.frames.detect import Detection
+from speechcal_core.frames.select import choose_common_time, score_camera
+from speechcal_core.frames.window import CameraWindow
+from speechcal_core.target import TargetSpec
+
+MS = 1_000_000
+
+
+def _det(target: TargetSpec, x0: float, y0: float, scale: float) -> Detection:
+    obj = target.object_points()
+    return Detection(obj[:, :2] * scale + (x0, y0), np.arange(len(obj)))
+
+
+def test_coverage_grows_with_spread_of_board_positions() -> None:
+    target = TargetSpec()
+    size = (640, 480)
+    centre = [_det(target, 250, 170, 600)] * 3
+    spread = [_det(target, 10, 10, 600), _det(target, 400, 250, 600),
+              _det(target, 200, 100, 1200)]
+    one = coverage(centre, target.object_points(), size)
+    many = coverage(spread, target.object_points(), size)
+    assert one.progress["x"] == 0 and one.progress["size"] == 0
+    assert many.progress["x"] > 0.9 and many.progress["y"] > 0.9
+    assert many.progress["size"] > 0.5
+    assert many.to_dict()["views"] == 3
+    img = coverage_image(spread, size)
+    assert img.shape == (240, 320) and img.max() == 255 and img[10, 10] > 0 and img[-1, 0] == 0
+
+
+def _window(stamps_ms: list[int], sharp: list[float], motion: list[float],
+            period_ms: int) -> CameraWindow:
+    st = np.asarray(stamps_ms, np.int64) * MS
+    n = st.size
+    return CameraWindow("/c", np.arange(n), st, np.ones(n, bool), np.asarray(sharp, float),
+                        np.asarray(motion, float), np.zeros(n, bool), True, period_ms * MS)
+
+
+def test_common_time_maximizes_the_worst_camera_and_stays_synchronized() -> None:
+    # camera a is still from 100 ms on; camera b only from 200 ms on
+    a = _window([0, 33, 67, 100, 133, 167, 200, 233, 267], [1] * 9,
+                [9, 9, 9, 1, 1, 1, 1, 1, 1], 33)
+    b = _window([10, 77, 143, 210, 277], [1] * 5, [9, 9, 9, 1, 1], 67)
+    wins = [a, b]
+    choice = choose_common_time(wins, [score_camera(w, 1.0) for w in wins], 0)
+    assert choice is not None and choice.still
+    ta, tb = a.stamps[choice.positions[0]], b.stamps[choice.positions[1]]
+    assert ta >= 200 * MS and tb >= 210 * MS
+    assert abs(ta - tb) <= 67 * MS // 2
+
+
+def test_sharper_still_frame_wins_inside_a_hold() -> None:
+    a = _window([0, 33, 67, 100, 133], [1.0, 1.0, 3.0, 1.0, 1.0], [1] * 5, 33)
+    choice = choose_common_time([a], [score_camera(a, 1.0)], 0)
+    assert choice is not None and choice.positions == (2,)
