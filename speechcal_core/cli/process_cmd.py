@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from speechcal_core.errors import NotYetAvailableError
+from speechcal_core.cli._output import progress
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -21,5 +21,31 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the subcommand."""
-    raise NotYetAvailableError("process is not yet available")
+    """Run the subcommand: progress lines on stderr, the session file written atomically."""
+    from speechcal_core.pipeline import process_recording
+    from speechcal_core.session.store import save_session
+    from speechcal_core.target import TargetSpec
+
+    target = TargetSpec.from_kalibr_yaml(args.target) if args.target else TargetSpec()
+    last = [-1]
+
+    def report(text: str, fraction: float) -> None:
+        pct = int(fraction * 100)
+        if pct != last[0] or not text.startswith("frames:"):
+            last[0] = pct
+            progress(f"[{pct:3d}%] {text}")
+
+    session = process_recording(
+        args.recording,
+        args.audio,
+        trigger_words=tuple(args.trigger or ("capture",)),
+        transcript=args.transcript,
+        offset_ns=args.offset_ns,
+        target=target,
+        progress=report,
+    )
+    save_session(session, args.output)
+    flagged = sum(1 for s in session.sets if any(f.flags for f in s.frames))
+    progress(f"{len(session.sets)} frame sets ({flagged} flagged), "
+             f"{len(session.calibration)} cameras checked; wrote {args.output}")
+    return 0
