@@ -192,7 +192,10 @@ def _search(
            list[list[CameraScore] | None]]:
     """Scan every trigger's window in every camera, then pick each set's common time."""
     w0, w1 = (int(v * NS) for v in options.window_s)
-    factors = {s.name: preview_factor(s.width, s.height) if s.width else 1 for s in infos}
+    # motion and sharpness on ~320 px wide frames, the target region found on ~640 px ones
+    factors = {s.name: preview_factor(s.width, s.height, 320) if s.width else 1 for s in infos}
+    det_factors = {s.name: preview_factor(s.width, s.height, 640) if s.width else 1
+                   for s in infos}
     compressed = {s.name: _is_compressed(s) for s in infos}
     done = [0]
     total = len(t_ns) * len(infos)
@@ -202,6 +205,7 @@ def _search(
         s = infos[c]
         win = scan_window(source, s.name, stamps[s.name], t_ns[n] + w0, t_ns[n] + w1 + extra,
                           detector=local.preview, factor=factors[s.name],
+                          detect_factor=det_factors[s.name],
                           compressed=compressed[s.name], period_ns=periods[s.name])
         done[0] += 1
         report("windows", min(1.0, done[0] / total))

@@ -63,16 +63,19 @@ def scan_window(
     *,
     detector: TargetDetector | None,
     factor: int,
+    detect_factor: int | None = None,
     compressed: bool | None,
     period_ns: int,
     roi_hint_ns: tuple[int, ...] = (),
 ) -> CameraWindow:
     """Decode the window's frames at ``1/factor`` size and measure them.
 
-    The target region comes from detecting the target in the frame nearest each time of
-    ``roi_hint_ns`` in turn (default: the window's last frame, then its middle) until one is
-    found; without a target the whole image counts.
+    The target region comes from detecting the target (at ``1/detect_factor`` size,
+    default ``factor``) in the frame nearest each time of ``roi_hint_ns`` in turn (default:
+    the window's end, middle, start) until one is found; without a target the whole image
+    counts.
     """
+    detect_factor = detect_factor or factor
     lo, hi = window_indices(stamps, t0_ns, t1_ns)
     idx = np.arange(lo, hi)
     st = stamps[lo:hi]
@@ -98,9 +101,15 @@ def scan_window(
             k = int(np.argmin(np.abs(st - t)))
             if frames[k] is None:
                 continue
-            det = detector.detect(frames[k])
+            img = frames[k]
+            if detect_factor != factor:
+                try:
+                    img = preview_gray(source, stream, int(idx[k]), detect_factor, compressed)
+                except BadFrameError:
+                    continue
+            det = detector.detect(img)
             if det is not None:
-                hull = det.hull().astype(np.float64)
+                hull = det.hull().astype(np.float64) * (detect_factor / factor)
                 centre = hull.mean(axis=0)
                 hulls.append(centre + (hull - centre) * (1 + ROI_GROWTH))
                 break
