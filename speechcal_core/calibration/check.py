@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import contextlib
+import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import cv2
@@ -80,14 +82,21 @@ def check_cameras(
     models: Iterable[str] = MODELS,
     progress: Callable[[str, float], None] | None = None,
 ) -> dict[str, dict[str, Any]]:
-    """``{"<stream>": entry}`` for every stream with enough views (others are left out)."""
-    out = {}
+    """``{"<stream>": entry}`` for every stream with enough views (others are left out).
+
+    Cameras are fitted in parallel threads (OpenCV and MINPACK release the GIL).
+    """
     models = tuple(models)
-    for k, (stream, vs) in enumerate(views.items()):
-        if stream in sizes:
-            entry = calibration_entry(fit_models(vs, sizes[stream], models))
-            if entry is not None:
-                out[stream] = entry
+    names = [s for s in views if s in sizes]
+    done = [0]
+
+    def one(stream: str) -> dict[str, Any] | None:
+        entry = calibration_entry(fit_models(views[stream], sizes[stream], models))
+        done[0] += 1
         if progress:
-            progress("calibration", (k + 1) / max(1, len(views)))
-    return out
+            progress("calibration", done[0] / max(1, len(names)))
+        return entry
+
+    with ThreadPoolExecutor(max_workers=min(4, os.cpu_count() or 1)) as pool:
+        entries = list(pool.map(one, names))
+    return {s: e for s, e in zip(names, entries, strict=True) if e is not None}

@@ -173,8 +173,8 @@ def build_frame_sets(
                 FrameChoice(f.stream, f.index, f.stamp_ns, f.sharpness, f.corners,
                             (*f.flags, "skew")) for f in frames))
         result.sets.append(fs)
-        result.details[str(set_id)] = _details(set_id, t, choice, wins, nearest[n], infos,
-                                               result.detections, options)
+        result.details[str(set_id)] = _details(set_id, t, choice, wins, scores[n], nearest[n],
+                                               infos, result.detections, options)
     return result
 
 
@@ -265,6 +265,7 @@ def _details(
     t_ns: int,
     choice: Choice | None,
     wins: list[CameraWindow] | None,
+    scores: list[CameraScore] | None,
     nearest: dict[str, FrameChoice],
     infos: list[StreamInfo],
     detections: dict[tuple[int, str], Detection],
@@ -284,9 +285,13 @@ def _details(
     }
     for c, s in enumerate(infos):
         entry: dict[str, Any] = {}
-        if choice is not None and wins is not None and choice.positions[c] >= 0:
+        if choice is not None and wins is not None and scores is not None \
+                and choice.positions[c] >= 0:
             w, p = wins[c], choice.positions[c]
-            entry["motion"] = round(float(w.motion[p]), 3)
+            # motion in units of the camera's still-frame noise; quality in [0, 1]
+            entry["motion"] = round(float(min(scores[c].motion_ratio[p], 1e6)), 3)
+            entry["quality"] = round(float(scores[c].quality[p]), 4)
+            entry["still"] = bool(scores[c].still[p])
             entry["target_region"] = w.target_found
         det = detections.get((set_id, s.name))
         if det is not None:
