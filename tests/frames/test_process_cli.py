@@ -1,0 +1,76 @@
+"""Frame processing end to end on a small synthetic bag, scored against its truth."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from speechcal_core.cli import main
+from speechcal_core.frames.analysis import analyse_frames
+from speechcal_core.session.model import Trigger
+from speechcal_core.sources import open_recording
+from speechcal_core.sync.model import SyncModel
+from speechcal_core.synth.options import SynthOptions
+from speechcal_core.synth.session import generate_session
+from speechcal_core.target import TargetSpec
+
+
+@pytest.fixture(scope="module")
+def synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
+    out = tmp_path_factory.mktemp("process") / "synth"
+    truth = generate_session(out, SynthOptions(cameras=2, duration=30, seed=21, triggers=8))
+    return out, truth
+
+
+def _hold_of(truth: dict, start_s: float, end_s: float) -> list[int] | None:
+    mid = (start_s + end_s) / 2
+    for t in truth["triggers"]:
+        if abs((t["start_s"] + t["end_s"]) / 2 - mid) < 0.3:
+            return t["hold"]
+    return None
+
+
+@pytest.mark.slow
+def test_frames_of_a_bag_lie_in_holds_and_calibrate_within_one_percent(synth) -> None:
+    out, truth = synth
+    sync = SyncModel(truth["sync"]["offset_ns"], truth["sync"]["drift"])
+    triggers = [Trigger(t["word"], t["start_s"], t["end_s"]) for t in truth["triggers"]]
+    with open_recording([out / truth["recording"]]) as source:
+        analysis = analyse_frames(source, sync, triggers, TargetSpec(),
+                                  models=("pinhole",))
+    offsets = {c["name"]: c["clock_offset_ns"] for c in truth["cameras"]}
+    for s in analysis.sets:
+        hold = _hold_of(truth, s.trigger.start_s, s.trigger.end_s)
+        for f in s.frames:
+            assert hold[0] <= f.stamp_ns - offsets[f.stream] <= hold[1]
+            assert not f.flags
+    for cam in truth["cameras"]:
+        entry = analysis.calibration[cam["name"]]
+        found, want = np.asarray(entry["intrinsics"][:4]), np.asarray(cam["intrinsics"])
+        assert (np.abs(found - want) / want).max() < 0.01
+        assert entry["rms_px"] < 0.5
+
+
+@pytest.mark.slow
+def test_process_command_writes_the_session_with_progress_on_stderr(synth, tmp_path: Path,
+                                                                    capsys) -> None:
+    out, truth = synth
+    session_path = tmp_path / "session.json"
+    code = main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+                 "--offset-ns", str(truth["sync"]["offset_ns"]), "-o", str(session_path)])
+    assert code == 0
+    captured = capsys.readouterr()
+    assert captured.out == "" and "choosing frames" in captured.err
+    doc = json.loads(session_path.read_text())
+    assert {"sets", "calibration", "frame_details", "coverage"} <= set(doc)
+    offsets = {c["name"]: c["clock_offset_ns"] for c in truth["cameras"]}
+    for s in doc["sets"]:
+        hold = _hold_of(truth, s["trigger"]["start_s"], s["trigger"]["end_s"])
+        if hold is None:
+            continue  # a word the truth does not know: nothing to score
+        for f in s["frames"]:
+            assert hold[0] <= f["stamp_ns"] - offsets[f["stream"]] <= hold[1]
+        assert s["frames"][0]["corners"] > 0
