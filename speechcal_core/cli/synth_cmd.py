@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import time
 
-from speechcal_core.errors import NotYetAvailableError
+from speechcal_core.cli._output import emit_json, progress
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -20,12 +21,51 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--claps", type=int, choices=(1, 2), default=1)
     p.add_argument("--drift-ppm", type=float, default=5.0, help="microphone clock rate error")
     p.add_argument("--format", default="ros1", help="ros1 | ros2-sqlite3 | ros2-mcap")
-    p.add_argument("--encoding", default="jpeg", help="mono8 bgr8 rgb8 mono16 bayer_rggb8 jpeg png")
+    p.add_argument("--encoding", default="jpeg",
+                   help="mono8 | bgr8 | rgb8 | mono16 | bayer_rggb8 | jpeg | png")
+    p.add_argument("--compression", default="none", choices=("none", "bz2", "lz4"),
+                   help="ROS1 chunk compression")
+    p.add_argument("--target", default="aprilgrid", choices=("aprilgrid", "checkerboard"))
+    p.add_argument("--size", default="640x480", help="image size WxH")
+    p.add_argument("--rolling-shutter", action="store_true")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--force", action="store_true", help="replace an existing OUT")
+    p.add_argument("--json", action="store_true", help="print truth.json on stdout")
     return p
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand."""
-    raise NotYetAvailableError("synth is not yet available")
+    from speechcal_core.errors import UsageError
+    from speechcal_core.synth.options import SynthOptions
+    from speechcal_core.synth.session import generate_session
+
+    try:
+        width, height = (int(v) for v in args.size.lower().split("x"))
+    except ValueError:
+        raise UsageError(f"--size must look like 640x480, got {args.size!r}") from None
+    options = SynthOptions(
+        cameras=args.cameras, fisheye=args.fisheye, duration=args.duration,
+        triggers=args.triggers, trigger_word=args.trigger_word, snr_db=args.snr,
+        claps=args.claps, drift_ppm=args.drift_ppm, format=args.format,
+        encoding=args.encoding, seed=args.seed, width=width, height=height,
+        target_kind=args.target, ros1_compression=args.compression,
+        rolling_shutter=args.rolling_shutter,
+    )
+    started = time.monotonic()
+    last = {"stage": "", "shown": -1}
+
+    def report(stage: str, fraction: float) -> None:
+        pct = int(fraction * 10) * 10
+        if stage != last["stage"] or pct != last["shown"]:
+            last.update(stage=stage, shown=pct)
+            progress(f"{stage}: {pct}%")
+
+    truth = generate_session(args.out, options, force=args.force, progress=report)
+    progress(
+        f"wrote {args.out}: {truth['recording']}, {len(truth['cameras'])} cameras, "
+        f"{len(truth['triggers'])} triggers in {time.monotonic() - started:.1f} s"
+    )
+    if args.json:
+        emit_json(truth)
+    return 0

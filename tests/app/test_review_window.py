@@ -1,0 +1,119 @@
+"""The review window, driven like an operator would: keys, clicks, autosave, screenshot."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from PySide6.QtCore import Qt
+
+from app.main_window import ReviewWindow
+from speechcal_core.session.store import load_session
+
+
+@pytest.fixture
+def window(qtbot, truth_session_file: Path) -> ReviewWindow:
+    win = ReviewWindow()
+    win.setProperty("headless", True)
+    qtbot.addWidget(win)
+    win.show()
+    win.open(session_path=str(truth_session_file))
+    qtbot.waitUntil(lambda: win.model is not None, timeout=30_000)
+    qtbot.waitUntil(lambda: all(t.image is not None for t in win.grid.tiles.values()),
+                    timeout=30_000)
+    return win
+
+
+def test_empty_window_says_what_to_open(qtbot) -> None:
+    win = ReviewWindow()
+    qtbot.addWidget(win)
+    win.show()
+    assert win.stack.currentIndex() == 0
+    texts = " ".join(w.text() for w in win.findChildren(type(win.status_text)))
+    assert "Drag a recording" in texts and "session file" in texts
+
+
+def test_session_opens_with_one_tile_per_camera_and_the_heard_word(window) -> None:
+    model = window.model
+    assert set(window.grid.tiles) == set(model.streams)
+    assert len(window.grid.tiles) == 3
+    assert window.grid.word == "capture"
+    assert window.table.rowCount() == len(model.session.sets)
+    assert window.windowTitle() == "SpeechCal — recording.bag + audio.ogg"
+
+
+def test_keys_accept_reject_undo_and_autosave(qtbot, window, truth_session_file) -> None:
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    assert window.model.session.sets[0].decision == "accepted"
+    assert load_session(truth_session_file).sets[0].decision == "accepted"
+    assert "accepted" in window.table.item(0, 5).text()
+    assert window.saved_label.text() == "saved just now"
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    assert window.model.current == 1
+    qtbot.keyClick(window, Qt.Key.Key_R)
+    assert load_session(truth_session_file).sets[1].decision == "rejected"
+    qtbot.keyClick(window, Qt.Key.Key_U)
+    assert load_session(truth_session_file).sets[1].decision == "undecided"
+    assert window.counts_label.text().startswith("✔ 1 accepted")
+
+
+def test_clicking_a_row_jumps_to_that_set(qtbot, window) -> None:
+    last = window.table.rowCount() - 1
+    window.table.selectRow(last)
+    assert window.model.current == last
+    assert window.model.playhead_ns == window.model.session.sets[last].t_ns
+
+
+def test_tile_without_a_frame_near_the_playhead_says_so(qtbot, window) -> None:
+    _start, end = window.model.time_range_ns()
+    window.model.playhead_ns = end + 10**9
+    window._refresh_playhead()
+    for tile in window.grid.tiles.values():
+        assert tile.image is None and "no frame near the playhead" in tile.message
+
+
+def test_double_click_enlarges_a_camera_and_escape_returns(qtbot, window) -> None:
+    name = window.model.streams[1]
+    qtbot.mouseDClick(window.grid.tiles[name], Qt.MouseButton.LeftButton)
+    assert [n for n, t in window.grid.tiles.items() if t.isVisible()] == [name]
+    qtbot.keyClick(window, Qt.Key.Key_Escape)
+    assert all(t.isVisible() for t in window.grid.tiles.values())
+
+
+def test_bad_session_file_is_reported_not_crashed_on(qtbot, tmp_path: Path) -> None:
+    path = tmp_path / "broken.json"
+    path.write_text(json.dumps({"schema": 99}))
+    win = ReviewWindow()
+    win.setProperty("headless", True)
+    qtbot.addWidget(win)
+    win.open(session_path=str(path))
+    qtbot.waitUntil(lambda: win.task is None, timeout=10_000)
+    assert "newer SpeechCal" in win.load_error
+    assert "newer SpeechCal" in win.status_text.text()
+
+
+def test_review_screenshot_command_writes_a_png(truth_session_file: Path, tmp_path: Path) -> None:
+    shot = tmp_path / "window.png"
+    result = subprocess.run(
+        [sys.executable, "-m", "speechcal_core.cli", "review", str(truth_session_file),
+         "--screenshot", str(shot)],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert result.returncode == 0, result.stderr
+    assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert shot.stat().st_size > 20_000
+
+
+def test_offset_buttons_and_clap_drag_edit_the_sync(qtbot, window, truth_session_file) -> None:
+    before = window.model.session.sync.offset_ns
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    assert window.model.session.sync.offset_ns == before + 1_000_000
+    assert "edited" in window.sync_line.text()
+    clap = window.waveform.clap
+    clap.setValue(clap.value() + 0.010)  # drag the clap handle 10 ms later
+    clap.sigPositionChangeFinished.emit(clap)
+    assert window.model.session.sync.offset_ns == pytest.approx(before + 11_000_000, abs=2)
+    assert load_session(truth_session_file).sync.offset_ns == window.model.session.sync.offset_ns

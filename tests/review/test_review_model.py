@@ -1,0 +1,106 @@
+"""The headless review model: navigation, decisions, undo, autosave, tiles at the playhead."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
+from speechcal_core.session.store import load_session, save_session
+from speechcal_core.sources import open_recording
+
+
+def _model(path: Path, saves: list | None = None) -> ReviewModel:
+    session = load_session(path)
+    source = open_recording(session.recording)
+
+    def autosave(s) -> None:
+        save_session(s, path)
+        if saves is not None:
+            saves.append(s.counts())
+
+    return ReviewModel(session, source, autosave=autosave)
+
+
+def test_accept_reject_undo_redo_and_every_action_autosaves(truth_session_file: Path) -> None:
+    saves: list = []
+    model = _model(truth_session_file, saves)
+    assert len(model.session.sets) >= 3
+    model.accept()
+    model.next_set()
+    model.reject()
+    assert [s.decision for s in model.session.sets[:2]] == ["accepted", "rejected"]
+    assert load_session(truth_session_file).sets[1].decision == "rejected"
+    model.undo()
+    assert model.session.sets[1].decision == "undecided"
+    model.undo()
+    assert model.session.sets[0].decision == "undecided"
+    assert model.current == 0  # undo brings the undone set back into view
+    model.redo()
+    assert model.session.sets[0].decision == "accepted"
+    assert len(saves) == 5
+    assert load_session(truth_session_file).sets[0].decision == "accepted"
+
+
+def test_set_navigation_moves_the_playhead_to_the_set(truth_session_file: Path) -> None:
+    model = _model(truth_session_file)
+    seen = []
+    model.connect("playhead", seen.append)
+    model.last_set()
+    assert model.playhead_ns == model.session.sets[-1].t_ns
+    model.next_set()  # stays on the last one
+    assert model.current == len(model.session.sets) - 1
+    model.first_set()
+    assert seen[-1] == model.session.sets[0].t_ns
+    assert model.set_at_playhead() is model.session.sets[0]
+
+
+def test_tiles_show_nearest_frames_and_say_when_none_is_near(truth_session_file: Path) -> None:
+    model = _model(truth_session_file)
+    model.go_to_set(0)
+    tiles = model.tiles()
+    assert [t.stream for t in tiles] == model.streams
+    assert all(t.index >= 0 for t in tiles)
+    for tile in tiles:
+        period = 1e9 / 15
+        assert abs(tile.offset_ns) <= period / 2 + 1
+    _start, end = model.time_range_ns()
+    model.playhead_ns = end + 10**9  # beyond every stream: nothing near
+    assert all(t.index == -1 for t in model.tiles())
+
+
+def test_frame_stepping_visits_every_stamp_in_order(truth_session_file: Path) -> None:
+    model = _model(truth_session_file)
+    model.go_to_set(1)
+    before = model.playhead_ns
+    model.next_frame()
+    after = model.playhead_ns
+    assert after > before
+    all_stamps = sorted({int(s) for name in model.streams for s in model.source.stamps(name)})
+    assert after == next(s for s in all_stamps if s > before)
+    model.previous_frame()
+    assert model.playhead_ns < after
+
+
+def test_every_key_binding_names_an_action() -> None:
+    for action in KEY_BINDINGS.values():
+        assert callable(getattr(ReviewModel, action))
+
+
+def test_offset_nudge_moves_sets_marks_sync_manual_and_saves(truth_session_file: Path) -> None:
+    model = _model(truth_session_file)
+    before = [s.t_ns for s in model.session.sets]
+    events = []
+    model.connect("sync", events.append)
+    model.offset_plus_ms()
+    assert [s.t_ns for s in model.session.sets] == [t + 1_000_000 for t in before]
+    assert model.session.sync.source == "manual"
+    model.nudge_offset_frame(-1)
+    shift = model.session.sets[0].t_ns - before[0]
+    assert -40_000_000 < shift < -30_000_000  # one 30 fps frame back, after +1 ms
+    saved = load_session(truth_session_file)
+    assert saved.sync.source == "manual" and saved.sets[0].t_ns == model.session.sets[0].t_ns
+    assert len(events) == 2
+    for s in model.session.sets:
+        for f in s.frames:
+            if f.index >= 0:
+                assert abs(f.stamp_ns - s.t_ns) <= 1e9 / 15 / 2 + 1
