@@ -17,6 +17,9 @@ from speechcal_core.calibration.pinhole import calibrate_pinhole
 from speechcal_core.calibration.views import CalibrationResult, View
 
 MODELS = ("pinhole", "fisheye", "double-sphere")
+#: with ``wide_only`` the fisheye and double-sphere fits run only for lenses whose pinhole
+#: fit shows more than this horizontal field of view (degrees)
+WIDE_FOV_DEG = 80.0
 MIN_VIEWS = 4
 MIN_POINTS = 12
 #: the simplest model wins unless another one's RMS is lower by more than this factor
@@ -24,9 +27,16 @@ SIMPLER_SLACK = 1.15
 
 
 def fit_models(
-    views: Sequence[View], size: tuple[int, int], models: Iterable[str] = MODELS
+    views: Sequence[View],
+    size: tuple[int, int],
+    models: Iterable[str] = MODELS,
+    wide_only: bool = False,
 ) -> dict[str, CalibrationResult]:
-    """Every model of ``models`` that converges on the views (a failing model is left out)."""
+    """Every model of ``models`` that converges on the views (a failing model is left out).
+
+    ``wide_only``: fit fisheye and double sphere only when the pinhole fit shows a field
+    of view wider than ``WIDE_FOV_DEG`` (or fails).
+    """
     models = tuple(models)
     out: dict[str, CalibrationResult] = {}
     views = [v for v in views if v.object_points.shape[0] >= MIN_POINTS]
@@ -35,6 +45,10 @@ def fit_models(
     if "pinhole" in models or "double-sphere" in models:
         with contextlib.suppress(cv2.error):
             out["pinhole"] = calibrate_pinhole(views, size)
+    if wide_only and "pinhole" in out:
+        fov = 2 * np.degrees(np.arctan2(size[0] / 2, out["pinhole"].intrinsics[0]))
+        if fov <= WIDE_FOV_DEG:
+            models = tuple(m for m in models if m == "pinhole")
     if "fisheye" in models or "double-sphere" in models:
         guess = None
         if "pinhole" in out:
@@ -81,6 +95,7 @@ def check_cameras(
     sizes: Mapping[str, tuple[int, int]],
     models: Iterable[str] = MODELS,
     progress: Callable[[str, float], None] | None = None,
+    wide_only: bool = False,
 ) -> dict[str, dict[str, Any]]:
     """``{"<stream>": entry}`` for every stream with enough views (others are left out).
 
@@ -91,7 +106,7 @@ def check_cameras(
     done = [0]
 
     def one(stream: str) -> dict[str, Any] | None:
-        entry = calibration_entry(fit_models(views[stream], sizes[stream], models))
+        entry = calibration_entry(fit_models(views[stream], sizes[stream], models, wide_only))
         done[0] += 1
         if progress:
             progress("calibration", done[0] / max(1, len(names)))

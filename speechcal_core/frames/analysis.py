@@ -45,9 +45,13 @@ def analyse_frames(
     *,
     options: FrameSetOptions | None = None,
     models: Sequence[str] = MODELS,
+    wide_only: bool = True,
     progress: Progress | None = None,
 ) -> FrameAnalysis:
-    """Build the frame sets, then coverage and a calibration check per camera."""
+    """Build the frame sets, then coverage and a calibration check per camera.
+
+    ``wide_only`` (default) fits the fisheye and double-sphere models only to wide lenses.
+    """
     report = progress or (lambda _s, _f: None)
     result = build_frame_sets(source, sync, triggers, target, options, report)
     out = FrameAnalysis(result.sets, {"frame_details": result.details},
@@ -63,5 +67,5 @@ def analyse_frames(
             cov[stream] = coverage(dets, obj, size).to_dict()
             out.coverage_images[stream] = coverage_image(dets, size)
     out.extra["coverage"] = cov
-    out.calibration = check_cameras(views, result.image_sizes, models, report)
+    out.calibration = check_cameras(views, result.image_sizes, models, report, wide_only)
     return out

@@ -33,6 +33,9 @@ class Choice:
     score: float
     still: bool
     still_ns: tuple[int, int] | None  # all cameras still around t_ns, as far as scanned
+    #: where the chosen still stretch lies: "at" the trigger, "after" it, "before" it, or
+    #: "none" when no moment has every camera still
+    stretch: str = "at"
 
 
 def score_camera(win: CameraWindow, noise_floor: float) -> CameraScore:
@@ -53,8 +56,10 @@ def choose_common_time(
     """The common time (a frame stamp in the window) whose worst camera quality is highest.
 
     Each camera contributes its frame nearest the candidate time if it lies within half a
-    frame period (otherwise that camera scores 0). Near-ties go to the time deepest inside
-    a stretch where every camera is still, then to the one nearest the trigger.
+    frame period (otherwise that camera scores 0). Only one stretch where every camera is
+    still competes: the one around the trigger, else the first after it, else the last
+    before it. Near-ties go to the time deepest inside the stretch, then the one nearest
+    the trigger.
     """
     cands = np.unique(np.concatenate([w.stamps[w.inside] for w in windows] or [np.zeros(0)]))
     if cands.size == 0:
@@ -74,13 +79,39 @@ def choose_common_time(
         worst = np.minimum(worst, q)
         all_still &= ok & s.still[j]
         pos[c] = np.where(ok, j, -1)
-    best = float(worst.max())
-    good = np.flatnonzero(worst >= best * TIE_FRACTION) if best > 0 else np.arange(n)
+    runs = _runs(all_still)
+    # the operator holds still when (or just after) saying the word: prefer the still
+    # stretch around the trigger, then the first one after it, then the last one before
+    at = [r for r in runs if cands[r[0]] <= t_trigger_ns <= cands[r[1]]]
+    after = [r for r in runs if cands[r[0]] > t_trigger_ns]
+    before = [r for r in runs if cands[r[1]] < t_trigger_ns]
+    if at or after or before:
+        stretch = "at" if at else "after" if after else "before"
+        a, b = at[0] if at else after[0] if after else before[-1]
+        pool = np.arange(a, b + 1)
+    else:
+        stretch, pool = "none", np.arange(n)
+    best = float(worst[pool].max())
+    good = pool[worst[pool] >= best * TIE_FRACTION] if best > 0 else pool
     depth = _still_depth(all_still)
     key = [(-depth[k], abs(int(cands[k]) - t_trigger_ns)) for k in good]
     k = int(good[min(range(len(good)), key=key.__getitem__)])
     return Choice(int(cands[k]), tuple(int(p) for p in pos[:, k]), float(worst[k]),
-                  bool(all_still[k]), _still_run(cands, all_still, k))
+                  bool(all_still[k]), _still_run(cands, all_still, k), stretch)
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """Inclusive index ranges of the True runs of ``mask``."""
+    out, start = [], None
+    for k, v in enumerate(mask):
+        if v and start is None:
+            start = k
+        elif not v and start is not None:
+            out.append((start, k - 1))
+            start = None
+    if start is not None:
+        out.append((start, mask.size - 1))
+    return out
 
 
 def nearest_indices(stamps: np.ndarray, times: np.ndarray) -> np.ndarray:

@@ -225,7 +225,7 @@ def _search(
         ch = choose_common_time(wins, sc, t_ns[n])
         choices.append(ch)
         scores.append(sc)
-        if (ch is None or not ch.still) and options.extend_s > 0:
+        if (ch is None or ch.stretch in ("before", "none")) and options.extend_s > 0:
             retry.append(n)
     if retry:
         extra = int(options.extend_s * NS)
@@ -235,7 +235,9 @@ def _search(
             sc = [score_camera(w, floors[w.stream]) for w in wins]
             ch = choose_common_time(wins, sc, t_ns[n])
             old = choices[n]
-            if ch is not None and (old is None or (ch.still and not old.still)):
+            rank = ("at", "after", "before", "none")
+            if ch is not None and (old is None
+                                   or rank.index(ch.stretch) < rank.index(old.stretch)):
                 choices[n], windows[n], scores[n] = ch, wins, sc
     return choices, windows, scores
 
@@ -279,6 +281,7 @@ def _details(
         "window_s": list(options.window_s),
         "score": round(choice.score, 4) if choice else None,
         "still_ns": list(choice.still_ns) if choice and choice.still_ns else None,
+        "stretch": choice.stretch if choice else None,
         "nearest": {name: {"index": f.index, "stamp_ns": f.stamp_ns}
                     for name, f in nearest.items()},
         "frames": {},

@@ -71,3 +71,11 @@ def test_calibration_entry_has_design_keys_and_all_models() -> None:
 def test_too_few_views_give_no_fit() -> None:
     cam, views = synthetic_views(fisheye=False, holds=3)
     assert fit_models(views[:3], (cam.width, cam.height)) == {}
+
+
+def test_wide_only_fits_fisheye_models_to_wide_lenses_only() -> None:
+    cam, views = synthetic_views(fisheye=False, holds=8)
+    assert set(fit_models(views, (cam.width, cam.height), wide_only=True)) == {"pinhole"}
+    cam, views = synthetic_views(fisheye=True, holds=8)
+    wide = fit_models(views, (cam.width, cam.height), wide_only=True)
+    assert set(wide) == {"pinhole", "fisheye", "double-sphere"}
