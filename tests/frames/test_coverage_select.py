@@ -59,3 +59,12 @@ def test_sharper_still_frame_wins_inside_a_hold() -> None:
     a = _window([0, 33, 67, 100, 133], [1.0, 1.0, 3.0, 1.0, 1.0], [1] * 5, 33)
     choice = choose_common_time([a], [score_camera(a, 1.0)], 0)
     assert choice is not None and choice.positions == (2,)
+
+
+def test_still_stretch_after_the_word_beats_the_previous_pose_before_it() -> None:
+    # still (previous pose) until 67 ms, moving, still again from 233 ms; word at 100 ms
+    a = _window([0, 33, 67, 100, 133, 167, 200, 233, 267, 300],
+                [3, 3, 3, 1, 1, 1, 1, 1, 1, 1], [1, 1, 1, 9, 9, 9, 9, 1, 1, 1], 33)
+    choice = choose_common_time([a], [score_camera(a, 1.0)], 100 * MS)
+    assert choice is not None and choice.stretch == "after"
+    assert a.stamps[choice.positions[0]] >= 233 * MS
