@@ -51,7 +51,7 @@ def fill_meta(t: TopicScan, f: MessageFile) -> None:
         off, chunk, size = int(t.offsets[k]), int(t.chunks[k]), int(t.sizes[k])
         try:
             if not compressed:
-                msg = parse_image(f.read(off, chunk, min(size, 4096)), cdr, False, header_only=True)
+                msg = parse_image(f.head(off, chunk, min(size, 4096)), cdr, False, header_only=True)
                 t.encoding, t.width, t.height = msg.encoding, msg.width, msg.height
                 return
             msg = parse_image(f.read(off, chunk, size), cdr, True)
@@ -161,7 +161,7 @@ class BagSource:
             f = self._files[int(s.files[i])]
             size = int(s.sizes[i])
             try:
-                head = f.read(int(s.offsets[i]), int(s.chunks[i]), min(size, 4096))
+                head = f.head(int(s.offsets[i]), int(s.chunks[i]), min(size, 4096))
                 msg = parse_image(head, cdr, False, header_only=True)
             except BadFrameError:
                 bad.add(i)

@@ -114,6 +114,19 @@ class PFile:
                 raise SourceError(f"{self.name}: message runs past its chunk; file is damaged")
             return data[offset : offset + size]
 
+    def head(self, offset: int, chunk: int, n: int) -> bytes:
+        """The first n bytes of a message; a compressed chunk is decompressed only that far."""
+        with self.lock:
+            if chunk >= 0 and chunk not in self._chunks and self.scan_result is not None:
+                comp = self.scan_result.chunk_compression[chunk]
+                if comp in ("lz4", "bz2"):
+                    start, length, _ = self.scan_result.chunk_rows[chunk]
+                    data = StreamedChunk(self, comp, start, length).get(offset, n)
+                    if data is None:
+                        raise SourceError(f"{self.name}: message runs past its chunk; damaged")
+                    return data
+        return self.read(offset, chunk, n)
+
     def attach(self, scan: FileScan) -> None:
         """Use this index for reads."""
         self.scan_result = scan

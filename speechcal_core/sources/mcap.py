@@ -85,6 +85,10 @@ class McapFile:
         """Message bytes at a location from the index."""
         return self.f.read(offset, chunk, size)
 
+    def head(self, offset: int, chunk: int, n: int) -> bytes:
+        """The first n bytes of a message."""
+        return self.f.head(offset, chunk, n)
+
     def close(self) -> None:
         """Close the file."""
         self.f.close()

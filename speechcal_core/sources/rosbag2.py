@@ -120,12 +120,18 @@ class Sqlite3File:
     def attach(self, scan: FileScan) -> None:
         """Nothing to keep: rows are addressed by id."""
 
-    def read(self, offset: int, chunk: int, size: int) -> bytes:
-        """The message with row id ``offset`` (its first ``size`` bytes when that is small)."""
+    def head(self, offset: int, chunk: int, n: int) -> bytes:
+        """The first n bytes of message ``offset`` (only the pages holding them are read)."""
         with self.lock:
             try:
-                if size <= 65536:
-                    return self._prefix(offset, size)
+                return self._prefix(offset, n)
+            except sqlite3.DatabaseError as exc:
+                raise self._err(exc) from None
+
+    def read(self, offset: int, chunk: int, size: int) -> bytes:
+        """The message with row id ``offset``."""
+        with self.lock:
+            try:
                 row = self.con.execute("SELECT data FROM messages WHERE id=?", (offset,)).fetchone()
             except sqlite3.DatabaseError as exc:
                 raise self._err(exc) from None

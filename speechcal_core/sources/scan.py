@@ -96,6 +96,10 @@ class MessageFile(Protocol):
         """The serialized message at a location from the index; thread-safe."""
         ...
 
+    def head(self, offset: int, chunk: int, n: int) -> bytes:
+        """The first n bytes of a message (reading no more than needed); thread-safe."""
+        ...
+
     def close(self) -> None:
         """Release the file."""
         ...
