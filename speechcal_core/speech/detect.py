@@ -1,0 +1,117 @@
+"""The detection facade used by the CLI and the GUI: audio (or transcript) in, triggers out."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from speechcal_core.speech.backend import SpeechBackend, Word
+from speechcal_core.speech.errors import SpeechError
+from speechcal_core.speech.matching import (
+    DEFAULT_SENSITIVITY,
+    DEFAULT_TRIGGERS,
+    TriggerSpec,
+    match_triggers,
+)
+
+BACKENDS = ("pocketsphinx", "faster-whisper", "whisperx", "transcript", "example")
+
+
+@dataclass
+class Detection:
+    """Triggers found, plus notes for the operator (skipped words, no speech, ...)."""
+
+    triggers: list[Word]
+    backend: str
+    duration_s: float | None = None
+    notes: list[str] = field(default_factory=list)
+
+    def to_json(self) -> list[dict]:
+        """The ``speechcal detect --json`` document (DESIGN.md §2)."""
+        return [w.to_json() for w in self.triggers]
+
+
+def make_backend(name: str, *, model_dir: str | Path | None = None,
+                 transcript: str | Path | None = None,
+                 examples: Sequence[tuple[float, float]] = ()) -> SpeechBackend:
+    """The backend called ``name``; raises SpeechError naming the fix when it cannot run."""
+    if transcript is not None:
+        from speechcal_core.speech.transcripts import TranscriptBackend
+
+        return TranscriptBackend(transcript)
+    if name == "pocketsphinx":
+        from speechcal_core.speech.pocketsphinx_backend import PocketsphinxBackend
+
+        return PocketsphinxBackend()
+    if name == "faster-whisper":
+        from speechcal_core.speech.whisper_backends import FasterWhisperBackend
+
+        return FasterWhisperBackend(model_dir)
+    if name == "whisperx":
+        from speechcal_core.speech.whisper_backends import WhisperXBackend
+
+        return WhisperXBackend(model_dir)
+    if name == "example":
+        from speechcal_core.speech.query_by_example import Example, QueryByExampleBackend
+
+        if not examples:
+            raise SpeechError("--backend example needs a marked instance: --example START:END")
+        return QueryByExampleBackend([Example(a, b) for a, b in examples])
+    if name == "transcript":
+        raise SpeechError("--backend transcript needs the file: --transcript F")
+    raise SpeechError(f"unknown backend {name!r}; use one of {', '.join(BACKENDS)}")
+
+
+def detect_triggers(audio_path: str | Path | None, triggers: Sequence[str] = DEFAULT_TRIGGERS,
+                    *, backend: str = "pocketsphinx", transcript: str | Path | None = None,
+                    sensitivity: float = DEFAULT_SENSITIVITY,
+                    pronunciations: Mapping[str, str] | None = None,
+                    model_dir: str | Path | None = None,
+                    examples: Sequence[tuple[float, float]] = ()) -> Detection:
+    """Find the trigger words of an audio file, or take them from a transcript."""
+    spec = TriggerSpec(tuple(triggers), sensitivity, dict(pronunciations or {}))
+    chosen = make_backend(backend, model_dir=model_dir, transcript=transcript,
+                          examples=examples)
+    notes: list[str] = []
+    duration = None
+    if transcript is not None:
+        words = chosen.words(None, spec)  # type: ignore[arg-type]
+        note = chosen.transcript.note()  # type: ignore[attr-defined]
+        if note:
+            notes.append(note)
+    else:
+        if audio_path is None:
+            raise SpeechError("no audio given; pass the microphone recording")
+        from speechcal_core.audio import load_audio
+
+        audio = load_audio(audio_path, rate=16000)
+        duration = audio.duration_s
+        if backend == "example":
+            for word in spec.words[:1]:
+                chosen = _named_examples(chosen, word)
+        words = chosen.words(audio, spec)
+    found = match_triggers(words, spec)
+    if not found:
+        what = f"{audio_path}" if transcript is None else f"{transcript}"
+        if duration is not None and not _has_speech(audio):
+            notes.append(f"{what}: no speech found in {duration:.1f} s of audio")
+        else:
+            notes.append(f"{what}: no trigger word ({', '.join(spec.words)}) found")
+    return Detection(found, chosen.name, duration, notes)
+
+
+def _named_examples(backend: SpeechBackend, word: str) -> SpeechBackend:
+    """Name query-by-example hits after the (first) trigger word."""
+    from speechcal_core.speech.query_by_example import Example, QueryByExampleBackend
+
+    if isinstance(backend, QueryByExampleBackend):
+        return QueryByExampleBackend([Example(e.start_s, e.end_s, word)
+                                      for e in backend.examples])
+    return backend
+
+
+def _has_speech(audio: object) -> bool:
+    from speechcal_core.speech.vad import speech_segments
+
+    return bool(speech_segments(audio.samples, audio.rate))  # type: ignore[attr-defined]

@@ -1,0 +1,142 @@
+"""The pocketsphinx pronunciation dictionary: look-ups, user pronunciations, confusable words."""
+
+from __future__ import annotations
+
+import functools
+import re
+from pathlib import Path
+
+from speechcal_core.speech.errors import SpeechError
+
+#: the phones of the bundled en-us acoustic model (CMU ARPAbet, no stress marks)
+PHONES = frozenset((
+    "AA", "AE", "AH", "AO", "AW", "AY", "B", "CH", "D", "DH", "EH", "ER", "EY", "F", "G",
+    "HH", "IH", "IY", "JH", "K", "L", "M", "N", "NG", "OW", "OY", "P", "R", "S", "SH", "T",
+    "TH", "UH", "UW", "V", "W", "Y", "Z", "ZH",
+))
+#: at most this many phones added around a trigger's pronunciation still makes it a rival
+MAX_EXTRA_PHONES = 3
+MAX_RIVALS = 250
+#: rivals are words people say: known to the language model above this unigram log10 p
+MIN_UNIGRAM_LOG10 = -7.0
+
+Pron = tuple[str, ...]
+
+
+def model_dir() -> Path:
+    """Folder of pocketsphinx's bundled en-us model."""
+    import pocketsphinx
+
+    return Path(pocketsphinx.get_model_path()) / "en-us"
+
+
+@functools.lru_cache(maxsize=2)
+def load_dictionary(path: str | None = None) -> dict[str, tuple[Pron, ...]]:
+    """Word -> pronunciations of the CMU dictionary (alternates like ``word(2)`` merged)."""
+    p = Path(path) if path else model_dir() / "cmudict-en-us.dict"
+    entries: dict[str, list[Pron]] = {}
+    with open(p, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            parts = line.split()
+            if len(parts) < 2:
+                continue
+            word = re.sub(r"\(\d+\)$", "", parts[0])
+            entries.setdefault(word, []).append(tuple(parts[1:]))
+    return {w: tuple(ps) for w, ps in entries.items()}
+
+
+def parse_phones(word: str, phones: str) -> Pron:
+    """Validate a user pronunciation such as ``"K AE P CH ER"`` (stress digits dropped)."""
+    pron = tuple(re.sub(r"\d", "", p) for p in phones.upper().split())
+    bad = [p for p in pron if p not in PHONES]
+    if not pron or bad:
+        raise SpeechError(
+            f"pronunciation of {word!r} ({phones!r}) uses unknown phones {bad or '(none)'}; "
+            f"use ARPAbet phones: {' '.join(sorted(PHONES))}"
+        )
+    return pron
+
+
+def pronunciations(word: str, user: dict[str, str] | None = None) -> tuple[Pron, ...]:
+    """The pronunciations of ``word``: the user's if given, else the dictionary's.
+
+    Raises SpeechError naming the word and how to supply a pronunciation.
+    """
+    if user and word in user:
+        return (parse_phones(word, user[word]),)
+    found = load_dictionary().get(word)
+    if not found:
+        raise SpeechError(
+            f"trigger word {word!r} is not in the pocketsphinx dictionary; give its "
+            f"pronunciation, e.g. --pronounce '{word}=K AE P CH ER' (ARPAbet phones)"
+        )
+    return found
+
+
+def rival_words(prons: tuple[Pron, ...], exclude: set[str]) -> list[str]:
+    """Dictionary words a detector must tell apart from a trigger word.
+
+    Words that contain a trigger pronunciation plus a few phones (inflections such as
+    "captured", compounds such as "recapture") and words one phone away ("rapture").
+    """
+    return list(_rivals(tuple(sorted(prons)), tuple(sorted(exclude))))
+
+
+@functools.lru_cache(maxsize=16)
+def _rivals(prons: tuple[Pron, ...], exclude: tuple[str, ...]) -> tuple[str, ...]:
+    scored: list[tuple[int, str]] = []
+    lengths = {len(p) for p in prons}
+    common = _common_words()
+    for word, alts in load_dictionary().items():
+        if word in exclude or word not in common:
+            continue
+        best = None
+        for alt in alts:
+            for pron in prons:
+                d = _rival_distance(pron, alt, lengths)
+                if d is not None and (best is None or d < best):
+                    best = d
+        if best is not None:
+            scored.append((best, word))
+    scored.sort()
+    return tuple(w for _, w in scored[:MAX_RIVALS])
+
+
+@functools.lru_cache(maxsize=1)
+def _common_words() -> frozenset[str]:
+    """Dictionary words the bundled language model knows with a unigram log10 p > -7."""
+    import pocketsphinx
+
+    logmath = pocketsphinx.LogMath()
+    lm = pocketsphinx.NGramModel(pocketsphinx.Config(lm=None, loglevel="ERROR"), logmath,
+                                 str(model_dir() / "en-us.lm.bin"))
+    floor = int(logmath.log(10.0) * MIN_UNIGRAM_LOG10)
+    return frozenset(w for w in load_dictionary() if w.replace("'", "").isalpha()
+                     and lm.prob([w]) > floor)
+
+
+def _rival_distance(pron: Pron, other: Pron, lengths: set[int]) -> int | None:
+    """Rank of ``other`` as a rival of ``pron`` (lower first), or None when it is none.
+
+    Words containing ``pron`` rank by the phones they add; then one-phone substitutions
+    or insertions. Shorter words are no rivals: noise hiding one phone of a real trigger
+    would let them win.
+    """
+    n, m = len(pron), len(other)
+    if other == pron or m < n:
+        return None
+    if n < m <= n + MAX_EXTRA_PHONES:
+        for i in range(m - n + 1):
+            if other[i:i + n] == pron:
+                return m - n
+    if n >= 3 and m <= n + 1 and _within_one_edit(pron, other):
+        return MAX_EXTRA_PHONES + 1
+    return None
+
+
+def _within_one_edit(a: Pron, b: Pron) -> bool:
+    if len(a) == len(b):
+        return sum(x != y for x, y in zip(a, b, strict=True)) == 1
+    if len(a) > len(b):
+        a, b = b, a
+    return any(b[:i] + b[i + 1:] == a for i in range(len(b)))

@@ -1,0 +1,137 @@
+"""Default backend: keyword-versus-filler decoding with pocketsphinx on voice-active spans.
+
+Each speech span is decoded with one finite-state grammar in which the trigger words
+compete, at equal prior, with their rival words (inflections such as "captured", one-phone
+neighbours such as "rapture") and, at a cost per phone, with a free phone loop that
+absorbs everything else. A trigger is reported only where it explains the audio better
+than all of those; its bounds come from the same Viterbi path. The sensitivity sets the
+phone-loop cost: higher sensitivity makes the filler dearer, so more words pass.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from speechcal_core.speech.backend import Word
+from speechcal_core.speech.errors import SpeechError
+from speechcal_core.speech.lexicon import PHONES, model_dir, pronunciations, rival_words
+from speechcal_core.speech.vad import speech_segments
+
+if TYPE_CHECKING:
+    from speechcal_core.audio import Audio
+    from speechcal_core.speech.matching import TriggerSpec
+
+RATE = 16000
+FRAME_S = 0.01
+PHONE_PREFIX = "ph_"
+#: narrow beams keep a phone loop fast; bestpath is off (its lattice costs seconds)
+DECODER_OPTIONS: dict[str, Any] = {
+    "beam": 1e-30, "pbeam": 1e-30, "wbeam": 1e-20, "bestpath": False, "loglevel": "ERROR",
+}
+#: log10 cost of one filler phone at sensitivity 0 and 1
+PHONE_LOG10 = (-3.0, -11.0)
+PEAK_LEVEL = 0.7  # each span is scaled to this peak before 16-bit conversion
+
+
+class PocketsphinxBackend:
+    """Trigger words from pocketsphinx's bundled English model; CPU only, no download."""
+
+    name = "pocketsphinx"
+
+    def __init__(self) -> None:
+        self._decoder: Any = None
+        self._key: tuple | None = None
+        self._vocab: set[str] = set()
+
+    def words(self, audio: Audio, spec: TriggerSpec) -> list[Word]:
+        """Trigger words and rival words found in ``audio``, in time order."""
+        x = audio.resampled(RATE).samples if audio.rate != RATE else audio.samples
+        decoder = self._prepare(spec)
+        found: list[Word] = []
+        for start, end in speech_segments(x, RATE):
+            a, b = int(start * RATE), int(end * RATE)
+            found.extend(decode_span(decoder, x[a:b], start, self._vocab))
+        return _dedupe(found)
+
+    def _prepare(self, spec: TriggerSpec) -> Any:
+        """One decoder per trigger configuration, reused for every span."""
+        key = (spec.words, tuple(sorted(spec.pronunciations.items())), spec.sensitivity)
+        if self._decoder is not None and key == self._key:
+            return self._decoder
+        import pocketsphinx
+
+        mdir = model_dir()
+        decoder = pocketsphinx.Decoder(hmm=str(mdir / "en-us"),
+                                       dict=str(mdir / "cmudict-en-us.dict"), lm=None,
+                                       **DECODER_OPTIONS)
+        user = dict(spec.pronunciations)
+        rivals: list[str] = []
+        for w in spec.words:
+            prons = pronunciations(w, user)
+            if w in user or decoder.lookup_word(w) is None:
+                _add_word(decoder, w, prons[0])
+            rivals += [r for r in rival_words(prons, set(spec.words)) if r not in rivals]
+        phones = [PHONE_PREFIX + p.lower() for p in sorted(PHONES)]
+        for p in sorted(PHONES):
+            _add_word(decoder, PHONE_PREFIX + p.lower(), (p,))
+        logmath = decoder.get_logmath()
+        lo, hi = PHONE_LOG10
+        phone_cost = int(logmath.log(10.0) * (lo + (hi - lo) * spec.sensitivity))
+        fsg = pocketsphinx.FsgModel("spot", logmath, 1.0, 2)
+        for w in [*spec.words, *rivals, *phones]:
+            fsg.trans_add(0, 0, phone_cost if w in phones else 0, fsg.word_add(w))
+        fsg.null_trans_add(0, 1, 0)
+        fsg.set_start_state(0)
+        fsg.set_final_state(1)
+        decoder.add_fsg("spot", fsg)
+        decoder.activate_search("spot")
+        self._decoder, self._key = decoder, key
+        self._vocab = set(spec.words) | set(rivals)
+        return decoder
+
+
+def _add_word(decoder: Any, word: str, phones: tuple[str, ...]) -> None:
+    try:
+        decoder.add_word(word, " ".join(phones), True)
+    except RuntimeError as exc:
+        raise SpeechError(
+            f"pocketsphinx refused the pronunciation {' '.join(phones)!r} of {word!r}; "
+            f"check the phones"
+        ) from exc
+
+
+def decode_span(decoder: Any, samples: np.ndarray, offset_s: float,
+                vocab: set[str]) -> list[Word]:
+    """Decode one span with the active search; words of ``vocab`` in audio seconds.
+
+    The score is the word's acoustic score relative to the best partial path of each of
+    its frames (1.0: the best explanation everywhere).
+    """
+    peak = float(np.max(np.abs(samples))) if samples.size else 0.0
+    if peak <= 0.0 or samples.size < RATE // 10:
+        return []
+    pcm = (samples * (PEAK_LEVEL * 32767 / peak)).astype(np.int16).tobytes()
+    decoder.start_utt()
+    decoder.process_raw(pcm, full_utt=True)
+    decoder.end_utt()
+    out = []
+    for seg in decoder.seg() or []:
+        if seg.word not in vocab:
+            continue
+        start = offset_s + seg.start_frame * FRAME_S
+        end = offset_s + (seg.end_frame + 1) * FRAME_S
+        out.append(Word(seg.word, start, end, float(min(1.0, max(0.0, seg.ascore))),
+                        "pocketsphinx"))
+    return out
+
+
+def _dedupe(words: list[Word]) -> list[Word]:
+    """Drop repeats from overlapping pieces: the same word overlapping in time."""
+    out: list[Word] = []
+    for w in sorted(words, key=lambda w: w.start_s):
+        if out and out[-1].word == w.word and w.start_s < out[-1].end_s:
+            continue
+        out.append(w)
+    return out

@@ -1,0 +1,112 @@
+"""Cheap voice-activity segmentation: band energy against an adaptive noise floor."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.ndimage import maximum_filter1d, median_filter, minimum_filter1d
+
+HOP_S = 0.010
+WIN = 400  # samples at 16 kHz (25 ms)
+BAND_HZ = (300.0, 4000.0)  # where speech stands out of room rumble and hum
+BLOCK_FRAMES = 100  # noise-floor statistics per second
+FLOOR_PERCENTILE = 20.0
+FLOOR_SPAN_BLOCKS = 9  # the floor is the lowest block statistic within +-4 s
+CHUNK_FRAMES = 6000  # energies are computed a minute at a time (bounded memory)
+
+
+@dataclass(frozen=True)
+class VadSettings:
+    """Thresholds of the speech/non-speech decision."""
+
+    margin_db: float = 2.5  # a frame is active this far above the noise floor
+    min_active_s: float = 0.08  # shorter bursts are clicks, not words
+    bridge_s: float = 0.3  # gaps shorter than this join two segments
+    pad_s: float = 0.35  # context kept either side for the recogniser
+    max_len_s: float = 20.0  # longer segments are cut into overlapping pieces
+    overlap_s: float = 2.0
+
+
+def band_energy_db(samples: np.ndarray, rate: int) -> np.ndarray:
+    """Log energy (dB) of 25 ms frames every 10 ms in the speech band."""
+    hop = round(rate * HOP_S)
+    win = round(rate * WIN / 16000)
+    n = 0 if samples.size < win else 1 + (samples.size - win) // hop
+    out = np.empty(n, dtype=np.float32)
+    nfft = 1 << int(np.ceil(np.log2(win)))
+    freqs = np.fft.rfftfreq(nfft, 1.0 / rate)
+    band = (freqs >= BAND_HZ[0]) & (freqs <= BAND_HZ[1])
+    window = np.hanning(win).astype(np.float32)
+    for a in range(0, n, CHUNK_FRAMES):
+        b = min(n, a + CHUNK_FRAMES)
+        idx = (np.arange(a, b) * hop)[:, None] + np.arange(win)[None, :]
+        frames = samples[idx] * window
+        spec = np.abs(np.fft.rfft(frames, nfft, axis=1)[:, band]) ** 2
+        out[a:b] = 10.0 * np.log10(np.sum(spec, axis=1) + 1e-12)
+    return out
+
+
+def noise_floor_db(energy_db: np.ndarray) -> np.ndarray:
+    """Per-frame noise floor: low percentile per second, lowest within a few seconds."""
+    n = energy_db.size
+    if n == 0:
+        return energy_db.copy()
+    m = -(-n // BLOCK_FRAMES)
+    padded = np.resize(energy_db, m * BLOCK_FRAMES)  # the last block repeats its start
+    padded[n:] = energy_db[-1]
+    blocks = np.percentile(padded.reshape(m, BLOCK_FRAMES), FLOOR_PERCENTILE, axis=1)
+    floor = minimum_filter1d(blocks, FLOOR_SPAN_BLOCKS, mode="nearest")
+    centres = (np.arange(m) + 0.5) * BLOCK_FRAMES
+    return np.interp(np.arange(n), centres, floor).astype(np.float32)
+
+
+def speech_segments(samples: np.ndarray, rate: int,
+                    settings: VadSettings | None = None) -> list[tuple[float, float]]:
+    """Spans (seconds) that may hold speech, padded, merged and cut to a bounded length."""
+    s = settings or VadSettings()
+    energy = band_energy_db(samples, rate)
+    if energy.size == 0:
+        return []
+    floor = noise_floor_db(energy)
+    if float(np.max(energy)) < -100.0:  # digital silence
+        return []
+    active = (energy - floor) > s.margin_db
+    active = median_filter(active.astype(np.uint8), size=5, mode="nearest").astype(bool)
+    bridge = max(1, round(s.bridge_s / HOP_S))
+    joined = minimum_filter1d(maximum_filter1d(active.astype(np.uint8), bridge), bridge) > 0
+    joined |= active
+    duration = samples.size / rate
+    spans: list[tuple[float, float]] = []
+    for a, b in _runs(joined):
+        if int(np.count_nonzero(active[a:b])) * HOP_S < s.min_active_s:
+            continue
+        start = max(0.0, a * HOP_S - s.pad_s)
+        end = min(duration, b * HOP_S + WIN / 16000 + s.pad_s)
+        if spans and start <= spans[-1][1]:
+            spans[-1] = (spans[-1][0], end)
+        else:
+            spans.append((start, end))
+    return [piece for span in spans for piece in _cut(span, s.max_len_s, s.overlap_s)]
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """Start/stop indices of runs of True."""
+    d = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    return list(zip(np.flatnonzero(d == 1).tolist(), np.flatnonzero(d == -1).tolist(),
+                    strict=True))
+
+
+def _cut(span: tuple[float, float], max_len: float, overlap: float) -> list[tuple[float, float]]:
+    """Split a long span into pieces of at most ``max_len`` overlapping by ``overlap``."""
+    a, b = span
+    if b - a <= max_len:
+        return [span]
+    pieces = []
+    step = max_len - overlap
+    while a < b:
+        pieces.append((a, min(b, a + max_len)))
+        if a + max_len >= b:
+            break
+        a += step
+    return pieces
