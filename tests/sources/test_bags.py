@@ -131,8 +131,9 @@ def test_cache_falls_back_to_user_cache_dir(make_bag, tmp_path: Path, monkeypatc
     assert len(cached) == 1
 
 
-def test_concurrent_frame_reads_are_consistent(make_bag) -> None:
-    path = make_bag("ros1-lz4", [Cam(f"/cam{k}/image_raw", regular(), index=k) for k in range(3)])
+@pytest.mark.parametrize("fmt", ["ros1-lz4", "ros2-sqlite3", "ros2-mcap-zstd"])
+def test_concurrent_frame_reads_are_consistent(make_bag, fmt: str) -> None:
+    path = make_bag(fmt, [Cam(f"/cam{k}/image_raw", regular(), index=k) for k in range(3)])
     errors: list[BaseException] = []
     with open_recording([path]) as src:
 
