@@ -70,7 +70,7 @@ class BagSource:
         self._files = list(files)
         self._lock = threading.Lock()
         self._bad: dict[str, set[int]] = {}
-        self.notes: list[str] = []
+        self.notes: list[str] = []  # what was recovered or found damaged while indexing
         scans: list[FileScan] = []
         try:
             for f in self._files:

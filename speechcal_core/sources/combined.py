@@ -21,6 +21,7 @@ class CombinedSource:
     def __init__(self, sources: Sequence[FrameSource]) -> None:
         self._sources = list(sources)
         self._owner: dict[str, FrameSource] = {}
+        self.notes: list[str] = [n for s in self._sources for n in getattr(s, "notes", [])]
         for src in self._sources:
             for info in src.streams:
                 if info.name in self._owner:

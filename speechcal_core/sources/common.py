@@ -26,6 +26,7 @@ class StreamTable:
         self._stamps: dict[str, np.ndarray] = {}
         self._bad: dict[str, set[int]] = {}
         self._table_lock = threading.Lock()
+        self.notes: list[str] = []  # what was recovered or guessed while opening
 
     def _add_stream(self, info: StreamInfo, stamps: np.ndarray) -> None:
         self._infos[info.name] = info

@@ -245,7 +245,7 @@ class Ros1Bag:
         truncated = dpos + dlen > self.f.size
         if compression == "none":
             end = min(dpos + dlen, self.f.size)
-            self._walk_records(_Reader(window.get), dpos, end, -1, collectors, learn)
+            seen = self._walk_records(_Reader(window.get), dpos, end, -1, collectors, learn, total)
         elif truncated:
             result.notes.append(f"{self.name}: last {compression} chunk is cut off; skipped")
             return
@@ -254,17 +254,21 @@ class Ros1Bag:
             result.chunk_compression.append(compression)
             result.chunk_rows.append((dpos, dlen, usize))
             if total >= 0 and compression in ("lz4", "bz2"):
-                streamed = StreamedChunk(self.f, compression, dpos, dlen)
-                reader = _Reader(streamed.get)
-                self._walk_records(reader, 0, usize, key, collectors, learn, limit=total)
-                return
-            data = decompress(self.name, compression, self.f.pread(dpos, dlen), usize)
-            mem = memoryview(data)
+                reader = _Reader(StreamedChunk(self.f, compression, dpos, dlen).get)
+            else:
+                data = decompress(self.name, compression, self.f.pread(dpos, dlen), usize)
+                mem = memoryview(data)
 
-            def get(pos: int, n: int) -> bytes | None:
-                return bytes(mem[pos : pos + n]) if pos + n <= len(mem) else None
+                def get(pos: int, n: int) -> bytes | None:
+                    return bytes(mem[pos : pos + n]) if pos + n <= len(mem) else None
 
-            self._walk_records(_Reader(get), 0, len(data), key, collectors, learn)
+                reader = _Reader(get)
+            seen = self._walk_records(reader, 0, usize, key, collectors, learn, total)
+        if total >= 0 and seen < total:
+            result.notes.append(
+                f"{self.name}: chunk at byte {chunk_pos} is damaged; "
+                f"{total - seen} of its {total} messages are unreadable"
+            )
 
     def _walk_records(
         self,
@@ -275,32 +279,36 @@ class Ros1Bag:
         collectors: dict[int, TopicCollector],
         learn: bool,
         limit: int = -1,
-    ) -> None:
+    ) -> int:
+        """Index the message records in [start, end); returns how many were read whole."""
         pos = start
         seen = 0
         while pos < end and seen != limit:
             try:
                 rec = reader.record(pos)
-            except (ValueError, struct.error):
-                return
-            if rec is None:
-                return
-            fields, dpos, dlen = rec
-            op = fields.get("op", b"\0")[0]
-            if op == OP_MSG:
-                seen += 1
-                col = collectors.get(_u32(fields, "conn"))
-                if col is not None:
-                    head = reader.get(dpos, STAMP_PREFIX) if dlen >= STAMP_PREFIX else None
-                    if head is None or dpos + dlen > end:
-                        return  # cut off by truncation
-                    col.add(stamp_ros1(head), _time(fields["time"]), dpos, chunk, dlen)
-            elif op == OP_CONN and learn:
-                cid = _u32(fields, "conn")
-                if cid not in self.conns:
-                    data = reader.get(dpos, dlen)
-                    if data is None:
-                        return
-                    self._add_conn(cid, data, fields.get("topic", b"").decode())
-                    self._make_collectors(collectors)
+                if rec is None:
+                    return seen
+                fields, dpos, dlen = rec
+                op = fields.get("op", b"\0")[0]
+                if op == OP_MSG:
+                    col = collectors.get(_u32(fields, "conn"))
+                    if dpos + dlen > end:
+                        return seen  # cut off by truncation
+                    if col is not None:
+                        head = reader.get(dpos, STAMP_PREFIX) if dlen >= STAMP_PREFIX else None
+                        if head is None:
+                            return seen
+                        col.add(stamp_ros1(head), _time(fields["time"]), dpos, chunk, dlen)
+                    seen += 1
+                elif op == OP_CONN and learn:
+                    cid = _u32(fields, "conn")
+                    if cid not in self.conns:
+                        data = reader.get(dpos, dlen)
+                        if data is None:
+                            return seen
+                        self._add_conn(cid, data, fields.get("topic", b"").decode())
+                        self._make_collectors(collectors)
+            except (ValueError, KeyError, struct.error):
+                return seen
             pos = dpos + dlen
+        return seen

@@ -175,3 +175,18 @@ def test_jpeg_stream_dimensions_come_from_the_first_decodable_frame(make_bag) ->
         assert (info.encoding, info.width, info.height) == ("png", 16, 12)
         assert src.stamps("/cam0/image_raw")[0] == T0
         assert np.asarray(src.frame("/cam0/image_raw", 1)).shape == (12, 16, 3)
+
+
+def test_damaged_record_in_a_chunk_is_reported_and_the_rest_is_read(make_bag) -> None:
+    path = make_bag("ros1", [Cam("/cam0/image_raw", regular(20))])
+    bag = Ros1Bag(path)
+    scan = bag.scan()
+    bag.close()
+    data_pos = int(scan.topics[0].offsets[12])
+    with path.open("r+b") as fh:  # the data length of message 12 becomes absurd
+        fh.seek(data_pos - 4)
+        fh.write(struct.pack("<I", 0xFFFFFFF0))
+    with open_recording([path]) as src:
+        assert src.streams[0].count == 12
+        assert any("damaged; 8 of its 20 messages are unreadable" in n for n in src.notes)
+        src.frame("/cam0/image_raw", 11)
