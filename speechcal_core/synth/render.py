@@ -23,7 +23,7 @@ from speechcal_core.synth.timeline import CameraSpec, Segment, Timeline
 
 NS = 1_000_000_000
 COARSE_STEP = 8  # pixel step of the grid used to find the target's image region
-MAX_BLUR_STEP_PX = 1.0  # image-space displacement between two sub-exposure samples
+MAX_BLUR_STEP_PX = 1.5  # image-space displacement between two sub-exposure samples
 MAX_SAMPLES = 24
 RS_BAND_ROWS = 16  # rows per band of equal exposure time with a rolling shutter
 NOISE_SIGMA = 2.0  # grey levels
@@ -108,7 +108,6 @@ class FrameRenderer:
         levels = self.texture.levels
         level = min(len(levels) - 1, max(0, math.floor(math.log2(max(texels_per_px, 1.0)))))
         tex = levels[level]
-        grey, cover = tex[..., 0], tex[..., 1]
         to_texel = self.texture.target_to_texel(level)
         if rs_ns > 0:
             bands = [(y, min(y + RS_BAND_ROWS, y1)) for y in range(y0, y1, RS_BAND_ROWS)]
@@ -132,17 +131,17 @@ class FrameRenderer:
             rows = slice(b0 - y0, b1 - y0)
             if m1 is None:
                 mx, my = m0
-                premult[rows] = _sample(grey, mx, my)
-                alpha[rows] = _sample(cover, mx, my)
+                warped = _sample(tex, mx, my)
+                premult[rows] = warped[..., 0]
+                alpha[rows] = warped[..., 1]
                 continue
-            acc_p = np.zeros((b1 - b0, x1 - x0), np.float32)
-            acc_a = np.zeros_like(acc_p)
+            acc = np.zeros((b1 - b0, x1 - x0, 4), np.float32)
             for k in range(samples):
                 mx, my = _mix(m0, m1, (k + 0.5) / samples)
-                cv2.accumulate(_sample(grey, mx, my), acc_p)
-                cv2.accumulate(_sample(cover, mx, my), acc_a)
-            premult[rows] = cv2.convertScaleAbs(acc_p, alpha=1.0 / samples)
-            alpha[rows] = cv2.convertScaleAbs(acc_a, alpha=1.0 / samples)
+                cv2.accumulate(_sample(tex, mx, my), acc)
+            mean = cv2.convertScaleAbs(acc, alpha=1.0 / samples)
+            premult[rows] = mean[..., 0]
+            alpha[rows] = mean[..., 1]
         return TargetLayer((x0, y0, x1, y1), premult, alpha, self._paper_colour(st, t), samples)
 
     # ---- geometry -----------------------------------------------------------------------
@@ -296,8 +295,8 @@ def _mix(m0: tuple[np.ndarray, np.ndarray], m1: tuple[np.ndarray, np.ndarray], f
             cv2.addWeighted(m0[1], 1 - f, m1[1], f, 0.0))
 
 
-def _sample(channel: np.ndarray, mx: np.ndarray, my: np.ndarray) -> np.ndarray:
-    return cv2.remap(channel, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
+def _sample(texture: np.ndarray, mx: np.ndarray, my: np.ndarray) -> np.ndarray:
+    return cv2.remap(texture, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                      borderValue=0)
 
 

@@ -31,8 +31,9 @@ BORDER_BITS = 2  # Kalibr prints a 2-bit black border
 class TargetTexture:
     """A card texture and its placement in target coordinates.
 
-    ``levels[k]`` is a 2-channel ``uint8`` image (grey, coverage) at ``1 / 2**k`` of the
-    full resolution; coverage is 255 on the card and the texture border is transparent.
+    ``levels[k]`` is a 4-channel ``uint8`` image (printed grey, card coverage, 0, 0) at
+    ``1 / 2**k`` of the full resolution (four channels: ``cv2.remap``'s fast path);
+    coverage is 255 on the card and sampling outside the texture is transparent.
     Texel ``(u, v)`` of level 0 has its centre at target
     ``x = x0 + (u + 0.5) / px_per_m``, ``y = y0 + (v + 0.5) / px_per_m`` where
     ``(x0, y0)`` is the card's corner ``origin_m``.
@@ -87,8 +88,8 @@ def make_target_texture(target: TargetSpec, min_px_per_m: float = 1500.0) -> Tar
         _draw_aprilgrid(grey, target, to_px, px_per_unit)
     else:
         _draw_checkerboard(grey, target, to_px)
-    full = np.dstack([grey, np.full_like(grey, 255)])
-    levels = [full]
+    zero = np.zeros_like(grey)
+    levels = [cv2.merge([grey, np.full_like(grey, 255), zero, zero])]
     while min(levels[-1].shape[:2]) > 64 and len(levels) < 5:
         levels.append(cv2.pyrDown(levels[-1]))
     return TargetTexture(tuple(levels), float(px_per_m), (float(origin), float(origin)))
