@@ -73,8 +73,13 @@ def serialize_image(ros1: bool, stamp: int, cam: Cam, i: int) -> bytes:
     return bytes(ser(msg, "sensor_msgs/msg/Image"))
 
 
-def write_bag(path: Path, fmt: str, cams: Sequence[Cam], *, imu: bool = False) -> Path:
-    """Write cams (and optionally an IMU topic) in ``fmt``; returns the recording path."""
+def write_bag(
+    path: Path, fmt: str, cams: Sequence[Cam], *, imu: bool = False, chunk_bytes: int = 0
+) -> Path:
+    """Write cams (and optionally an IMU topic) in ``fmt``; returns the recording path.
+
+    ``chunk_bytes`` sets the ROS1 chunk size (small values give a chunk per message).
+    """
     ros1 = fmt.startswith("ros1")
     ts = ROS1 if ros1 else ROS2
     if ros1:
@@ -82,6 +87,8 @@ def write_bag(path: Path, fmt: str, cams: Sequence[Cam], *, imu: bool = False) -
         writer: Writer1 | Writer2 = Writer1(path)
         if fmt != "ros1":
             writer.set_compression(Writer1.CompressionFormat[fmt.split("-")[1].upper()])
+        if chunk_bytes:
+            writer.chunk_threshold = chunk_bytes
     else:
         plugin = StoragePlugin.MCAP if fmt.startswith("ros2-mcap") else StoragePlugin.SQLITE3
         writer = Writer2(path, version=9, storage_plugin=plugin)

@@ -84,6 +84,21 @@ def test_ros2_folder_with_several_storage_files_is_one_recording(make_bag) -> No
         assert list(src.stamps("/cam0/image_raw")) == regular(20)
 
 
+@pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4", "ros1-bz2"])
+def test_many_small_chunks_are_indexed_in_file_order(make_bag, fmt: str) -> None:
+    cams = [Cam(f"/cam{k}/image_raw", regular(30), index=k) for k in range(2)]
+    cams.append(Cam("/cam2/image_raw", regular(30), index=2, encoding="png"))
+    path = make_bag(fmt, cams, imu=True, chunk_bytes=1500)  # about one message per chunk
+    with open_recording([path]) as src:
+        assert [s.count for s in src.streams] == [30, 30, 30]
+        assert all(s.stamp_problems == "" for s in src.streams)
+        for k in range(3):
+            assert list(src.stamps(f"/cam{k}/image_raw")) == regular(30)
+        for i in (0, 17, 29):
+            np.testing.assert_array_equal(src.frame("/cam1/image_raw", i), pixels(1, i))
+            np.testing.assert_array_equal(src.frame("/cam2/image_raw", i), pixels(2, i))
+
+
 def test_dropped_frames_are_counted_from_gaps(make_bag) -> None:
     stamps = [s for k, s in enumerate(regular(30)) if k not in (5, 6, 20)]
     with open_recording([make_bag("ros1", [Cam("/cam0/image_raw", stamps)])]) as src:
