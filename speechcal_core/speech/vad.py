@@ -61,22 +61,44 @@ def noise_floor_db(energy_db: np.ndarray) -> np.ndarray:
     return np.interp(np.arange(n), centres, floor).astype(np.float32)
 
 
+@dataclass(frozen=True)
+class VoiceActivity:
+    """Speech spans (seconds) and the noise floor (dB per 10 ms frame) they were found on."""
+
+    segments: list[tuple[float, float]]
+    floor_db: np.ndarray
+
+    def floor_at(self, t_s: float) -> float:
+        """The noise floor at audio time ``t_s``."""
+        if self.floor_db.size == 0:
+            return -120.0
+        return float(self.floor_db[min(self.floor_db.size - 1, max(0, int(t_s / HOP_S)))])
+
+
+def voice_activity(samples: np.ndarray, rate: int,
+                   settings: VadSettings | None = None) -> VoiceActivity:
+    """Find the speech spans of a recording."""
+    energy = band_energy_db(samples, rate)
+    floor = noise_floor_db(energy)
+    return VoiceActivity(_segments(energy, floor, samples.size / rate, settings), floor)
+
+
 def speech_segments(samples: np.ndarray, rate: int,
                     settings: VadSettings | None = None) -> list[tuple[float, float]]:
     """Spans (seconds) that may hold speech, padded, merged and cut to a bounded length."""
+    return voice_activity(samples, rate, settings).segments
+
+
+def _segments(energy: np.ndarray, floor: np.ndarray, duration: float,
+              settings: VadSettings | None) -> list[tuple[float, float]]:
     s = settings or VadSettings()
-    energy = band_energy_db(samples, rate)
-    if energy.size == 0:
-        return []
-    floor = noise_floor_db(energy)
-    if float(np.max(energy)) < -100.0:  # digital silence
+    if energy.size == 0 or float(np.max(energy)) < -100.0:  # nothing, or digital silence
         return []
     active = (energy - floor) > s.margin_db
     active = median_filter(active.astype(np.uint8), size=5, mode="nearest").astype(bool)
     bridge = max(1, round(s.bridge_s / HOP_S))
     joined = minimum_filter1d(maximum_filter1d(active.astype(np.uint8), bridge), bridge) > 0
     joined |= active
-    duration = samples.size / rate
     spans: list[tuple[float, float]] = []
     for a, b in _runs(joined):
         if int(np.count_nonzero(active[a:b])) * HOP_S < s.min_active_s:

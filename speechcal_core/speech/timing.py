@@ -1,0 +1,43 @@
+"""Refine a recognised word's bounds to the audible onset and offset of its energy."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from speechcal_core.speech.vad import HOP_S, band_energy_db
+
+SEARCH_BEFORE_S = 0.12  # how far before the recognised start the onset may lie
+SEARCH_AFTER_S = 0.15  # how far after the recognised end the offset may lie
+MARGIN_DB = 4.0  # above the local noise floor counts as the word
+PEAK_RANGE_DB = 20.0  # ... and within this range of the word's loudest frame (reverb tails)
+GAP_S = 0.06  # a closure this short (the stop in "cap-ture") does not end the word
+
+
+def refine_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
+                  floor_db: float) -> tuple[float, float]:
+    """Onset and offset of the energy around ``start_s``..``end_s`` above ``floor_db``.
+
+    Keeps the recognised bound when the energy gives no clear answer (too noisy).
+    """
+    a = max(0, int((start_s - SEARCH_BEFORE_S - 0.03) * rate))
+    b = min(samples.size, int((end_s + SEARCH_AFTER_S + 0.03) * rate))
+    energy = band_energy_db(samples[a:b], rate)
+    if energy.size < 3:
+        return start_s, end_s
+    peak = float(np.max(energy))
+    loud = energy > max(floor_db + MARGIN_DB, peak - PEAK_RANGE_DB)
+    t = a / rate + np.arange(energy.size) * HOP_S + 0.0125  # frame centres
+    inside = (t >= start_s) & (t <= end_s)
+    if not loud[inside].any():
+        return start_s, end_s
+    gap = max(1, round(GAP_S / HOP_S))
+    first = int(np.flatnonzero(inside & loud)[0])
+    last = int(np.flatnonzero(inside & loud)[-1])
+    i = first
+    while i > 0 and t[i - 1] >= start_s - SEARCH_BEFORE_S and loud[max(0, i - gap):i].any():
+        i -= 1
+    j = last
+    while j < energy.size - 1 and t[j + 1] <= end_s + SEARCH_AFTER_S and \
+            loud[j + 1:j + 1 + gap].any():
+        j += 1
+    return float(t[i] - 0.0125), float(t[j] + 0.0125)
