@@ -30,6 +30,7 @@ def _bz2(data: bytes, size: int) -> bytes:
     return bz2.decompress(data)
 
 
+_HAS_PREAD = hasattr(os, "pread")  # not on Windows
 DECOMPRESSORS = {"bz2": _bz2, "lz4": _lz4, "zstd": _zstd}
 
 
@@ -53,13 +54,14 @@ class PFile:
         self.path = Path(path)
         self.name = self.path.name
         try:
-            self.fd = os.open(self.path, os.O_RDONLY)
+            self.fd = os.open(self.path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
         except FileNotFoundError:
             raise SourceError(f"{self.path}: file not found") from None
         except OSError as exc:
             raise SourceError(f"{self.path}: cannot open ({exc.strerror})") from None
         self.size = os.fstat(self.fd).st_size
-        self.lock = threading.Lock()
+        self.lock = threading.RLock()
+        self._seek_lock = threading.Lock()
         self._chunks: OrderedDict[int, bytes] = OrderedDict()
         self._chunk_cache = chunk_cache
         self.scan_result: FileScan | None = None
@@ -79,9 +81,17 @@ class PFile:
         if hasattr(os, "posix_fadvise") and n > 0:
             os.posix_fadvise(self.fd, pos, n, os.POSIX_FADV_WILLNEED)
 
+    def raw_pread(self, pos: int, n: int) -> bytes:
+        """Up to n bytes at pos (``os.pread``; seek + read under a lock where it is missing)."""
+        if _HAS_PREAD:
+            return os.pread(self.fd, n, pos)
+        with self._seek_lock:
+            os.lseek(self.fd, pos, os.SEEK_SET)
+            return os.read(self.fd, n)
+
     def pread(self, pos: int, n: int) -> bytes:
         """Exactly n bytes at pos, or ``SourceError`` when the file ends first."""
-        data = os.pread(self.fd, n, pos)
+        data = self.raw_pread(pos, n)
         if len(data) != n:
             raise SourceError(
                 f"{self.name}: file ends at byte {self.size} inside a record at {pos}; "
@@ -154,7 +164,7 @@ class Window:
         off = pos - self.start
         if off < 0 or off + n > len(self.buf):
             self.start = pos
-            self.buf = os.pread(self.f.fd, max(n, self.block), pos)
+            self.buf = self.f.raw_pread(pos, max(n, self.block))
             off = 0
             if len(self.buf) < n:
                 return None
