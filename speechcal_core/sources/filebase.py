@@ -7,6 +7,7 @@ import os
 import threading
 from collections import OrderedDict
 from pathlib import Path
+from typing import Any
 
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sources.scan import FileScan
@@ -18,12 +19,16 @@ def _lz4(data: bytes, size: int) -> bytes:
     return bytes(lz4.frame.decompress(data))
 
 
-def _zstd(data: bytes, size: int) -> bytes:
+def _zstd_module() -> Any:
     try:
         from compression import zstd  # type: ignore[import-not-found]
     except ImportError:
         from backports import zstd  # type: ignore[no-redef]
-    return bytes(zstd.decompress(data))
+    return zstd
+
+
+def _zstd(data: bytes, size: int) -> bytes:
+    return bytes(_zstd_module().decompress(data))
 
 
 def _bz2(data: bytes, size: int) -> bytes:
@@ -31,6 +36,8 @@ def _bz2(data: bytes, size: int) -> bytes:
 
 
 _HAS_PREAD = hasattr(os, "pread")  # not on Windows
+#: compressions that ``StreamedChunk`` can decompress piece by piece
+STREAMED = ("lz4", "bz2", "zstd")
 DECOMPRESSORS = {"bz2": _bz2, "lz4": _lz4, "zstd": _zstd}
 
 
@@ -129,7 +136,7 @@ class PFile:
         with self.lock:
             if chunk >= 0 and chunk not in self._chunks and self.scan_result is not None:
                 comp = self.scan_result.chunk_compression[chunk]
-                if comp in ("lz4", "bz2"):
+                if comp in STREAMED:
                     start, length, _ = self.scan_result.chunk_rows[chunk]
                     data = StreamedChunk(self, comp, start, length).get(offset, n)
                     if data is None:
@@ -187,12 +194,13 @@ class StreamedChunk:
         self.end = start + length
         self.piece = piece
         self.buf = bytearray()
+        self.dec: Any
         if compression == "lz4":
-            self.dec: lz4.frame.LZ4FrameDecompressor | bz2.BZ2Decompressor = (
-                lz4.frame.LZ4FrameDecompressor()
-            )
+            self.dec = lz4.frame.LZ4FrameDecompressor()
         elif compression == "bz2":
             self.dec = bz2.BZ2Decompressor()
+        elif compression == "zstd":
+            self.dec = _zstd_module().ZstdDecompressor()
         else:
             raise SourceError(f"{f.name}: unsupported chunk compression {compression!r}")
 

@@ -6,8 +6,10 @@ import struct
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from speechcal_core.sources.errors import SourceError
-from speechcal_core.sources.filebase import PFile, Window, decompress
+from speechcal_core.sources.filebase import STREAMED, PFile, StreamedChunk, Window, decompress
 from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_cdr
 from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
 
@@ -16,6 +18,7 @@ if TYPE_CHECKING:
 
 MAGIC = b"\x89MCAP0\r\n"
 OP_SCHEMA, OP_CHANNEL, OP_MESSAGE, OP_CHUNK, OP_DATA_END, OP_FOOTER = 3, 4, 5, 6, 0x0F, 2
+OP_MESSAGE_INDEX = 7
 _OPLEN = struct.Struct("<BQ")
 _MSG = struct.Struct("<HIQQ")
 _U16 = struct.Struct("<H")
@@ -139,8 +142,9 @@ class McapFile:
         result: FileScan,
         *,
         top: bool,
+        stop_after: int = -1,
     ) -> None:
-        while pos + 9 <= end:
+        while pos + 9 <= end and (stop_after < 0 or pos <= stop_after):
             head = get(pos, 9 + 22 + STAMP_PREFIX) or get(pos, 9)
             if head is None:
                 break
@@ -171,14 +175,39 @@ class McapFile:
                 else:
                     self._channel(content, collectors)
             elif op == OP_CHUNK and top:
-                self._chunk(body, length, collectors, result)
+                self._chunk(body, length, collectors, result, self._last_offset(body + length))
             elif op in (OP_DATA_END, OP_FOOTER) and top:
                 break
             pos = body + length
 
+    def _last_offset(self, pos: int) -> int:
+        """Offset of the chunk's last message, from the MessageIndex records after it (-1)."""
+        last = -1
+        try:
+            while pos + 9 <= self.f.size:
+                op, length = _OPLEN.unpack(self.f.pread(pos, 9))
+                if op != OP_MESSAGE_INDEX:
+                    break
+                content = self.f.pread(pos + 9, length)
+                (n,) = _U32.unpack_from(content, 2)
+                offsets = np.frombuffer(content, "<u8", count=n // 8, offset=6)[1::2]
+                if offsets.size:
+                    last = max(last, int(offsets.max()))
+                pos += 9 + length
+        except (SourceError, ValueError, struct.error):
+            return -1
+        return last
+
     def _chunk(
-        self, body: int, length: int, collectors: dict[int, TopicCollector], result: FileScan
+        self,
+        body: int,
+        length: int,
+        collectors: dict[int, TopicCollector],
+        result: FileScan,
+        last: int = -1,
     ) -> None:
+        """Index one chunk; with ``last`` (its last message's offset) a compressed chunk is
+        decompressed only up to that message's head."""
         try:
             head = self.f.pread(body, min(length, 28 + 4 + 64))
             _start, _end, usize, _crc = _CHUNK.unpack_from(head)
@@ -194,6 +223,13 @@ class McapFile:
             return
         if rstart + rlen > self.f.size:
             return  # a cut-off compressed chunk cannot be read
+        if last >= 0 and compression in STREAMED:
+            key = len(result.chunk_compression)
+            result.chunk_compression.append(compression)
+            result.chunk_rows.append((rstart, rlen, usize))
+            streamed = StreamedChunk(self.f, compression, rstart, rlen)
+            self._walk(streamed.get, 0, usize, key, collectors, result, top=False, stop_after=last)
+            return
         self.f.advise_normal()  # compressed chunks are read whole
         packed = self.f.pread(rstart, rlen)
         self.f.will_need(rstart + rlen, rlen + 4096)  # most likely the next chunk

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from speechcal_core.sources.errors import SourceError
-from speechcal_core.sources.filebase import PFile, StreamedChunk, Window, decompress
+from speechcal_core.sources.filebase import STREAMED, PFile, StreamedChunk, Window, decompress
 from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_ros1
 from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
 
@@ -264,7 +264,7 @@ class Ros1Bag:
             key = len(result.chunk_compression)
             result.chunk_compression.append(compression)
             result.chunk_rows.append((dpos, dlen, usize))
-            if total >= 0 and compression in ("lz4", "bz2"):
+            if total >= 0 and compression in STREAMED:
                 reader = _Reader(StreamedChunk(self.f, compression, dpos, dlen).get)
             else:
                 data = decompress(self.name, compression, self.f.pread(dpos, dlen), usize)

@@ -102,7 +102,7 @@ def test_corrupt_jpeg_is_marked_bad_and_the_stream_still_works(make_bag, fmt: st
         assert src.frame("/cam0/image_raw", 5).shape == (12, 16, 3)
 
 
-@pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4", "ros2-sqlite3", "ros2-mcap"])
+@pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4", "ros2-sqlite3", "ros2-mcap", "ros2-mcap-zstd"])
 def test_wrong_size_raw_payload_is_found_while_indexing(make_bag, fmt: str) -> None:
     cam = Cam("/cam0/image_raw", regular(10))
     cam.payloads[6] = bytes(100)  # 100 bytes where 16x12 bgr8 needs 576

@@ -99,6 +99,20 @@ def test_many_small_chunks_are_indexed_in_file_order(make_bag, fmt: str) -> None
             np.testing.assert_array_equal(src.frame("/cam2/image_raw", i), pixels(2, i))
 
 
+def test_zstd_mcap_chunks_are_indexed_from_their_heads(make_bag, monkeypatch) -> None:
+    import speechcal_core.sources.mcap as mcap_module
+
+    full: list[int] = []
+    real = mcap_module.decompress
+    monkeypatch.setattr(mcap_module, "decompress", lambda *a: full.append(1) or real(*a))
+    cams = [Cam(f"/cam{k}/image_raw", regular(40), width=160, height=120, index=k) for k in (0, 1)]
+    with open_recording([make_bag("ros2-mcap-zstd", cams)]) as src:
+        assert not full  # message heads came from partial decompression
+        assert [s.count for s in src.streams] == [40, 40]
+        assert list(src.stamps("/cam1/image_raw")) == regular(40)
+        np.testing.assert_array_equal(src.frame("/cam1/image_raw", 39), pixels(1, 39, 160, 120))
+
+
 def test_dropped_frames_are_counted_from_gaps(make_bag) -> None:
     stamps = [s for k, s in enumerate(regular(30)) if k not in (5, 6, 20)]
     with open_recording([make_bag("ros1", [Cam("/cam0/image_raw", stamps)])]) as src:
