@@ -238,19 +238,23 @@ def bench_bag(path: Path, fmt: str, *, rosbags_pass: bool, random_n: int) -> Non
     """Print index figures for one bag beside the plain read and the rosbags pass."""
     size = sum(f.stat().st_size for f in data_files(path))
     print(f"\n== {fmt}: {size / 1e9:.2f} GB, {CAMS} cameras {WIDTH}x{HEIGHT}")
-    seq = run_worker("seq", path)
+    seq_first = run_worker("seq", path)  # right after writing: the disk may still be busy
     drop_index_cache(path)
     ours = run_worker("ours", path)
     cached = run_worker("ours-cached", path)
     drop_index_cache(path)
     cli = run_cli(path)
     rows = [
-        ("(b) sequential read", seq),
+        ("(b) sequential read, first", seq_first),
         ("our index, --no-cache", ours),
         ("our index, cached", cached),
     ]
     if rosbags_pass:
         rows.insert(1, ("(a) rosbags deserialize all", run_worker("rosbags", path)))
+    seq_again = run_worker("seq", path)
+    rows.insert(1, ("(b) sequential read, again", seq_again))
+    # ratios against the faster of the two plain reads (the harder comparison for us)
+    seq = min(seq_first, seq_again, key=lambda r: float(r["seconds"]))  # type: ignore[arg-type]
     print(f"{'':30} {'seconds':>9} {'read from disk':>14} {'of file':>8} {'peak RSS':>10}")
     for label, r in rows:
         secs = float(r["seconds"])  # type: ignore[arg-type]
@@ -261,11 +265,12 @@ def bench_bag(path: Path, fmt: str, *, rosbags_pass: bool, random_n: int) -> Non
         )
     seq_s, ours_s = float(seq["seconds"]), float(ours["seconds"])  # type: ignore[arg-type]
     print(f"{'speechcal index --no-cache (CLI)':30} {cli:9.3f}   (interpreter start included)")
+    print("ratios use the faster sequential read")
     print(f"ratio sequential read / our index (in-process): {seq_s / ours_s:8.1f}x")
     print(f"ratio sequential read / CLI run:                {seq_s / cli:8.1f}x")
     print(f"ratio our index / sequential read:              {ours_s / seq_s:8.2f}")
     if rosbags_pass:
-        ros_s = float(rows[1][1]["seconds"])  # type: ignore[arg-type]
+        ros_s = float(rows[2][1]["seconds"])  # type: ignore[arg-type]
         print(f"ratio rosbags pass / our index:                 {ros_s / ours_s:8.1f}x")
     if random_n:
         cold = run_worker("random", path, str(random_n))
