@@ -90,8 +90,12 @@ def write_bag(path: Path, fmt: str, size_bytes: int, *, jpeg: bool = False) -> P
         if fmt != "ros1":
             writer.set_compression(Writer1.CompressionFormat[fmt.split("-")[1].upper()])
     else:
-        plugin = StoragePlugin.MCAP if fmt == "ros2-mcap" else StoragePlugin.SQLITE3
+        plugin = StoragePlugin.MCAP if fmt.startswith("ros2-mcap") else StoragePlugin.SQLITE3
         writer = Writer2(path, version=9, storage_plugin=plugin)
+        if fmt == "ros2-mcap-zstd":
+            from rosbags.rosbag2 import CompressionFormat, CompressionMode
+
+            writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
     msgtype = "sensor_msgs/msg/CompressedImage" if jpeg else "sensor_msgs/msg/Image"
     with writer:
         conns = [
@@ -288,7 +292,7 @@ def main() -> None:
     ap.add_argument(
         "--formats",
         default="ros1,ros2-sqlite3,ros1-lz4",
-        help="comma-separated: ros1, ros1-bz2, ros1-lz4, ros2-sqlite3, ros2-mcap",
+        help="comma-separated: ros1, ros1-bz2, ros1-lz4, ros2-sqlite3, ros2-mcap, ros2-mcap-zstd",
     )
     ap.add_argument("--dir", default=None, help="where to write the temporary bags")
     ap.add_argument("--random", type=int, default=200, help="frames for the random-access test")
