@@ -58,6 +58,9 @@ def open_recording(
     bags are merged by topic), video files (one stream each), or a folder of per-camera
     image folders; different kinds together give one source with all their streams.
     ``scan`` recovers unindexed ROS1 bags and truncated MCAP files by walking their chunks.
+    Indexes (bags, videos) are cached beside each file, or under the user cache dir when
+    that folder is not writable, keyed by size and mtime; ``use_cache=False`` rebuilds
+    them. A recovered index is cached too, with its ``notes``.
     ``video_start_ns`` is the header stamp of a video's first frame (default: a
     ``<video>.start_ns`` text file beside it, else an integer file name, else 0).
     """
