@@ -76,8 +76,10 @@ def pronunciations(word: str, user: dict[str, str] | None = None) -> tuple[Pron,
 def rival_words(prons: tuple[Pron, ...], exclude: set[str]) -> list[str]:
     """Dictionary words a detector must tell apart from a trigger word.
 
-    Words that contain a trigger pronunciation plus a few phones (inflections such as
-    "captured", compounds such as "recapture") and words one phone away ("rapture").
+    Words that start with a trigger pronunciation and add a few phones (inflections such
+    as "captured") and words one phone away ("rapture"). Words that add phones in front
+    ("nightclubs" for "clubs") are left out: in running speech the word before would
+    lend them those phones.
     """
     return list(_rivals(tuple(sorted(prons)), tuple(sorted(exclude))))
 
@@ -118,17 +120,15 @@ def _common_words() -> frozenset[str]:
 def _rival_distance(pron: Pron, other: Pron, lengths: set[int]) -> int | None:
     """Rank of ``other`` as a rival of ``pron`` (lower first), or None when it is none.
 
-    Words containing ``pron`` rank by the phones they add; then one-phone substitutions
+    Words starting with ``pron`` rank by the phones they add; then one-phone substitutions
     or insertions. Shorter words are no rivals: noise hiding one phone of a real trigger
     would let them win.
     """
     n, m = len(pron), len(other)
     if other == pron or m < n:
         return None
-    if n < m <= n + MAX_EXTRA_PHONES:
-        for i in range(m - n + 1):
-            if other[i:i + n] == pron:
-                return m - n
+    if n < m <= n + MAX_EXTRA_PHONES and other[:n] == pron:
+        return m - n
     if n >= 3 and m <= n + 1 and _within_one_edit(pron, other):
         return MAX_EXTRA_PHONES + 1
     return None

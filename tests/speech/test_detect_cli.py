@@ -1,0 +1,59 @@
+"""``speechcal detect``: JSON on stdout, one-line reasons and exit 1 for bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from speechcal_core.cli import main
+
+
+def test_json_lists_word_start_end_t_score(capture_scene, capsys: pytest.CaptureFixture[str]
+                                           ) -> None:
+    assert main(["detect", str(capture_scene.path), "--trigger", "Capture!", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc and all(set(d) == {"word", "start", "end", "t", "score"} for d in doc)
+    assert all(d["word"] == "capture" and d["start"] < d["t"] < d["end"] for d in doc)
+
+
+def test_transcript_replaces_listening(tmp_path: Path, capsys: pytest.CaptureFixture[str]
+                                       ) -> None:
+    csv = tmp_path / "words.csv"
+    csv.write_text("word,start,end\nCapture!,1.0,1.5\ncaptured,2,2.5\n", encoding="utf-8")
+    assert main(["detect", "unused.wav", "--transcript", str(csv), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == [
+        {"word": "capture", "start": 1.0, "end": 1.5, "t": 1.25, "score": 1.0}]
+
+
+@pytest.mark.parametrize("content, expected", [
+    (None, "not found"),
+    (b"", "empty"),
+    (b"not audio at all", "not a readable audio file"),
+])
+def test_bad_audio_exits_1_with_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                         content: bytes | None, expected: str) -> None:
+    path = tmp_path / "audio.wav"
+    if content is not None:
+        path.write_bytes(content)
+    assert main(["detect", str(path), "--json"]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert expected in captured.err and captured.err.count("\n") == 1
+
+
+@pytest.mark.parametrize("backend", ["faster-whisper", "whisperx"])
+def test_missing_whisper_backend_says_what_to_install(capture_scene, backend: str,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["detect", str(capture_scene.path), "--backend", backend, "--json"]) == 1
+    err = capsys.readouterr().err
+    assert f"pip install {backend}" in err and "pocketsphinx" in err
+
+
+def test_unknown_backend_and_bad_options_are_reported(capture_scene,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["detect", str(capture_scene.path), "--backend", "vosk"]) == 1
+    assert "unknown backend" in capsys.readouterr().err
+    assert main(["detect", str(capture_scene.path), "--pronounce", "kaptcha"]) == 2
+    assert main(["detect", str(capture_scene.path), "--example", "3"]) == 2

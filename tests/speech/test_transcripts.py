@@ -1,0 +1,78 @@
+"""Transcript import: WhisperX, faster-whisper, Audacity labels and CSV."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from speechcal_core.speech import SpeechError, detect_triggers
+from speechcal_core.speech.transcripts import read_transcript
+
+
+def _write(tmp_path: Path, name: str, text: str) -> Path:
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return p
+
+
+def test_whisperx_word_segments_report_words_without_timestamps(tmp_path: Path) -> None:
+    doc = {"segments": [], "word_segments": [
+        {"word": "Capture!", "start": 1.0, "end": 1.5, "score": 0.9},
+        {"word": "42"},  # WhisperX leaves numerals unaligned
+        {"word": "capture", "start": 3.0, "end": 3.4},
+    ]}
+    p = _write(tmp_path, "wx.json", json.dumps(doc))
+    t = read_transcript(p)
+    assert t.format == "whisperx"
+    assert [(w.word, w.start_s) for w in t.words] == [("Capture!", 1.0), ("capture", 3.0)]
+    assert t.untimed == ["42"]
+    result = detect_triggers(None, ["capture"], transcript=p)
+    assert [w.t for w in result.triggers] == [1.25, 3.2]
+    assert any("1 word(s) without timestamps" in n for n in result.notes)
+
+
+def test_whisperx_segment_words_are_read(tmp_path: Path) -> None:
+    doc = {"segments": [{"start": 0.5, "end": 2.0, "text": "ok capture",
+                         "words": [{"word": "ok", "start": 0.5, "end": 0.7},
+                                   {"word": "capture", "start": 1.0, "end": 1.6}]}]}
+    t = read_transcript(_write(tmp_path, "wx.json", json.dumps(doc)))
+    assert [w.word for w in t.words] == ["ok", "capture"]
+
+
+def test_faster_whisper_word_lists_are_read(tmp_path: Path) -> None:
+    dicts = [{"start": 1.0, "end": 1.4, "word": " Capture", "probability": 0.8}]
+    tuples = [[2.0, 2.5, " capture", 0.7], [3.0, None, " capture", 0.5]]
+    assert read_transcript(_write(tmp_path, "a.json", json.dumps(dicts))).words[0].score == 0.8
+    t = read_transcript(_write(tmp_path, "b.json", json.dumps(tuples)))
+    assert [w.start_s for w in t.words] == [2.0]
+    assert t.untimed == ["capture"]
+
+
+def test_audacity_labels_and_csv_are_read(tmp_path: Path) -> None:
+    labels = "1.000000\t1.500000\tCapture\n\\\t300.0\t3000.0\n4.0\t4.4\tcaptured\n"
+    t = read_transcript(_write(tmp_path, "labels.txt", labels))
+    assert [(w.word, w.end_s) for w in t.words] == [("Capture", 1.5), ("captured", 4.4)]
+    csv_text = "word,start,end\ncapture,1.0,1.5\nhello,,\ncapture,2,2.5\n"
+    t = read_transcript(_write(tmp_path, "words.csv", csv_text))
+    assert [w.start_s for w in t.words] == [1.0, 2.0]
+    assert t.untimed == ["hello"]
+
+
+@pytest.mark.parametrize("text, fix", [
+    ("", "empty"),
+    ("{not json", "broken JSON"),
+    ('{"text": "capture"}', "without word timings"),
+    ("1.0\tcapture\n", "start<TAB>end<TAB>label"),
+])
+def test_bad_transcripts_name_the_file_and_the_fix(tmp_path: Path, text: str, fix: str) -> None:
+    p = _write(tmp_path, "bad.txt", text)
+    with pytest.raises(SpeechError, match=fix) as exc:
+        read_transcript(p)
+    assert str(p) in str(exc.value)
+
+
+def test_missing_transcript_names_the_option(tmp_path: Path) -> None:
+    with pytest.raises(SpeechError, match="--transcript"):
+        read_transcript(tmp_path / "nope.json")
