@@ -37,13 +37,16 @@ class FrameSetOptions:
 
     ``window_s``: search window around the trigger (seconds); ``search``: best still frame
     (False: nearest frame only); ``extend_s``: how far the window grows forward, once, when
-    no still moment is found in it; ``workers``: threads (0: one per CPU).
+    no still moment is found in it; ``workers``: threads (0: one per CPU);
+    ``scan_rate_hz``: faster cameras are scanned at every n-th frame to about this rate
+    (0: every frame), and the chosen frame is then the nearest one inside the still span.
     """
 
     window_s: tuple[float, float] = (-0.3, 0.7)
     search: bool = True
     extend_s: float = 0.5
     workers: int = 0
+    scan_rate_hz: float = 15.0
 
 
 @dataclass
@@ -96,10 +99,14 @@ def build_frame_sets(
             row = {}
             for c, s in enumerate(infos):
                 choice, wins = choices[n], windows[n]
-                if choice is not None and wins is not None:
+                if choice is not None and wins is not None and scores[n] is not None:
                     p = choice.positions[c]
                     w = wins[c]
-                    row[s.name] = (int(w.indices[p]), int(w.stamps[p])) if p >= 0 else (-1, t)
+                    if p < 0:
+                        row[s.name] = (-1, t)
+                    else:
+                        j = _refine(stamps[s.name], w, scores[n][c], p, choice.t_ns)
+                        row[s.name] = (j, int(stamps[s.name][j]))
                 else:
                     near = nearest[n][s.name]
                     row[s.name] = (near.index, near.stamp_ns)
@@ -178,6 +185,23 @@ def build_frame_sets(
     return result
 
 
+def _refine(stamps: np.ndarray, win: CameraWindow, score: CameraScore, p: int,
+            t_ns: int) -> int:
+    """The frame nearest ``t_ns`` when the scan skipped frames and the span around it is still.
+
+    A skipped frame between two scanned still frames saw the board where they saw it.
+    """
+    i = int(win.indices[p])
+    j = int(np.argmin(np.abs(stamps[max(0, i - 8):i + 9] - t_ns))) + max(0, i - 8)
+    if j == i or not score.still[p]:
+        return i
+    q = p - 1 if j < i else p + 1
+    if 0 <= q < win.indices.size and score.still[q] and \
+            min(win.indices[q], i) < j < max(win.indices[q], i):
+        return j
+    return i
+
+
 def _search(
     source: FrameSource,
     infos: list[StreamInfo],
@@ -200,13 +224,16 @@ def _search(
     done = [0]
     total = len(t_ns) * len(infos)
 
+    strides = {s.name: max(1, round(NS / options.scan_rate_hz / periods[s.name]))
+               if options.scan_rate_hz > 0 and periods[s.name] else 1 for s in infos}
+
     def scan(job: tuple[int, int, int]) -> CameraWindow:
         n, c, extra = job
         s = infos[c]
         win = scan_window(source, s.name, stamps[s.name], t_ns[n] + w0, t_ns[n] + w1 + extra,
                           detector=local.preview, factor=factors[s.name],
-                          detect_factor=det_factors[s.name],
-                          compressed=compressed[s.name], period_ns=periods[s.name])
+                          detect_factor=det_factors[s.name], compressed=compressed[s.name],
+                          period_ns=periods[s.name], stride=strides[s.name])
         done[0] += 1
         report("windows", min(1.0, done[0] / total))
         return win

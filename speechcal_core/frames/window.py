@@ -47,11 +47,17 @@ class CameraWindow:
     period_ns: int
 
 
-def window_indices(stamps: np.ndarray, t0_ns: int, t1_ns: int) -> tuple[int, int]:
-    """Index range [lo, hi) of frames in [t0, t1] plus one neighbour on each side."""
-    lo = max(0, int(np.searchsorted(stamps, t0_ns, "left")) - 1)
-    hi = min(len(stamps), int(np.searchsorted(stamps, t1_ns, "right")) + 1)
-    return lo, hi
+def window_indices(stamps: np.ndarray, t0_ns: int, t1_ns: int, stride: int = 1) -> np.ndarray:
+    """Indices of every ``stride``-th frame in [t0, t1] plus one more on each side."""
+    a = int(np.searchsorted(stamps, t0_ns, "left"))
+    b = int(np.searchsorted(stamps, t1_ns, "right"))
+    inside = np.arange(a, b, stride)
+    if inside.size and inside[-1] != b - 1 and b - 1 - inside[-1] >= stride / 2:
+        inside = np.append(inside, b - 1)
+    first = inside[0] if inside.size else a
+    last = inside[-1] if inside.size else a - 1
+    idx = np.concatenate([[first - stride], inside, [last + stride]])
+    return idx[(idx >= 0) & (idx < len(stamps))].astype(np.int64)
 
 
 def scan_window(
@@ -66,6 +72,7 @@ def scan_window(
     detect_factor: int | None = None,
     compressed: bool | None,
     period_ns: int,
+    stride: int = 1,
     roi_hint_ns: tuple[int, ...] = (),
 ) -> CameraWindow:
     """Decode the window's frames at ``1/factor`` size and measure them.
@@ -73,12 +80,13 @@ def scan_window(
     The target region comes from detecting the target (at ``1/detect_factor`` size,
     default ``factor``) in the frame nearest each time of ``roi_hint_ns`` in turn (default:
     the window's end, middle, start) until one is found; without a target the whole image
-    counts.
+    counts. With ``stride`` > 1 only every stride-th frame is read (motion is then measured
+    between frames that far apart, and ``period_ns`` of the result grows to match).
     """
     detect_factor = detect_factor or factor
-    lo, hi = window_indices(stamps, t0_ns, t1_ns)
-    idx = np.arange(lo, hi)
-    st = stamps[lo:hi]
+    idx = window_indices(stamps, t0_ns, t1_ns, stride)
+    st = stamps[idx]
+    period_ns *= stride
     n = idx.size
     frames: list[np.ndarray | None] = []
     bad = np.zeros(n, bool)

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -13,16 +15,17 @@ from speechcal_core.frames.analysis import analyse_frames
 from speechcal_core.session.model import Trigger
 from speechcal_core.sources import open_recording
 from speechcal_core.sync.model import SyncModel
-from speechcal_core.synth.options import SynthOptions
-from speechcal_core.synth.session import generate_session
 from speechcal_core.target import TargetSpec
 
 
 @pytest.fixture(scope="module")
 def synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
     out = tmp_path_factory.mktemp("process") / "synth"
-    truth = generate_session(out, SynthOptions(cameras=2, duration=30, seed=21, triggers=8))
-    return out, truth
+    # a fresh process: the generator forks render workers, unsafe once threads have run here
+    subprocess.run([sys.executable, "-m", "speechcal_core.cli", "synth", str(out),
+                    "--cameras", "2", "--duration", "30", "--seed", "21", "--triggers", "8"],
+                   check=True, capture_output=True, timeout=300)
+    return out, json.loads((out / "truth.json").read_text())
 
 
 def _hold_of(truth: dict, start_s: float, end_s: float) -> list[int] | None:
