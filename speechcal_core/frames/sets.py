@@ -11,10 +11,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from speechcal_core.frames.detect import Detection, Target, TargetDetector, to_gray
+from speechcal_core.frames.detect import Detection, Target, TargetDetector
 from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
-from speechcal_core.frames.preview import preview_factor
-from speechcal_core.frames.quality import region_mask, sharpness
+from speechcal_core.frames.preview import preview_factor, preview_gray
+from speechcal_core.frames.quality import mask_box, region_mask, sharpness
 from speechcal_core.frames.select import CameraScore, Choice, choose_common_time, score_camera
 from speechcal_core.frames.window import CameraWindow, scan_window
 from speechcal_core.session.model import FrameChoice, FrameSet, Trigger
@@ -86,6 +86,7 @@ def build_frame_sets(
     t_ns = [int(sync.to_session(t.t_s)) for t in trig]
     nearest = [{s.name: nearest_choice(s.name, stamps[s.name], t) for s in infos} for t in t_ns]
     local = _Detectors(target)
+    compressed = {s.name: _is_compressed(s) for s in infos}
     workers = options.workers or min(4, os.cpu_count() or 1)
 
     with ThreadPoolExecutor(max_workers=workers) as pool:
@@ -118,13 +119,15 @@ def build_frame_sets(
         def measure(job: tuple[int, str, int]) -> tuple[int, str, float, Detection | None,
                                                         tuple[int, int] | None]:
             n, name, idx = job
-            try:
-                img = to_gray(source.frame(name, idx))
+            try:  # grey straight from the JPEG/PNG payload when there is one
+                img = preview_gray(source, name, idx, 1, compressed[name])
             except BadFrameError:
                 return n, name, -1.0, None, None
             det = local.full.detect(img) if local.full is not None else None
             hulls = [det.hull()] if det is not None else []
-            sharp = sharpness(img, region_mask(img.shape[:2], hulls, 0))
+            mask = region_mask(img.shape[:2], hulls, 0)
+            rows, cols = mask_box(mask)
+            sharp = sharpness(img[rows, cols], mask[rows, cols])
             done[0] += 1
             report("corners", done[0] / max(1, len(jobs)))
             return n, name, sharp, det, (img.shape[1], img.shape[0])
