@@ -17,6 +17,7 @@ PHONES = frozenset((
 #: at most this many phones added around a trigger's pronunciation still makes it a rival
 MAX_EXTRA_PHONES = 3
 MAX_RIVALS = 250
+ONE_EDIT_RIVALS = False
 #: rivals are words people say: known to the language model above this unigram log10 p
 MIN_UNIGRAM_LOG10 = -7.0
 
@@ -40,7 +41,9 @@ def load_dictionary(path: str | None = None) -> dict[str, tuple[Pron, ...]]:
             parts = line.split()
             if len(parts) < 2:
                 continue
-            word = re.sub(r"\(\d+\)$", "", parts[0])
+            word = parts[0]
+            if word.endswith(")"):
+                word = re.sub(r"\(\d+\)$", "", word)
             entries.setdefault(word, []).append(tuple(parts[1:]))
     return {w: tuple(ps) for w, ps in entries.items()}
 
@@ -129,7 +132,7 @@ def _rival_distance(pron: Pron, other: Pron, lengths: set[int]) -> int | None:
         return None
     if n < m <= n + MAX_EXTRA_PHONES and other[:n] == pron:
         return m - n
-    if n >= 3 and m <= n + 1 and _within_one_edit(pron, other):
+    if ONE_EDIT_RIVALS and n >= 3 and m <= n + 1 and _within_one_edit(pron, other):
         return MAX_EXTRA_PHONES + 1
     return None
 

@@ -7,6 +7,8 @@ absorbs everything else. A trigger is reported only where it explains the audio 
 than all of those. Its bounds come from the same Viterbi path, then move to the onset and
 offset of the word's energy (recognised bounds run 30-40 ms early on reverberant speech).
 The sensitivity sets the phone-loop cost: a dearer filler lets more words pass.
+Finally the recording is searched for spans that sound like the triggers found (same
+speaker, same word: see ``self_similarity``), which recovers words lost in noise.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import numpy as np
 from speechcal_core.speech.backend import Word
 from speechcal_core.speech.errors import SpeechError
 from speechcal_core.speech.lexicon import PHONES, model_dir, pronunciations, rival_words
+from speechcal_core.speech.self_similarity import expand_by_similarity
 from speechcal_core.speech.timing import refine_bounds
 from speechcal_core.speech.vad import voice_activity
 
@@ -42,7 +45,8 @@ class PocketsphinxBackend:
 
     name = "pocketsphinx"
 
-    def __init__(self) -> None:
+    def __init__(self, expand: bool = True) -> None:
+        self.expand = expand
         self._decoder: Any = None
         self._key: tuple | None = None
         self._vocab: set[str] = set()
@@ -60,7 +64,14 @@ class PocketsphinxBackend:
         for w in _dedupe(found):
             s, e = refine_bounds(x, RATE, w.start_s, w.end_s, activity.floor_at(w.t))
             refined.append(Word(w.word, s, e, w.score, w.source))
-        return refined
+        if not self.expand:
+            return refined
+        extra = []
+        for trigger in spec.words:
+            seeds = [w for w in refined if w.word == trigger]
+            others = [w for w in refined if w.word != trigger]
+            extra += expand_by_similarity(x, RATE, seeds, activity, others)
+        return sorted(refined + extra, key=lambda w: w.start_s)
 
     def _prepare(self, spec: TriggerSpec) -> Any:
         """One decoder per trigger configuration, reused for every span."""

@@ -73,7 +73,7 @@ def find_similar(audio: Audio, example: Example, *, sensitivity: float = 0.5) ->
     if feats.shape[0] == 0:
         return []
     mean, std = _speech_stats(feats, x)
-    unit = _unit_rows((feats - mean) / std)
+    unit = unit_rows((feats - mean) / std)
     a = round(example.start_s / HOP_S)
     b = max(a + 1, round(example.end_s / HOP_S))
     template = unit[a:b]
@@ -98,29 +98,41 @@ def _speech_stats(feats: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndar
     return sel.mean(axis=0), sel.std(axis=0) + 1e-6
 
 
-def _unit_rows(m: np.ndarray) -> np.ndarray:
+def unit_rows(m: np.ndarray) -> np.ndarray:
     return m / (np.linalg.norm(m, axis=1, keepdims=True) + 1e-9)
+
+
+def subsequence_dtw(template: np.ndarray, seq: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Cost (mean cosine distance per template frame) and start of the best match ending
+    at each frame of ``seq``; both arrays have ``len(seq)`` entries."""
+    n, m = template.shape[0], seq.shape[0]
+    cost = (1.0 - template @ seq.T).astype(np.float32)  # cosine distance, n x m
+    d = cost[0].copy()
+    start = np.arange(m)
+    diag = np.empty_like(d)
+    skip = np.empty_like(d)
+    s_diag = np.zeros_like(start)
+    s_skip = np.zeros_like(start)
+    diag[0] = skip[:2] = np.inf
+    for i in range(1, n):
+        diag[1:] = d[:-1]
+        skip[2:] = d[:-2]
+        s_diag[1:] = start[:-1]
+        s_skip[2:] = start[:-2]
+        vert = d + VERTICAL_PENALTY
+        take_diag = diag <= skip
+        step = np.where(take_diag, diag, skip)
+        s_step = np.where(take_diag, s_diag, s_skip)
+        take_step = step <= vert
+        start = np.where(take_step, s_step, start)
+        d = cost[i] + np.where(take_step, step, vert)
+    return d / n, start
 
 
 def _matches(template: np.ndarray, seq: np.ndarray, limit: float) -> list[tuple[int, int, float]]:
     """Non-overlapping (start, end, cost) subsequence matches with cost below ``limit``."""
     n, m = template.shape[0], seq.shape[0]
-    cost = 1.0 - template @ seq.T  # cosine distance, n x m
-    inf = np.float32(np.inf)
-    d = cost[0].copy()
-    start = np.arange(m)
-    for i in range(1, n):
-        prev = d
-        diag = np.concatenate([[inf], prev[:-1]])
-        skip = np.concatenate([[inf, inf], prev[:-2]])[:m]
-        vert = prev + VERTICAL_PENALTY
-        choice = np.argmin(np.stack([diag, skip, vert]), axis=0)
-        best = np.choose(choice, [diag, skip, vert])
-        s_diag = np.concatenate([[0], start[:-1]])
-        s_skip = np.concatenate([[0, 0], start[:-2]])[:m]
-        start = np.choose(choice, [s_diag, s_skip, start])
-        d = cost[i] + best
-    norm = d / n
+    norm, start = subsequence_dtw(template, seq)
     out: list[tuple[int, int, float]] = []
     order = np.argsort(norm)
     taken = np.zeros(m, dtype=bool)
