@@ -46,7 +46,7 @@ class FrameSetOptions:
     search: bool = True
     extend_s: float = 0.5
     workers: int = 0
-    scan_rate_hz: float = 15.0
+    scan_rate_hz: float = 8.0
 
 
 @dataclass
