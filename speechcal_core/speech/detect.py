@@ -94,7 +94,7 @@ def detect_triggers(audio_path: str | Path | None, triggers: Sequence[str] = DEF
     found = match_triggers(words, spec)
     if not found:
         what = f"{audio_path}" if transcript is None else f"{transcript}"
-        if duration is not None and not _has_speech(audio):
+        if duration is not None and not _has_speech(audio, chosen):
             notes.append(f"{what}: no speech found in {duration:.1f} s of audio")
         else:
             notes.append(f"{what}: no trigger word ({', '.join(spec.words)}) found")
@@ -111,7 +111,11 @@ def _named_examples(backend: SpeechBackend, word: str) -> SpeechBackend:
     return backend
 
 
-def _has_speech(audio: object) -> bool:
+def _has_speech(audio: object, backend: SpeechBackend) -> bool:
+    """Whether voice activity was found (reusing the backend's own analysis if it has one)."""
+    activity = getattr(backend, "last_activity", None)
+    if activity is not None:
+        return bool(activity.segments)
     from speechcal_core.speech.vad import speech_segments
 
     return bool(speech_segments(audio.samples, audio.rate))  # type: ignore[attr-defined]

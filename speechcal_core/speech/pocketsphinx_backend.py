@@ -22,7 +22,7 @@ from speechcal_core.speech.errors import SpeechError
 from speechcal_core.speech.lexicon import PHONES, model_dir, pronunciations, rival_words
 from speechcal_core.speech.self_similarity import expand_by_similarity
 from speechcal_core.speech.timing import refine_bounds
-from speechcal_core.speech.vad import voice_activity
+from speechcal_core.speech.vad import VoiceActivity, voice_activity
 
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio
@@ -47,6 +47,7 @@ class PocketsphinxBackend:
 
     def __init__(self, expand: bool = True) -> None:
         self.expand = expand
+        self.last_activity: VoiceActivity | None = None  # of the last call, for reports
         self._decoder: Any = None
         self._key: tuple | None = None
         self._vocab: set[str] = set()
@@ -56,6 +57,7 @@ class PocketsphinxBackend:
         x = audio.resampled(RATE).samples if audio.rate != RATE else audio.samples
         decoder = self._prepare(spec)
         activity = voice_activity(x, RATE)
+        self.last_activity = activity
         found: list[Word] = []
         for start, end in activity.segments:
             a, b = int(start * RATE), int(end * RATE)

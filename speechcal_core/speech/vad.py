@@ -13,6 +13,7 @@ BAND_HZ = (300.0, 4000.0)  # where speech stands out of room rumble and hum
 BLOCK_FRAMES = 100  # noise-floor statistics per second
 FLOOR_PERCENTILE = 20.0
 FLOOR_SPAN_BLOCKS = 9  # the floor is the lowest block statistic within +-4 s
+SILENCE_LEVEL = 1e-5  # below this everywhere (about -100 dBFS) a file is silent
 CHUNK_FRAMES = 6000  # energies are computed a minute at a time (bounded memory)
 
 
@@ -78,6 +79,8 @@ class VoiceActivity:
 def voice_activity(samples: np.ndarray, rate: int,
                    settings: VadSettings | None = None) -> VoiceActivity:
     """Find the speech spans of a recording."""
+    if samples.size == 0 or not np.any(np.abs(samples) > SILENCE_LEVEL):
+        return VoiceActivity([], np.zeros(0, dtype=np.float32))  # empty or digital silence
     energy = band_energy_db(samples, rate)
     floor = noise_floor_db(energy)
     return VoiceActivity(_segments(energy, floor, samples.size / rate, settings), floor)

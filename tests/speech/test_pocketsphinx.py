@@ -103,3 +103,16 @@ def test_a_clip_at_another_rate_is_resampled(tmp_path: Path) -> None:
     assert len(result.triggers) == 1
     assert result.triggers[0].t == pytest.approx(0.5 + clip("rms/capture_1").size / RATE / 2,
                                                  abs=0.05)
+
+
+@pytest.mark.slow
+def test_two_hours_of_silence_is_a_clear_empty_result(tmp_path: Path) -> None:
+    path = tmp_path / "two_hours.wav"
+    with sf.SoundFile(str(path), "w", RATE, 1, subtype="PCM_16") as f:
+        block = np.zeros(RATE * 600, np.float32)
+        for _ in range(12):
+            f.write(block)
+    result = detect_triggers(path, ["capture"])
+    assert result.triggers == []
+    assert result.duration_s == pytest.approx(7200.0)
+    assert result.notes == [f"{path}: no speech found in 7200.0 s of audio"]
