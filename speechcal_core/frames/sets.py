@@ -95,97 +95,119 @@ def build_frame_sets(
                                                local, pool, report)
         else:
             choices, windows, scores = [None] * len(trig), [None] * len(trig), [None] * len(trig)
-        picks: list[dict[str, tuple[int, int]]] = []
-        for n, t in enumerate(t_ns):
-            row = {}
-            for c, s in enumerate(infos):
-                choice, wins = choices[n], windows[n]
-                if choice is not None and wins is not None and scores[n] is not None:
-                    p = choice.positions[c]
-                    w = wins[c]
-                    if p < 0:
-                        row[s.name] = (-1, t)
-                    else:
-                        j = _refine(stamps[s.name], w, scores[n][c], p, choice.t_ns)
-                        row[s.name] = (j, int(stamps[s.name][j]))
-                else:
-                    near = nearest[n][s.name]
-                    row[s.name] = (near.index, near.stamp_ns)
-            picks.append(row)
-        jobs = [(n, s.name, idx) for n, row in enumerate(picks) for s in infos
-                for idx, _ in [row[s.name]] if idx >= 0]
-        done = [0]
-
-        def measure(job: tuple[int, str, int]) -> tuple[int, str, float, Detection | None,
-                                                        tuple[int, int] | None]:
-            n, name, idx = job
-            try:  # grey straight from the JPEG/PNG payload when there is one
-                img = preview_gray(source, name, idx, 1, compressed[name])
-            except BadFrameError:
-                return n, name, -1.0, None, None
-            det = local.full.detect(img) if local.full is not None else None
-            hulls = [det.hull()] if det is not None else []
-            mask = region_mask(img.shape[:2], hulls, 0)
-            rows, cols = mask_box(mask)
-            sharp = sharpness(img[rows, cols], mask[rows, cols])
-            done[0] += 1
-            report("corners", done[0] / max(1, len(jobs)))
-            return n, name, sharp, det, (img.shape[1], img.shape[0])
-
-        measured = list(pool.map(measure, jobs))
+        picks = [_pick(infos, stamps, nearest[n], choices[n], windows[n], scores[n], t)
+                 for n, t in enumerate(t_ns)]
+        measured = _measure(source, picks, compressed, local, pool, report)
 
     result = FrameSetResult([])
-    sharp_raw: dict[tuple[int, str], float] = {}
-    for n, name, sharp, det, size in measured:
-        sharp_raw[(n, name)] = sharp
+    for (n, name), (_sharp, det, size) in measured.items():
         if det is not None:
             result.detections[(n + 1, name)] = det
         if size is not None:
             result.image_sizes[name] = size
     refs = {}
     for s in infos:
-        vals = [v for (n, name), v in sharp_raw.items() if name == s.name and v > 0]
+        vals = [v[0] for (_n, name), v in measured.items() if name == s.name and v[0] > 0]
         refs[s.name] = float(np.percentile(vals, 90)) if vals else 0.0
     # cameras run free: a set's skew up to half the slowest camera's period is unavoidable
     tol = max((p // 2 for p in periods.values() if p), default=0)
     for n, (trigger, t) in enumerate(zip(trig, t_ns, strict=True)):
         set_id = n + 1
-        choice, wins = choices[n], windows[n]
         frames = []
         for c, s in enumerate(infos):
             idx, stamp = picks[n][s.name]
-            flags: list[str] = []
-            sharp_norm = None
-            corners = None
-            if idx < 0:
-                flags.append("no-frame")
-            else:
-                raw = sharp_raw.get((n, s.name), -1.0)
-                if raw < 0:
-                    flags.append("bad-frame")
-                else:
-                    sharp_norm = round(raw / refs[s.name], 3) if refs[s.name] > 0 else None
-                    if sharp_norm is not None and sharp_norm < BLURRED_BELOW:
-                        flags.append("blurred")
-                det = result.detections.get((set_id, s.name))
-                corners = det.count if det is not None else 0
-                if target is not None and corners < MIN_CORNERS:
-                    flags.append("no-target")
-                cam_scores = scores[n]
-                if choice is not None and cam_scores is not None:
-                    p = choice.positions[c]
-                    if p < 0 or not cam_scores[c].still[p]:
-                        flags.append("moving")
-            frames.append(FrameChoice(s.name, idx, stamp, sharp_norm, corners, tuple(flags)))
+            sharp, det, _size = measured.get((n, s.name), (-1.0, None, None))
+            still = None
+            if choices[n] is not None and scores[n] is not None:
+                p = choices[n].positions[c]
+                still = p >= 0 and bool(scores[n][c].still[p])
+            frames.append(_frame_choice(s.name, idx, stamp, sharp, refs[s.name], det,
+                                        target is not None, still))
         fs = FrameSet(set_id, t, trigger, tuple(frames))
         if tol and fs.skew_ns > tol:
             fs = FrameSet(set_id, t, trigger, tuple(
                 FrameChoice(f.stream, f.index, f.stamp_ns, f.sharpness, f.corners,
                             (*f.flags, "skew")) for f in frames))
         result.sets.append(fs)
-        result.details[str(set_id)] = _details(set_id, t, choice, wins, scores[n], nearest[n],
-                                               infos, result.detections, options)
+        result.details[str(set_id)] = _details(set_id, t, choices[n], windows[n], scores[n],
+                                               nearest[n], infos, result.detections, options)
     return result
+
+
+def _pick(
+    infos: list[StreamInfo],
+    stamps: dict[str, np.ndarray],
+    nearest: dict[str, FrameChoice],
+    choice: Choice | None,
+    wins: list[CameraWindow] | None,
+    scores: list[CameraScore] | None,
+    t_ns: int,
+) -> dict[str, tuple[int, int]]:
+    """Per stream, the (index, stamp) chosen for one set: the search's, else the nearest."""
+    row = {}
+    for c, s in enumerate(infos):
+        if choice is None or wins is None or scores is None:
+            row[s.name] = (nearest[s.name].index, nearest[s.name].stamp_ns)
+            continue
+        p = choice.positions[c]
+        if p < 0:
+            row[s.name] = (-1, t_ns)
+        else:
+            j = _refine(stamps[s.name], wins[c], scores[c], p, choice.t_ns)
+            row[s.name] = (j, int(stamps[s.name][j]))
+    return row
+
+
+def _measure(
+    source: FrameSource,
+    picks: list[dict[str, tuple[int, int]]],
+    compressed: dict[str, bool | None],
+    local: _Detectors,
+    pool: ThreadPoolExecutor,
+    report: Progress,
+) -> dict[tuple[int, str], tuple[float, Detection | None, tuple[int, int] | None]]:
+    """Full-resolution corners and raw sharpness of every chosen frame (-1: undecodable)."""
+    jobs = [(n, name, idx) for n, row in enumerate(picks) for name, (idx, _) in row.items()
+            if idx >= 0]
+    done = [0]
+
+    def one(job: tuple[int, str, int]) -> tuple[float, Detection | None,
+                                                tuple[int, int] | None]:
+        _n, name, idx = job
+        try:  # grey straight from the JPEG/PNG payload when there is one
+            img = preview_gray(source, name, idx, 1, compressed[name])
+        except BadFrameError:
+            return -1.0, None, None
+        det = local.full.detect(img) if local.full is not None else None
+        mask = region_mask(img.shape[:2], [det.hull()] if det is not None else [], 0)
+        rows, cols = mask_box(mask)
+        sharp = sharpness(img[rows, cols], mask[rows, cols])
+        done[0] += 1
+        report("corners", done[0] / max(1, len(jobs)))
+        return sharp, det, (img.shape[1], img.shape[0])
+
+    return {(n, name): r for (n, name, _), r in zip(jobs, pool.map(one, jobs), strict=True)}
+
+
+def _frame_choice(stream: str, idx: int, stamp: int, sharp: float, ref: float,
+                  det: Detection | None, want_target: bool, still: bool | None) -> FrameChoice:
+    """The chosen frame with its session-normalized sharpness, corner count and flags."""
+    if idx < 0:
+        return FrameChoice(stream, -1, stamp, flags=("no-frame",))
+    flags: list[str] = []
+    sharp_norm = None
+    if sharp < 0:
+        flags.append("bad-frame")
+    elif ref > 0:
+        sharp_norm = round(sharp / ref, 3)
+        if sharp_norm < BLURRED_BELOW:
+            flags.append("blurred")
+    corners = det.count if det is not None else 0
+    if want_target and corners < MIN_CORNERS:
+        flags.append("no-target")
+    if still is False:
+        flags.append("moving")
+    return FrameChoice(stream, idx, stamp, sharp_norm, corners, tuple(flags))
 
 
 def _refine(stamps: np.ndarray, win: CameraWindow, score: CameraScore, p: int,
