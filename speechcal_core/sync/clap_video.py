@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import cv2
 import numpy as np
+from scipy.signal import find_peaks
 
 WORK_WIDTH = 160  # frames are analysed at about this width
 GRID = 8  # cells across the width
 EVENT_S = 0.35  # motion is smoothed over this long when looking for the event
-UNIQUE_GAP_S = 1.0  # another peak this far away in the same cell makes the event periodic
+MAX_EVENTS = 6  # motion bursts checked for the closing-and-parting shape of a clap
 
 
 @dataclass(frozen=True)
@@ -49,53 +50,72 @@ def to_gray_small(frame: np.ndarray, width: int = WORK_WIDTH) -> tuple[np.ndarra
 
 
 def find_video_clap(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np.ndarray,
-                    *, stream: str = "", scale: float | None = None) -> VideoClap | None:
+                    *, stream: str = "", scale: float | None = None,
+                    detail: Callable[[int], np.ndarray] | None = None) -> VideoClap | None:
     """The clap event in a run of frames (any size, gray or colour) with their stamps.
 
-    Looks for the grid cell with one sharp, unique burst of motion (periodic motion such
+    Looks for grid cells with one sharp, unique burst of motion (periodic motion such
     as a fan or a blinking light repeats and is ignored), then times the event to a
     fraction of a frame from the closing and opening distance between the two moving
     parts. ``scale``: the frames are already gray float32 from :func:`to_gray_small` at
-    this scale (the ROI is still reported in full-frame pixels). None when no event is there.
+    this scale (the ROI is still reported in full-frame pixels); ``detail(i)`` then gives
+    frame i at full resolution for the final timing. None when no event is there.
     """
+    found = find_video_claps(frames, stamps_ns, stream=stream, scale=scale, detail=detail)
+    return found[0] if found else None
+
+
+def find_video_claps(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np.ndarray,
+                     *, stream: str = "", scale: float | None = None,
+                     detail: Callable[[int], np.ndarray] | None = None) -> list[VideoClap]:
+    """Every clap-like burst, most likely first: those with the closing-and-parting shape
+    (method "v-fit") by score, else the strongest burst alone (method "peak")."""
     stamps = np.asarray(stamps_ns, dtype=np.int64)
     if len(frames) < 5 or stamps.size != len(frames):
-        return None
+        return []
     if scale is None:
         small = [to_gray_small(f)[0] for f in frames]
         scale = to_gray_small(frames[0])[1]
+        detail = detail or (lambda i: to_gray_small(frames[i], 1 << 30)[0])
     else:
         small = list(frames)
     stack = np.stack(small).astype(np.float32, copy=False)
     t = (stamps - stamps[0]).astype(np.float64) / 1e9
     period = float(np.median(np.diff(t))) if t.size > 1 else 1 / 30
-    event = _best_event(stack, t, period)
-    if event is None:
-        return None
-    k, cell_box, score = event
-    x, y, w, h = cell_box
-    roi_full = (int(x / scale), int(y / scale), int(w / scale), int(h / scale))
-    refined = _refine(stack[:, y:y + h, x:x + w], t, k, period)
-    if refined is not None:
-        t_clap = refined
-        method = "v-fit"
-    else:
-        t_clap = t[k]
-        method = "peak"
+    events = _events(stack, t, period)
+    out: list[VideoClap] = []
+    for k, (x, y, w, h), score in events:
+        t_clap = _refine(stack[:, y:y + h, x:x + w], t, k, period)
+        if t_clap is None:
+            continue
+        roi_full = (int(x / scale), int(y / scale), int(w / scale), int(h / scale))
+        if scale < 1.0 and detail is not None:
+            fine = _refine_full(detail, roi_full, t, k, period)
+            if fine is not None and abs(fine - t_clap) < 0.5 * period:
+                t_clap = fine
+        out.append(_clap(stream, stamps, t_clap, score, "v-fit", roi_full, period))
+    if not out and events:
+        k, (x, y, w, h), score = events[0]
+        roi_full = (int(x / scale), int(y / scale), int(w / scale), int(h / scale))
+        out.append(_clap(stream, stamps, float(t[k]), score, "peak", roi_full, period))
+    return out
+
+
+def _clap(stream: str, stamps: np.ndarray, t_clap: float, score: float, method: str,
+          roi: tuple[int, int, int, int], period: float) -> VideoClap:
     clap_ns = int(stamps[0] + round(t_clap * 1e9))
     nearest = int(np.argmin(np.abs(stamps - clap_ns)))
-    return VideoClap(stream, clap_ns, nearest, float(score), method, roi_full,
-                     round(period * 1e9))
+    return VideoClap(stream, clap_ns, nearest, float(score), method, roi, round(period * 1e9))
 
 
-def _best_event(stack: np.ndarray, t: np.ndarray,
-                period: float) -> tuple[int, tuple[int, int, int, int], float] | None:
-    """(frame index, cell box, score) of the most clap-like motion burst."""
+def _events(stack: np.ndarray, t: np.ndarray, period: float,
+            limit: int = MAX_EVENTS) -> list[tuple[int, tuple[int, int, int, int], float]]:
+    """(frame index, cell box, score) of the most clap-like motion bursts, best first."""
     n, hgt, wid = stack.shape
     cell = max(4, wid // GRID)
     ny, nx = hgt // cell, wid // cell
     if ny < 1 or nx < 1:
-        return None
+        return []
     diff = np.abs(np.diff(stack, axis=0))  # n-1 frames
     crop = diff[:, : ny * cell, : nx * cell]
     energy = crop.reshape(n - 1, ny, cell, nx, cell).mean(axis=(2, 4))  # (n-1, ny, nx)
@@ -105,24 +125,42 @@ def _best_event(stack: np.ndarray, t: np.ndarray,
     smooth = np.apply_along_axis(lambda v: np.convolve(v, kernel, mode="same"), 0, energy)
     noise = max(float(np.median(energy)), 0.05)
     base = np.median(smooth, axis=0)  # per cell
-    peak_k = np.argmax(smooth, axis=0)
-    peak = np.max(smooth, axis=0)
-    far = max(1, round(UNIQUE_GAP_S / period))
-    idx = np.arange(n)[:, None, None]
-    outside = np.abs(idx - peak_k[None]) > far
-    second = np.where(outside, smooth, 0.0).max(axis=0)
-    contrast = (peak - base) / (base + noise)
-    unique = (peak - base) / (second - base + noise)
-    # how many cells are busy at each cell's peak: a local event keeps most cells quiet
+    # how many cells are busy at each moment: a local event keeps most cells quiet
     busy = smooth > 3 * (base + noise)[None]
     busy_frac = busy.reshape(n, -1).mean(axis=1)
-    local = 1.0 / (1.0 + 8.0 * busy_frac[peak_k])
-    score = np.minimum(contrast, 20.0) * np.minimum(unique, 5.0) * local
-    score[peak - base < 2.0] = 0.0
-    best = np.unravel_index(int(np.argmax(score)), score.shape)
-    if score[best] < 2.0:
-        return None
-    k = int(peak_k[best])
+    apart = max(1, round(0.5 / period))
+    found: list[tuple[float, int, tuple[int, int]]] = []
+    for cy in range(ny):
+        for cx in range(nx):
+            v, b = smooth[:, cy, cx], float(base[cy, cx])
+            peaks, props = find_peaks(v, height=b + 2.0, distance=apart)
+            heights = props["peak_heights"]
+            for p, h in zip(peaks, heights, strict=True):
+                contrast = (h - b) / (b + noise)
+                # periodic motion (a blinking light) repeats at about the same height
+                similar = int(np.sum((heights >= 0.6 * h) & (heights <= 1.6 * h)))
+                unique = 5.0 / similar
+                local = 1.0 / (1.0 + 20.0 * busy_frac[p])
+                found.append((min(contrast, 20.0) * unique * local, int(p), (cy, cx)))
+    found.sort(reverse=True)
+    events: list[tuple[int, tuple[int, int, int, int], float]] = []
+    for score, k, best in found:
+        if score < 2.0 or len(events) >= 4 * limit:
+            break
+        if any(abs(k - e[0]) <= apart for e in events):
+            continue
+        box = _region(energy, base, noise, k, best, period, cell)
+        # a clap is small in the picture; a region over most of it is the board moving
+        area = box[2] * box[3] / float(wid * hgt)
+        events.append((k, box, float(score) / (1.0 + 6.0 * area * area)))
+    events.sort(key=lambda e: e[2], reverse=True)
+    return events[:limit]
+
+
+def _region(energy: np.ndarray, base: np.ndarray, noise: float, k: int,
+            best: tuple[int, ...], period: float, cell: int) -> tuple[int, int, int, int]:
+    """Pixel box of the connected cells busy around frame k and quiet otherwise."""
+    n, ny, nx = energy.shape
     # the event region: connected cells busy around the event and quiet otherwise
     span = max(1, round(0.8 / period))
     lo, hi = max(0, k - span), min(n, k + span + 1)
@@ -136,8 +174,7 @@ def _best_event(stack: np.ndarray, t: np.ndarray,
     ys, xs = np.nonzero(near)
     y0, y1 = max(0, ys.min() - 1), min(ny, ys.max() + 2)
     x0, x1 = max(0, xs.min() - 1), min(nx, xs.max() + 2)
-    box = (x0 * cell, y0 * cell, (x1 - x0) * cell, (y1 - y0) * cell)
-    return k, box, float(score[best])
+    return (x0 * cell, y0 * cell, (x1 - x0) * cell, (y1 - y0) * cell)
 
 
 def _connected(mask: np.ndarray, seed: tuple[int, ...]) -> np.ndarray:
@@ -169,13 +206,28 @@ def _refine(roi: np.ndarray, t: np.ndarray, k: int, period: float) -> float | No
         m = resid[j] > thr
         if m.sum() < 6:
             continue
-        d = _blob_distance(proj[m], resid[j][m])
+        d = _blob_distance(proj[m], np.ones(int(m.sum())))
         if d is not None:
             times.append(t[j])
             dists.append(d)
     if len(times) < 4:
         return None
     return _vertex(np.array(times), np.array(dists), t[k], period)
+
+
+def _refine_full(detail: Callable[[int], np.ndarray], box: tuple[int, int, int, int],
+                 t: np.ndarray, k: int, period: float) -> float | None:
+    """The V fit again on full-resolution crops of the event region (finer distances)."""
+    x, y, w, h = box
+    span = round(1.9 / period)
+    j0, j1 = max(0, k - span), min(t.size, k + span + 1)
+    crops = []
+    for j in range(j0, j1):
+        crop = np.ascontiguousarray(detail(j)[y:y + h, x:x + w])
+        crops.append(cv2.GaussianBlur(crop, (5, 5), 1.0))  # sensor noise off the edges
+    if len({c.shape for c in crops}) != 1:
+        return None
+    return _refine(np.stack(crops), t[j0:j1], k - j0, period)
 
 
 def _background(roi: np.ndarray, k: int, period: float) -> np.ndarray:
@@ -209,17 +261,31 @@ def _blob_distance(p: np.ndarray, wgt: np.ndarray) -> float | None:
 
 
 def _vertex(times: np.ndarray, dists: np.ndarray, t_peak: float, period: float) -> float | None:
-    """Time where the closing line meets the opening line (continuous two-line fit)."""
-    i_min = int(np.argmin(dists))
-    t_min = times[i_min]
-    sel = (times >= t_min - 0.5) & (times <= t_min + 0.28)
+    """Time where the closing line meets the opening line (continuous two-line fit).
+
+    A first fit around the closest pair finds the touch; a second keeps only the closing
+    half second before it and the opening before the hands move off.
+    """
+    t_min = float(times[int(np.argmin(dists))])
+    tc = _fit_window(times, dists, t_min, 0.55, 0.3, period)
+    if tc is not None:
+        tc = _fit_window(times, dists, tc, 0.5, 0.28, period) or tc
+    if tc is None or not np.isfinite(tc) or abs(tc - t_peak) > 0.6 + period:
+        return None
+    return float(tc)
+
+
+def _fit_window(times: np.ndarray, dists: np.ndarray, centre: float, before: float,
+                after: float, period: float) -> float | None:
+    """Robust V fit of the points in ``[centre - before, centre + after]``."""
+    sel = (times >= centre - before) & (times <= centre + after)
     x, y = times[sel], dists[sel]
-    if x.size < 4 or not (x < t_min + 1e-9).sum() >= 2 or not (x > t_min - 1e-9).sum() >= 2:
+    if x.size < 4 or (x <= centre).sum() < 2 or (x >= centre).sum() < 1:
         return None
     keep = np.ones(x.size, dtype=bool)
-    tc = t_min
+    tc = None
     for _ in range(3):
-        tc, _ = _fit_v(x[keep], y[keep], t_min, period)
+        tc, _ = _fit_v(x[keep], y[keep], centre, period)
         if tc is None:
             return None
         r = np.abs(y - _v_model(x, y, keep, tc))
@@ -228,9 +294,7 @@ def _vertex(times: np.ndarray, dists: np.ndarray, t_peak: float, period: float) 
         if new_keep.sum() < 4 or np.array_equal(new_keep, keep):
             break
         keep = new_keep
-    if tc is None or not np.isfinite(tc) or abs(tc - t_peak) > 0.6 + period:
-        return None
-    return float(tc)
+    return tc
 
 
 def _basis(x: np.ndarray, tc: float) -> np.ndarray:
@@ -245,7 +309,8 @@ def _v_model(x: np.ndarray, y: np.ndarray, keep: np.ndarray, tc: float) -> np.nd
 def _fit_v(x: np.ndarray, y: np.ndarray, t_min: float,
            period: float) -> tuple[float | None, float]:
     """Vertex time minimising the squared residual of a V (closing slope < 0 < opening)."""
-    grid = np.arange(t_min - 1.5 * period, t_min + 1.5 * period, 2e-4)
+    # the hands touch for a few frames with no measurable gap: search the whole hole
+    grid = np.arange(t_min - 0.25 - period, t_min + 0.25 + period, 2.5e-4)
     best, best_err = None, np.inf
     for tc in grid:
         b = _basis(x, tc)

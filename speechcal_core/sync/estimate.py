@@ -87,7 +87,9 @@ class SyncResult:
             "drift_ppm": round(self.model.drift * 1e6, 3),
             "source": self.model.source,
             "claps": [{"audio_s": c.audio_s, "session_ns": c.session_ns,
-                       "audio_source": c.audio_source, "video_source": c.video_source}
+                       "audio_source": c.audio_source, "video_source": c.video_source,
+                       "cameras": [{"name": k.name, "clap_ns": k.clap_ns, "method": k.method,
+                                    "frame_index": k.frame_index} for k in c.cameras]}
                       for c in self.claps],
             "cameras": self.residuals(),
             "warnings": list(self.warnings),
@@ -114,11 +116,21 @@ def _pair_drift(first: Clap, last: Clap) -> float:
     da = last.audio_s - first.audio_s
     if first.session_override_ns is None and last.session_override_ns is None:
         both = {c.name: c.clap_ns for c in first.cameras}
-        pairs = [(both[c.name], c.clap_ns) for c in last.cameras if c.name in both]
+        pairs = [(both[c.name], c.clap_ns, c.period_ns) for c in last.cameras
+                 if c.name in both]
         if pairs:
-            ds = np.array([b - a for a, b in pairs], dtype=np.float64)
-            return float(np.median(ds) if ds.size >= 3 else np.mean(ds)) / (da * 1e9) - 1.0
+            ds = np.array([b - a for a, b, _ in pairs], dtype=np.float64)
+            # a faster camera times the clap better: weight by inverse frame period squared
+            w = np.array([1.0 / max(p, 1) ** 2 for _, _, p in pairs])
+            if ds.size >= 3:
+                keep = np.abs(ds - np.median(ds)) <= 3 * _mad(ds) + 2e6
+                ds, w = ds[keep], w[keep]
+            return float(np.sum(w * ds) / np.sum(w)) / (da * 1e9) - 1.0
     return (last.session_ns - first.session_ns) / (da * 1e9) - 1.0
+
+
+def _mad(v: np.ndarray) -> float:
+    return float(1.4826 * np.median(np.abs(v - np.median(v))))
 
 
 def build_result(claps: list[Clap], warnings: list[str] | None = None,

@@ -9,7 +9,7 @@ import numpy as np
 
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sync.clap_audio import ClapCandidate, audio_levels, find_audio_claps
-from speechcal_core.sync.clap_video import VideoClap, find_video_clap, to_gray_small
+from speechcal_core.sync.clap_video import VideoClap, find_video_claps, to_gray_small
 from speechcal_core.sync.errors import SyncError
 from speechcal_core.sync.estimate import CameraClap, Clap, SyncResult, build_result
 
@@ -19,6 +19,7 @@ if TYPE_CHECKING:
 
 SEARCH_S = 20.0  # the first clap is looked for in this much video from each stream's start
 NEAR_S = 2.0  # other cameras (and the closing clap) are looked for this close to the expected time
+AGREE_S = 0.3  # camera clocks closer than this count as seeing the same event
 MIN_CLAP_GAP_S = 5.0  # a closing clap lies at least this long after the first
 
 Progress = Callable[[str], None]
@@ -59,10 +60,17 @@ def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list
 
 def video_clap(source: FrameSource, stream: str, t0_ns: int, t1_ns: int) -> VideoClap | None:
     """The clap seen by one camera between two of its header stamps."""
+    found = video_clap_candidates(source, stream, t0_ns, t1_ns)
+    return found[0] if found else None
+
+
+def video_clap_candidates(source: FrameSource, stream: str, t0_ns: int,
+                          t1_ns: int) -> list[VideoClap]:
+    """Clap-like events seen by one camera between two of its header stamps, best first."""
     stamps = source.stamps(stream)
     i0, i1 = np.searchsorted(stamps, [t0_ns, t1_ns])
     if i1 - i0 < 5:
-        return None
+        return []
     frames, kept, scale = [], [], 1.0
     for i in range(int(i0), int(i1)):
         try:
@@ -74,29 +82,45 @@ def video_clap(source: FrameSource, stream: str, t0_ns: int, t1_ns: int) -> Vide
         frames.append(img)
         kept.append(int(stamps[i]))
     if len(frames) < 5:
-        return None
-    return find_video_clap(frames, np.array(kept), stream=stream, scale=scale)
+        return []
+    index = [int(np.searchsorted(stamps, k)) for k in kept]
+
+    def detail(j: int) -> np.ndarray:
+        return to_gray_small(source.frame(stream, index[j]), 1 << 30)[0]
+
+    return find_video_claps(frames, np.array(kept), stream=stream, scale=scale, detail=detail)
 
 
 def video_claps(source: FrameSource, t0: dict[str, int], t1: dict[str, int],
                 progress: Progress | None = None) -> list[VideoClap]:
-    """Each stream's clap in its window [t0, t1]; the first find narrows the others."""
-    found: list[VideoClap] = []
+    """Each stream's clap in its window [t0, t1], chosen so that the cameras agree.
+
+    Every camera proposes its clap-like events; the moment most cameras share (within
+    ``AGREE_S``; ties go to the clearer events) is the clap, and each camera contributes
+    its event nearest to it. A camera that saw nothing there contributes its best event.
+    """
+    proposals: dict[str, list[VideoClap]] = {}
     for name in t0:
         if progress:
             progress(f"looking for the clap in {name}")
-        lo, hi = t0[name], t1[name]
+        found = video_clap_candidates(source, name, t0[name], t1[name])
         if found:
-            centre = found[0].clap_ns
-            near = video_clap(source, name, max(lo, centre - int(NEAR_S * 1e9)),
-                              min(hi, centre + int(NEAR_S * 1e9)))
-            if near is not None:
-                found.append(near)
-                continue
-        clap = video_clap(source, name, lo, hi)
-        if clap is not None:
-            found.append(clap)
-    return found
+            proposals[name] = found
+    if not proposals:
+        return []
+    every = [c for found in proposals.values() for c in found]
+    agree = int(AGREE_S * 1e9)
+
+    def support(c: VideoClap) -> tuple[int, int, float]:
+        cams = {o.stream for o in every if abs(o.clap_ns - c.clap_ns) <= agree}
+        return len(cams), int(c.method == "v-fit"), c.score
+
+    anchor = max(every, key=support)
+    out = []
+    for found in proposals.values():
+        near = [c for c in found if abs(c.clap_ns - anchor.clap_ns) <= agree]
+        out.append(min(near, key=lambda c: abs(c.clap_ns - anchor.clap_ns)) if near else found[0])
+    return out
 
 
 def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARCH_S,
