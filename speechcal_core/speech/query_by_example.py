@@ -72,14 +72,15 @@ def find_similar(audio: Audio, example: Example, *, sensitivity: float = 0.5) ->
     feats = mfcc(x, RATE)
     if feats.shape[0] == 0:
         return []
-    mean, std = _speech_stats(feats, x)
+    segments = speech_segments(x, RATE)
+    mean, std = _speech_stats(feats, segments)
     unit = unit_rows((feats - mean) / std)
     a = round(example.start_s / HOP_S)
     b = max(a + 1, round(example.end_s / HOP_S))
     template = unit[a:b]
     limit = COST_LIMITS[0] + (COST_LIMITS[1] - COST_LIMITS[0]) * sensitivity
     hits: list[Word] = []
-    for s0, s1 in speech_segments(x, RATE):
+    for s0, s1 in segments:
         f0, f1 = int(s0 / HOP_S), min(unit.shape[0], int(np.ceil(s1 / HOP_S)))
         if f1 - f0 < len(template) // 2:
             continue
@@ -89,10 +90,11 @@ def find_similar(audio: Audio, example: Example, *, sensitivity: float = 0.5) ->
     return hits
 
 
-def _speech_stats(feats: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _speech_stats(feats: np.ndarray, segments: list[tuple[float, float]]
+                  ) -> tuple[np.ndarray, np.ndarray]:
     """Mean and spread of the features over voice-active frames (all frames if none)."""
     mask = np.zeros(feats.shape[0], dtype=bool)
-    for s0, s1 in speech_segments(x, RATE):
+    for s0, s1 in segments:
         mask[int(s0 / HOP_S):int(s1 / HOP_S)] = True
     sel = feats[mask] if mask.any() else feats
     return sel.mean(axis=0), sel.std(axis=0) + 1e-6
