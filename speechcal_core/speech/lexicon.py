@@ -17,7 +17,6 @@ PHONES = frozenset((
 #: at most this many phones added around a trigger's pronunciation still makes it a rival
 MAX_EXTRA_PHONES = 3
 MAX_RIVALS = 250
-ONE_EDIT_RIVALS = False
 #: rivals are words people say: known to the language model above this unigram log10 p
 MIN_UNIGRAM_LOG10 = -7.0
 
@@ -80,9 +79,10 @@ def rival_words(prons: tuple[Pron, ...], exclude: set[str]) -> list[str]:
     """Dictionary words a detector must tell apart from a trigger word.
 
     Words that start with a trigger pronunciation and add a few phones (inflections such
-    as "captured") and words one phone away ("rapture"). Words that add phones in front
-    ("nightclubs" for "clubs") are left out: in running speech the word before would
-    lend them those phones.
+    as "captured") and words differing only in the first phone ("rapture"). Changes
+    inside the word are no rival: the model tells "captor" from "capture" too poorly.
+    Words that add phones in front ("nightclubs" for "clubs") are left out: in running
+    speech the word before would lend them those phones.
     """
     return list(_rivals(tuple(sorted(prons)), tuple(sorted(exclude))))
 
@@ -123,8 +123,8 @@ def _common_words() -> frozenset[str]:
 def _rival_distance(pron: Pron, other: Pron, lengths: set[int]) -> int | None:
     """Rank of ``other`` as a rival of ``pron`` (lower first), or None when it is none.
 
-    Words starting with ``pron`` rank by the phones they add; then one-phone substitutions
-    or insertions. Shorter words are no rivals: noise hiding one phone of a real trigger
+    Words starting with ``pron`` rank by the phones they add; then words that differ
+    only in the first phone. Shorter words are no rivals: noise hiding one phone of a real trigger
     would let them win.
     """
     n, m = len(pron), len(other)
@@ -132,14 +132,6 @@ def _rival_distance(pron: Pron, other: Pron, lengths: set[int]) -> int | None:
         return None
     if n < m <= n + MAX_EXTRA_PHONES and other[:n] == pron:
         return m - n
-    if ONE_EDIT_RIVALS and n >= 3 and m <= n + 1 and _within_one_edit(pron, other):
+    if n >= 3 and m == n and other[1:] == pron[1:]:
         return MAX_EXTRA_PHONES + 1
     return None
-
-
-def _within_one_edit(a: Pron, b: Pron) -> bool:
-    if len(a) == len(b):
-        return sum(x != y for x, y in zip(a, b, strict=True)) == 1
-    if len(a) > len(b):
-        a, b = b, a
-    return any(b[:i] + b[i + 1:] == a for i in range(len(b)))

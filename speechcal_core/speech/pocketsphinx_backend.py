@@ -6,7 +6,8 @@ neighbours such as "rapture") and, at a cost per phone, with a free phone loop t
 absorbs everything else. A trigger is reported only where it explains the audio better
 than all of those. Its bounds come from the same Viterbi path, then move to the onset and
 offset of the word's energy (recognised bounds run 30-40 ms early on reverberant speech).
-The sensitivity sets the phone-loop cost: a dearer filler lets more words pass.
+The sensitivity sets the phone-loop cost (a dearer filler lets more words pass) and how
+close to the found triggers a span must sound to join them.
 Finally the recording is searched for spans that sound like the triggers found (same
 speaker, same word: see ``self_similarity``), which recovers words lost in noise.
 """
@@ -37,6 +38,8 @@ DECODER_OPTIONS: dict[str, Any] = {
 }
 #: log10 cost of one filler phone at sensitivity 0 and 1
 PHONE_LOG10 = (-3.0, -11.0)
+#: similarity expansion: accepted cost relative to the triggers' mutual cost, at 0 and 1
+SIMILARITY_FACTOR = (1.0, 1.2)
 PEAK_LEVEL = 0.7  # each span is scaled to this peak before 16-bit conversion
 
 
@@ -72,7 +75,9 @@ class PocketsphinxBackend:
         for trigger in spec.words:
             seeds = [w for w in refined if w.word == trigger]
             others = [w for w in refined if w.word != trigger]
-            extra += expand_by_similarity(x, RATE, seeds, activity, others)
+            factor = SIMILARITY_FACTOR[0] + (SIMILARITY_FACTOR[1] - SIMILARITY_FACTOR[0]) \
+                * spec.sensitivity
+            extra += expand_by_similarity(x, RATE, seeds, activity, others, factor)
         return sorted(refined + extra, key=lambda w: w.start_s)
 
     def _prepare(self, spec: TriggerSpec) -> Any:
