@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import sys
 from collections import deque
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -25,7 +26,7 @@ from speechcal_core.synth.timeline import Timeline
 
 CHUNK_BYTES = 48 << 20  # rendered payload per chunk (bounds memory per chunk in flight)
 CHUNK_FRAMES = 120  # at most this many frames per chunk
-MIN_FRAMES_FOR_POOL = 300  # below this, worker start-up costs more than it saves
+MIN_FRAMES_FOR_POOL = 1500  # below this, worker start-up costs more than it saves
 
 
 class RecordingWriteError(SpeechCalError):
@@ -140,14 +141,14 @@ def _chunks(timeline: Timeline, frames: list[CameraFrames],
 def _rendered(timeline: Timeline, tasks: list[_Task], ros_version: int, workers: int,
               total: int) -> Iterator[tuple[_Task, list[bytes]]]:
     """(task, serialized messages) in task order, rendered here or by worker processes."""
-    if workers <= 1 or total < MIN_FRAMES_FOR_POOL:
+    if workers <= 1 or total < MIN_FRAMES_FOR_POOL or not _spawn_can_start():
         renderer = FrameRenderer(timeline)
         for task in tasks:
             yield task, _render_task(renderer, timeline, task, ros_version)
         return
-    # fork starts fast and needs no importable __main__; elsewhere the platform default
-    methods = multiprocessing.get_all_start_methods()
-    ctx = multiprocessing.get_context("fork" if "fork" in methods else None)
+    # spawn, not fork: a forked child inherits OpenCV's thread pool mid-use and can
+    # deadlock in its first cv2 call (seen under pytest after earlier cv2 work)
+    ctx = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx,
                              initializer=_init_worker, initargs=(timeline,)) as pool:
         pending: deque[tuple[_Task, Future]] = deque()
@@ -163,6 +164,12 @@ def _rendered(timeline: Timeline, tasks: list[_Task], ros_version: int, workers:
             if nxt is not None:
                 pending.append((nxt, pool.submit(_worker_task, nxt, ros_version)))
             yield task, payloads
+
+
+def _spawn_can_start() -> bool:
+    """Whether spawned workers can re-import ``__main__`` (not so for ``python -`` input)."""
+    main_file = getattr(sys.modules.get("__main__"), "__file__", None)
+    return main_file is None or os.path.exists(main_file)
 
 
 def _render_task(renderer: FrameRenderer, timeline: Timeline, task: _Task,

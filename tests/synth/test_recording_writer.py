@@ -129,6 +129,9 @@ def test_worker_processes_write_the_same_bytes_as_one_process(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     tl = _tiny(format="ros2-mcap", duration=6.0)
+    # OpenCV's thread pool busy in this process before the workers start (a forked worker
+    # used to deadlock on it)
+    cv2.GaussianBlur(np.zeros((1080, 1920, 3), np.uint8), (0, 0), 3.0)
     monkeypatch.setattr(recording_writer, "MIN_FRAMES_FOR_POOL", 0)
     monkeypatch.setattr(recording_writer, "CHUNK_FRAMES", 40)
     fractions: list[float] = []
