@@ -34,8 +34,13 @@ class Detection:
 
 def make_backend(name: str, *, model_dir: str | Path | None = None,
                  transcript: str | Path | None = None,
-                 examples: Sequence[tuple[float, float]] = ()) -> SpeechBackend:
-    """The backend called ``name``; raises SpeechError naming the fix when it cannot run."""
+                 examples: Sequence[tuple[float, float]] = (),
+                 example_word: str = "example") -> SpeechBackend:
+    """The backend called ``name``; raises SpeechError naming the fix when it cannot run.
+
+    ``examples`` are marked instances (audio seconds) for query by example, whose hits
+    are named ``example_word``.
+    """
     if transcript is not None:
         from speechcal_core.speech.transcripts import TranscriptBackend
 
@@ -57,7 +62,7 @@ def make_backend(name: str, *, model_dir: str | Path | None = None,
 
         if not examples:
             raise SpeechError("--backend example needs a marked instance: --example START:END")
-        return QueryByExampleBackend([Example(a, b) for a, b in examples])
+        return QueryByExampleBackend([Example(a, b, example_word) for a, b in examples])
     if name == "transcript":
         raise SpeechError("--backend transcript needs the file: --transcript F")
     raise SpeechError(f"unknown backend {name!r}; use one of {', '.join(BACKENDS)}")
@@ -72,7 +77,7 @@ def detect_triggers(audio_path: str | Path | None, triggers: Sequence[str] = DEF
     """Find the trigger words of an audio file, or take them from a transcript."""
     spec = TriggerSpec(tuple(triggers), sensitivity, dict(pronunciations or {}))
     chosen = make_backend(backend, model_dir=model_dir, transcript=transcript,
-                          examples=examples)
+                          examples=examples, example_word=spec.words[0])
     notes: list[str] = []
     duration = None
     if transcript is not None:
@@ -87,9 +92,6 @@ def detect_triggers(audio_path: str | Path | None, triggers: Sequence[str] = DEF
 
         audio = load_audio(audio_path, rate=16000)
         duration = audio.duration_s
-        if backend == "example":
-            for word in spec.words[:1]:
-                chosen = _named_examples(chosen, word)
         words = chosen.words(audio, spec)
     found = match_triggers(words, spec)
     if not found:
@@ -99,16 +101,6 @@ def detect_triggers(audio_path: str | Path | None, triggers: Sequence[str] = DEF
         else:
             notes.append(f"{what}: no trigger word ({', '.join(spec.words)}) found")
     return Detection(found, chosen.name, duration, notes)
-
-
-def _named_examples(backend: SpeechBackend, word: str) -> SpeechBackend:
-    """Name query-by-example hits after the (first) trigger word."""
-    from speechcal_core.speech.query_by_example import Example, QueryByExampleBackend
-
-    if isinstance(backend, QueryByExampleBackend):
-        return QueryByExampleBackend([Example(e.start_s, e.end_s, word)
-                                      for e in backend.examples])
-    return backend
 
 
 def _has_speech(audio: object, backend: SpeechBackend) -> bool:
