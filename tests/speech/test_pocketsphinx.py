@@ -116,3 +116,9 @@ def test_two_hours_of_silence_is_a_clear_empty_result(tmp_path: Path) -> None:
     assert result.triggers == []
     assert result.duration_s == pytest.approx(7200.0)
     assert result.notes == [f"{path}: no speech found in 7200.0 s of audio"]
+
+
+def test_higher_sensitivity_never_finds_fewer_words(capture_scene: Scene) -> None:
+    counts = [len(detect_triggers(capture_scene.path, ["capture"], sensitivity=s).triggers)
+              for s in (0.0, 0.5, 1.0)]
+    assert counts == sorted(counts) and counts[0] < counts[-1]
