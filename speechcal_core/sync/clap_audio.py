@@ -69,8 +69,9 @@ def audio_levels(audio: Audio) -> AudioLevels:
         return AudioLevels(-np.inf, -np.inf, 0.0)
     peak = float(np.max(np.abs(x)))
     rms = float(np.sqrt(np.mean(np.square(x, dtype=np.float64))))
-    clip_n = int(np.count_nonzero(np.abs(x) >= max(0.999, 0.999 * peak))) if peak >= 0.99 else 0
-    return AudioLevels(_db(peak), _db(rms), clip_n / x.size)
+    # clipping shows as many samples at the very peak (also after mixing channels down)
+    clip_n = int(np.count_nonzero(np.abs(x) >= 0.999 * peak)) if peak > 0 else 0
+    return AudioLevels(_db(peak), _db(rms), clip_n / x.size if clip_n >= 8 else 0.0)
 
 
 def find_audio_claps(audio: Audio, *, max_candidates: int = 10,
@@ -197,7 +198,9 @@ def _describe(x: np.ndarray, rate: int, i: int, hp: np.ndarray,
     peak = float(env[peak_i])
     # onset: AIC change point of the variance in the 40 ms before the peak
     s0 = max(0, peak_i - int(40 * ms))
-    onset = _threshold_onset(hi, s0 + _aic_pick(hi[s0: peak_i + 1]), ms)
+    clips = _flat_topped(raw[max(0, local - int(5 * ms)): local + int(30 * ms)])
+    onset = _threshold_onset(hi, s0 + _aic_pick(hi[s0: peak_i + 1]), ms,
+                             0.5 if clips else 0.15)
     half = onset + int(np.argmax(env[onset: peak_i + 1] >= 0.5 * peak))
     rise_ms = (half - onset) / ms
     burst = seg[onset: onset + int(10 * ms)]
@@ -224,7 +227,7 @@ def _describe(x: np.ndarray, rate: int, i: int, hp: np.ndarray,
         flatness=flatness,
         centroid_hz=centroid,
         sustain_db=float(sustain_db),
-        clipped=bool(raw_peak >= 0.99),
+        clipped=clips,
     )
     d = asdict(cand)
     d["score"] = clap_score(cand)
@@ -239,6 +242,9 @@ def clap_score(c: ClapCandidate) -> float:
     flat = _ramp(c.flatness, 0.03, 0.15)
     centroid = _ramp(c.centroid_hz, 400.0, 900.0)
     sustain = _ramp(-c.sustain_db, 8.0, 20.0)
+    if c.clipped:  # a clipped burst is capped: it looks longer and flatter than it was
+        decay = _ramp(-c.decay_ms, -250.0, -120.0) * _ramp(c.decay_ms, 1.0, 3.0)
+        sustain = _ramp(-c.sustain_db, 3.0, 10.0)
     return float(jump * rise * decay * flat * centroid * sustain) ** (1.0 / 3.0)
 
 
@@ -261,12 +267,23 @@ def _aic_pick(w: np.ndarray) -> int:
     return int(k[np.argmin(aic)])
 
 
-def _threshold_onset(hi: np.ndarray, coarse: int, ms: float) -> int:
+def _flat_topped(seg: np.ndarray) -> bool:
+    """Whether a stretch of audio clips: runs of samples sit at its very peak."""
+    peak = float(np.max(np.abs(seg), initial=0.0))
+    if peak <= 0:
+        return False
+    at = (np.abs(seg) >= 0.998 * peak).astype(np.int8)
+    runs = at[2:] & at[1:-1] & at[:-2]  # three in a row
+    return bool(np.count_nonzero(runs) >= 2)
+
+
+def _threshold_onset(hi: np.ndarray, coarse: int, ms: float, level: float) -> int:
     """Refine an AIC onset to where the attack itself starts.
 
     Lossy codecs smear a little energy (pre-echo, 10-20 dB down) up to a few ms ahead
     of a transient, and the AIC picker stops at its start. The attack is where a fine
-    envelope first reaches 30 % of the level just after it.
+    envelope first reaches ``level`` of the peak just after it (higher when the audio
+    clips: the capped attack no longer towers over the amplified pre-echo).
     """
     w = max(1, round(0.25 * ms))
     lo = max(0, coarse - round(1.0 * ms))
@@ -278,8 +295,13 @@ def _threshold_onset(hi: np.ndarray, coarse: int, ms: float) -> int:
     ref = float(env.max())
     if ref <= 0:
         return coarse
-    first = int(np.argmax(env >= 0.15 * ref))
-    # a centred RMS window reaches 30 % about 0.41 windows before the step itself
+    first = int(np.argmax(env >= level * ref))
+    half = int(np.argmax(env >= 0.5 * ref))
+    before = env[max(0, first - round(0.5 * ms)): max(1, first - round(0.25 * ms))]
+    quiet_before = before.size > 0 and float(before.max()) < 0.08 * ref
+    if half - first > 1.0 * ms and quiet_before:  # a slow climb out of quiet: pre-echo
+        first = half
+    # a centred RMS window reaches the level about 0.41 windows before the step itself
     return lo + min(seg.size - 1, first + round(0.41 * w))
 
 

@@ -19,13 +19,16 @@ def load_sync_audio(audio: str, recording: Sequence[str | Path], *,
     ``audio`` is a file path, or an audio topic of the recording (e.g. ``/audio/audio``).
     """
     p = Path(audio)
-    if p.exists() or not audio.startswith("/"):
+    if p.exists() or not audio.startswith("/") or p.suffix:
         return load_audio(p, channel=channel), None
     bags = [Path(r) for r in recording]
-    topics = audio_topics(bags)
+    try:
+        topics = audio_topics(bags)
+    except AudioError:
+        topics = {}
     if audio not in topics:
         listed = ", ".join(sorted(topics)) or "none"
-        raise AudioError(f"{audio}: neither an audio file nor an audio topic of the "
-                         f"recording (audio topics: {listed})")
+        raise AudioError(f"{audio}: audio file not found, and not an audio topic of the "
+                         f"recording either (audio topics: {listed})")
     bag = load_bag_audio(bags, audio, channel=channel)
     return bag.audio, stamped_sync(bag)

@@ -1,0 +1,125 @@
+"""Acceptance on ``speechcal synth`` sessions: clap, offset and drift against truth.json."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import soundfile as sf
+from conftest import make_session
+
+from speechcal_core.audio import load_audio
+from speechcal_core.cli import main
+from speechcal_core.sources import open_recording
+from speechcal_core.sync.pipeline import sync_recording
+
+AUDIO_TOL_S = 0.001
+
+
+def _sync(out: Path, truth: dict, audio: Path | None = None):
+    with open_recording(out / truth["recording"]) as src:
+        return sync_recording(src, load_audio(audio or out / "audio.ogg"))
+
+
+def _camera_errors_ns(result, truth: dict) -> list[int]:
+    offsets = {c["name"]: c["clock_offset_ns"] for c in truth["cameras"]}
+    errs = []
+    for clap, t in zip(result.claps, truth["claps"], strict=True):
+        errs += [c.clap_ns - t["session_ns"] - offsets[c.name] for c in clap.cameras]
+    return errs
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("seed", "snr"), [(0, 20.0), (1, 5.0), (2, 0.0)])
+def test_one_clap_session_meets_accuracy(session_root: Path, seed: int, snr: float) -> None:
+    out, truth = make_session(session_root, seed=seed, snr=snr)
+    r = _sync(out, truth)
+    assert len(r.claps) == 1 and r.model.drift == 0.0 and r.model.source == "auto"
+    assert abs(r.claps[0].audio_s - truth["claps"][0]["audio_s"]) <= AUDIO_TOL_S
+    half_frame = min(1e9 / c["fps"] for c in truth["cameras"]) / 2
+    # with drift 0 the truth model at the clap is the reference
+    t_audio = truth["claps"][0]["audio_s"]
+    truth_at_clap = truth["claps"][0]["session_ns"] - round(t_audio * 1e9)
+    assert abs(r.model.offset_ns - truth_at_clap) <= half_frame
+    assert {c.name for c in r.claps[0].cameras} == {c["name"] for c in truth["cameras"]}
+    assert all(abs(e) < 5e6 for e in _camera_errors_ns(r, truth))
+    assert not r.warnings
+
+
+@pytest.mark.slow
+def test_two_claps_give_drift(session_root: Path) -> None:
+    out, truth = make_session(session_root, seed=3, claps=2, duration=40.0, drift_ppm=40.0)
+    r = _sync(out, truth)
+    assert len(r.claps) == 2
+    for got, want in zip(r.claps, truth["claps"], strict=True):
+        assert abs(got.audio_s - want["audio_s"]) <= AUDIO_TOL_S
+    drift_err_ppm = abs(r.model.drift - truth["sync"]["drift"]) * 1e6
+    # camera claps are timed to about a millisecond, so over 37 s between claps the
+    # drift is good to ~10-40 ppm; 5 ppm needs claps several minutes apart
+    assert drift_err_ppm <= 40.0
+    at_first = truth["sync"]["offset_ns"] + round(
+        truth["claps"][0]["audio_s"] * truth["sync"]["drift"] * 1e9)
+    model_at_first = r.model.offset_ns + round(truth["claps"][0]["audio_s"] * r.model.drift * 1e9)
+    assert abs(model_at_first - at_first) <= min(1e9 / c["fps"] for c in truth["cameras"]) / 2
+
+
+@pytest.mark.slow
+def test_cli_json_and_resampled_clipped_audio(session_root: Path, tmp_path: Path,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    out, truth = make_session(session_root, seed=0)
+    rec = str(out / truth["recording"])
+    assert main(["sync", rec, "--audio", str(out / "audio.ogg"), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert {"offset_ns", "drift", "claps", "cameras"} <= set(doc)
+    assert {"audio_s", "session_ns"} <= set(doc["claps"][0])
+    assert all({"name", "clap_ns", "residual_ns"} <= set(c) for c in doc["cameras"])
+    want = truth["claps"][0]["audio_s"]
+    data, _ = sf.read(str(out / "audio.ogg"), dtype="float32")
+    from scipy.signal import resample_poly
+
+    low = tmp_path / "mono8k.wav"
+    sf.write(str(low), resample_poly(data, 1, 6).astype(np.float32), 8000)
+    high = tmp_path / "stereo96k.flac"
+    up = resample_poly(data, 2, 1).astype(np.float32)
+    sf.write(str(high), np.stack([up, 0.5 * up], axis=1), 96000)
+    hot = tmp_path / "clipped.wav"  # 20 dB too hot: the clap and the speech clip
+    sf.write(str(hot), np.clip(data * 10.0, -1.0, 1.0), 48000, subtype="FLOAT")
+    for path, tol in ((low, AUDIO_TOL_S), (high, AUDIO_TOL_S), (hot, AUDIO_TOL_S)):
+        assert main(["sync", rec, "--audio", str(path), "--json"]) == 0
+        captured = capsys.readouterr()
+        got = json.loads(captured.out)["claps"][0]["audio_s"]
+        assert abs(got - want) <= tol, path.name
+    assert "clip" in captured.err  # the clipped file is named as such, and still works
+
+
+@pytest.mark.slow
+def test_bad_audio_gives_one_line_reasons_and_manual_path_works(
+        session_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out, truth = make_session(session_root, seed=0)
+    rec = str(out / truth["recording"])
+    silent = tmp_path / "silent.wav"
+    sf.write(str(silent), np.zeros(16000 * 5, np.float32), 16000)
+    noise = tmp_path / "noise.wav"
+    rng = np.random.default_rng(0)
+    sf.write(str(noise), (0.05 * rng.standard_normal(16000 * 5)).astype(np.float32), 16000)
+    cases = [(tmp_path / "missing.ogg", "not found"), (silent, "silent"),
+             (noise, "no clap found")]
+    for path, words in cases:
+        assert main(["sync", rec, "--audio", str(path), "--json"]) == 1
+        captured = capsys.readouterr()
+        assert captured.out == ""
+        lines = captured.err.strip().splitlines()
+        assert len(lines) == 1 and words in lines[0] and path.name in lines[0]
+    # set by hand: both clocks, or the video side only
+    clap_ns = truth["claps"][0]["session_ns"]
+    assert main(["sync", rec, "--audio", str(silent), "--audio-clap", "1.25",
+                 "--video-clap-ns", str(clap_ns), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["source"] == "manual" and doc["offset_ns"] == clap_ns - 1_250_000_000
+    assert main(["sync", rec, "--audio", str(out / "audio.ogg"),
+                 "--video-clap-ns", str(clap_ns), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["source"] == "manual"
+    assert abs(doc["claps"][0]["audio_s"] - truth["claps"][0]["audio_s"]) <= AUDIO_TOL_S
