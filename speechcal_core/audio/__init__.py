@@ -2,9 +2,18 @@
 
 from __future__ import annotations
 
+from speechcal_core.audio.bag_audio import BagAudio, load_bag_audio
 from speechcal_core.audio.envelope import EnvelopePyramid
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.loader import Audio, load_audio
 from speechcal_core.audio.resampling import resample
 
-__all__ = ["Audio", "AudioError", "EnvelopePyramid", "load_audio", "resample"]
+__all__ = [
+    "Audio",
+    "AudioError",
+    "BagAudio",
+    "EnvelopePyramid",
+    "load_audio",
+    "load_bag_audio",
+    "resample",
+]
