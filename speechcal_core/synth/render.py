@@ -104,7 +104,9 @@ class FrameRenderer:
         if found is None:
             return None
         (x0, y0, x1, y1), texels_per_px, shift_px = found
-        samples = min(MAX_SAMPLES, 1 + math.ceil(shift_px / MAX_BLUR_STEP_PX - 1e-9))
+        # samples at most MAX_BLUR_STEP_PX apart; under half a pixel of travel, no blur
+        samples = min(MAX_SAMPLES, max(2, math.ceil(shift_px / MAX_BLUR_STEP_PX))
+                      if shift_px >= 0.5 else 1)
         levels = self.texture.levels
         level = min(len(levels) - 1, max(0, math.floor(math.log2(max(texels_per_px, 1.0)))))
         tex = levels[level]
