@@ -298,8 +298,9 @@ class ReviewWindow(QMainWindow):
                                     if tile.stamp_ns else "no frames in this stream")
                 widget.set_state(decision, "no frame")
                 continue
-            widget.set_state(decision, "")
-            widget.caption = f"{tile.offset_ns / 1e6:+.1f} ms"
+            widget.set_state(decision, ", ".join(tile.flags))
+            widget.caption = ("chosen frame" if tile.chosen
+                              else f"{tile.offset_ns / 1e6:+.1f} ms")
             wanted.append((tile.stream, tile.index))
             self._pending_tiles.add(tile.stream)
         self.loader.request(wanted)

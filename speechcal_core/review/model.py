@@ -49,6 +49,18 @@ class TileState:
     index: int  # -1: no frame near the playhead
     stamp_ns: int
     offset_ns: int  # stamp - playhead
+    chosen: bool = False  # the frame set's chosen frame (playhead at the set)
+    flags: tuple[str, ...] = ()  # quality warnings of the chosen frame
+
+
+def set_time_ns(frame_set: FrameSet) -> int:
+    """Where a set sits on the session clock: the median stamp of its chosen frames.
+
+    That is the trigger time for nearest-frame sets and the common still time chosen by
+    the best-still-frame search otherwise; a set with no frames falls back to ``t_ns``.
+    """
+    stamps = sorted(f.stamp_ns for f in frame_set.frames if f.index >= 0)
+    return stamps[len(stamps) // 2] if stamps else frame_set.t_ns
 
 
 class ReviewModel:
@@ -71,7 +83,7 @@ class ReviewModel:
         )
         self._periods = {k: frame_period_ns(v) for k, v in self._stamps.items()}
         self.current = 0 if session.sets else -1
-        self.playhead_ns = session.sets[0].t_ns if session.sets else self._first_stamp()
+        self.playhead_ns = set_time_ns(session.sets[0]) if session.sets else self._first_stamp()
 
     # -- events -------------------------------------------------------------------------
     def connect(self, event: str, callback: Callable[..., None]) -> None:
@@ -99,7 +111,17 @@ class ReviewModel:
                 max(int(s[-1]) for s in self._stamps.values() if len(s)))
 
     def tiles(self) -> list[TileState]:
-        """Per camera, the frame nearest the playhead, or none within half a frame period."""
+        """Per camera, what to show at the playhead.
+
+        At a frame set's time these are the set's chosen frames (with their warnings);
+        elsewhere the frame nearest the playhead, or none within half a frame period.
+        """
+        current = self.current_set
+        if current is not None and self.playhead_ns == set_time_ns(current):
+            chosen = {f.stream: f for f in current.frames}
+            if set(chosen) >= set(self._stamps):
+                return [TileState(f.stream, f.index, f.stamp_ns, f.stamp_ns - self.playhead_ns,
+                                  True, f.flags) for f in (chosen[n] for n in self._stamps)]
         out = []
         for name, stamps in self._stamps.items():
             i = nearest_index(stamps, self.playhead_ns)
@@ -116,11 +138,11 @@ class ReviewModel:
 
     def set_at_playhead(self, tolerance_ns: int = 50_000_000) -> FrameSet | None:
         """The frame set whose time is within ``tolerance_ns`` of the playhead."""
-        best = None
+        best, best_d = None, tolerance_ns + 1
         for s in self.session.sets:
-            d = abs(s.t_ns - self.playhead_ns)
-            if d <= tolerance_ns and (best is None or d < abs(best.t_ns - self.playhead_ns)):
-                best = s
+            d = abs(set_time_ns(s) - self.playhead_ns)
+            if d < best_d:
+                best, best_d = s, d
         return best
 
     # -- navigation actions -------------------------------------------------------------
@@ -134,7 +156,7 @@ class ReviewModel:
             return
         self.current = int(min(max(index, 0), len(self.session.sets) - 1))
         self._emit("current_set", self.current)
-        self.set_playhead(self.session.sets[self.current].t_ns)
+        self.set_playhead(set_time_ns(self.session.sets[self.current]))
 
     def next_set(self) -> None:
         self.go_to_set(self.current + 1)
@@ -177,15 +199,13 @@ class ReviewModel:
 
     def set_sync(self, sync: SyncModel) -> None:
         """Use another sync model: every set's time and nearest frames follow it."""
-        old = self.session.sync
         self.session.sync = sync
         for i, s in enumerate(self.session.sets):
             t_ns = int(sync.to_session(s.trigger.t_s))
             frames = tuple(nearest_choice(name, st, t_ns) for name, st in self._stamps.items())
             self.session.sets[i] = replace(s, t_ns=t_ns, frames=frames or s.frames)
         if self.current_set is not None:
-            self.playhead_ns += self.current_set.t_ns - int(
-                old.to_session(self.current_set.trigger.t_s))
+            self.playhead_ns = set_time_ns(self.current_set)
         self._emit("sync", sync)
         self._emit("playhead", self.playhead_ns)
         self._save()

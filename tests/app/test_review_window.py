@@ -11,6 +11,7 @@ import pytest
 from PySide6.QtCore import Qt
 
 from app.main_window import ReviewWindow
+from speechcal_core.review.model import set_time_ns
 from speechcal_core.session.store import load_session
 
 
@@ -64,7 +65,7 @@ def test_clicking_a_row_jumps_to_that_set(qtbot, window) -> None:
     last = window.table.rowCount() - 1
     window.table.selectRow(last)
     assert window.model.current == last
-    assert window.model.playhead_ns == window.model.session.sets[last].t_ns
+    assert window.model.playhead_ns == set_time_ns(window.model.session.sets[last])
 
 
 def test_tile_without_a_frame_near_the_playhead_says_so(qtbot, window) -> None:

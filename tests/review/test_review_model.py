@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
-from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
+from speechcal_core.review.model import KEY_BINDINGS, ReviewModel, set_time_ns
 from speechcal_core.session.store import load_session, save_session
 from speechcal_core.sources import open_recording
 
@@ -46,11 +47,11 @@ def test_set_navigation_moves_the_playhead_to_the_set(truth_session_file: Path) 
     seen = []
     model.connect("playhead", seen.append)
     model.last_set()
-    assert model.playhead_ns == model.session.sets[-1].t_ns
+    assert model.playhead_ns == set_time_ns(model.session.sets[-1])
     model.next_set()  # stays on the last one
     assert model.current == len(model.session.sets) - 1
     model.first_set()
-    assert seen[-1] == model.session.sets[0].t_ns
+    assert seen[-1] == set_time_ns(model.session.sets[0])
     assert model.set_at_playhead() is model.session.sets[0]
 
 
@@ -104,3 +105,26 @@ def test_offset_nudge_moves_sets_marks_sync_manual_and_saves(truth_session_file:
         for f in s.frames:
             if f.index >= 0:
                 assert abs(f.stamp_ns - s.t_ns) <= 1e9 / 15 / 2 + 1
+
+
+def test_at_a_set_the_tiles_show_its_chosen_frames_and_their_warnings(
+    truth_session_file: Path,
+) -> None:
+    session = load_session(truth_session_file)
+    first = session.sets[0]
+    source = open_recording(session.recording)
+    # as the best-still-frame search would: every camera one frame later, one flagged
+    later = []
+    for n, f in enumerate(first.frames):
+        i = f.index + 1
+        stamp = int(source.stamps(f.stream)[i])
+        later.append(replace(f, index=i, stamp_ns=stamp, flags=("blurred",) if n == 0 else ()))
+    session.replace_set(replace(first, frames=tuple(later)))
+    model = ReviewModel(session, source)
+    model.go_to_set(0)
+    tiles = model.tiles()
+    assert [t.index for t in tiles] == [f.index for f in later]
+    assert all(t.chosen for t in tiles)
+    assert tiles[0].flags == ("blurred",) and tiles[1].flags == ()
+    model.next_frame()  # off the set's time: plain nearest frames again
+    assert not any(t.chosen for t in model.tiles())
