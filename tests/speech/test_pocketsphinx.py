@@ -116,6 +116,7 @@ def test_two_hours_of_silence_is_a_clear_empty_result(tmp_path: Path) -> None:
     assert result.triggers == []
     assert result.duration_s == pytest.approx(7200.0)
     assert result.notes == [f"{path}: no speech found in 7200.0 s of audio"]
+    path.unlink()  # 230 MB: do not keep it among pytest's recent temporary folders
 
 
 def test_higher_sensitivity_never_finds_fewer_words(capture_scene: Scene) -> None:
