@@ -13,6 +13,10 @@ from speechcal_core.frames.window import CameraWindow
 STILL_RATIO = 2.0
 #: candidates within this fraction of the best score count as equally good
 TIE_FRACTION = 0.9
+#: a still stretch at least this long (ns) is preferred to a shorter one
+MIN_RUN_NS = 150_000_000
+#: among equally good times, being this far inside the still stretch is enough (ns)
+MARGIN_NS = 100_000_000
 
 
 @dataclass(frozen=True)
@@ -51,19 +55,28 @@ def score_camera(win: CameraWindow, noise_floor: float) -> CameraScore:
 
 
 def choose_common_time(
-    windows: Sequence[CameraWindow], scores: Sequence[CameraScore], t_trigger_ns: int
+    windows: Sequence[CameraWindow],
+    scores: Sequence[CameraScore],
+    t_trigger_ns: int,
+    full_stamps: Sequence[np.ndarray] | None = None,
 ) -> Choice | None:
     """The common time (a frame stamp in the window) whose worst camera quality is highest.
 
     Each camera contributes its frame nearest the candidate time if it lies within half a
     frame period (otherwise that camera scores 0). Only one stretch where every camera is
     still competes: the one around the trigger, else the first after it, else the last
-    before it. Near-ties go to the time deepest inside the stretch, then the one nearest
-    the trigger.
+    before it. Near-ties go to a time at least ``MARGIN_NS`` inside the stretch (or the
+    deepest), then to the smallest skew between the cameras' nearest frames (from
+    ``full_stamps``, every frame of each camera, when the scan skipped some), then to the
+    time nearest the trigger.
     """
     cands = np.unique(np.concatenate([w.stamps[w.inside] for w in windows] or [np.zeros(0)]))
     if cands.size == 0:
         return None
+    if full_stamps is not None:  # every frame time in the scanned span is a candidate
+        lo, hi = cands[0], cands[-1]
+        extra = [st[(st >= lo) & (st <= hi)] for st in full_stamps]
+        cands = np.unique(np.concatenate([cands, *extra]))
     n = cands.size
     worst = np.full(n, np.inf)
     all_still = np.ones(n, bool)
@@ -85,16 +98,25 @@ def choose_common_time(
     at = [r for r in runs if cands[r[0]] <= t_trigger_ns <= cands[r[1]]]
     after = [r for r in runs if cands[r[0]] > t_trigger_ns]
     before = [r for r in runs if cands[r[1]] < t_trigger_ns]
-    if at or after or before:
-        stretch = "at" if at else "after" if after else "before"
-        a, b = at[0] if at else after[0] if after else before[-1]
+    def long(r: tuple[int, int]) -> bool:
+        return bool(cands[r[1]] - cands[r[0]] >= MIN_RUN_NS)
+
+    # a short stretch is often the cameras' frames lining up by chance while settling
+    options = ([("at", r) for r in at if long(r)] + [("after", r) for r in after if long(r)]
+               + [("at", r) for r in at]
+               + [("after", r) for r in sorted(after, key=lambda r: cands[r[0]] - cands[r[1]])]
+               + [("before", r) for r in before[::-1]])
+    if options:
+        stretch, (a, b) = options[0]
         pool = np.arange(a, b + 1)
     else:
         stretch, pool = "none", np.arange(n)
     best = float(worst[pool].max())
     good = pool[worst[pool] >= best * TIE_FRACTION] if best > 0 else pool
-    depth = _still_depth(all_still)
-    key = [(-depth[k], abs(int(cands[k]) - t_trigger_ns)) for k in good]
+    depth = _still_depth_ns(cands, all_still)
+    skew = _skew(cands, full_stamps or [w.stamps for w in windows if w.stamps.size])
+    key = [(-min(depth[k], MARGIN_NS), skew[k], abs(int(cands[k]) - t_trigger_ns))
+           for k in good]
     k = int(good[min(range(len(good)), key=key.__getitem__)])
     return Choice(int(cands[k]), tuple(int(p) for p in pos[:, k]), float(worst[k]),
                   bool(all_still[k]), _still_run(cands, all_still, k), stretch)
@@ -122,20 +144,21 @@ def nearest_indices(stamps: np.ndarray, times: np.ndarray) -> np.ndarray:
     return np.where(closer_left, left, right)
 
 
-def _still_depth(still: np.ndarray) -> np.ndarray:
-    """Per candidate, how many candidates separate it from the nearest non-still one."""
-    n = still.size
-    depth = np.zeros(n, np.int64)
-    run = 0
-    left = np.zeros(n, np.int64)
-    for k in range(n):
-        run = run + 1 if still[k] else 0
-        left[k] = run
-    run = 0
-    for k in range(n - 1, -1, -1):
-        run = run + 1 if still[k] else 0
-        depth[k] = min(left[k], run)
+def _still_depth_ns(cands: np.ndarray, still: np.ndarray) -> np.ndarray:
+    """Per candidate, how far (ns) it lies inside its still stretch (0 when not still)."""
+    depth = np.zeros(cands.size, np.int64)
+    for a, b in _runs(still):
+        span = cands[a:b + 1]
+        depth[a:b + 1] = np.minimum(span - cands[a], cands[b] - span)
     return depth
+
+
+def _skew(cands: np.ndarray, stamps: Sequence[np.ndarray]) -> np.ndarray:
+    """Per candidate time, the spread of the cameras' nearest frame stamps."""
+    if not stamps:
+        return np.zeros(cands.size, np.int64)
+    near = np.stack([st[nearest_indices(st, cands)] for st in stamps if st.size])
+    return near.max(axis=0) - near.min(axis=0)
 
 
 def _still_run(cands: np.ndarray, still: np.ndarray, k: int) -> tuple[int, int] | None:

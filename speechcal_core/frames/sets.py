@@ -15,7 +15,13 @@ from speechcal_core.frames.detect import Detection, Target, TargetDetector
 from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
 from speechcal_core.frames.preview import preview_factor, preview_gray
 from speechcal_core.frames.quality import mask_box, region_mask, sharpness
-from speechcal_core.frames.select import CameraScore, Choice, choose_common_time, score_camera
+from speechcal_core.frames.select import (
+    MIN_RUN_NS,
+    CameraScore,
+    Choice,
+    choose_common_time,
+    score_camera,
+)
 from speechcal_core.frames.window import CameraWindow, scan_window
 from speechcal_core.session.model import FrameChoice, FrameSet, Trigger
 from speechcal_core.sources.base import COMPRESSED_MSGTYPE
@@ -109,8 +115,9 @@ def build_frame_sets(
     for s in infos:
         vals = [v[0] for (_n, name), v in measured.items() if name == s.name and v[0] > 0]
         refs[s.name] = float(np.percentile(vals, 90)) if vals else 0.0
-    # cameras run free: a set's skew up to half the slowest camera's period is unavoidable
-    tol = max((p // 2 for p in periods.values() if p), default=0)
+    # free-running cameras cannot always do better than the two longest half periods
+    halves = sorted((p // 2 for p in periods.values() if p), reverse=True)
+    tol = sum(halves[:2]) if len(halves) > 1 else 0
     for n, (trigger, t) in enumerate(zip(trig, t_ns, strict=True)):
         set_id = n + 1
         frames = []
@@ -268,30 +275,51 @@ def _search(
     windows: list[list[CameraWindow] | None] = [
         flat[n * len(infos):(n + 1) * len(infos)] for n in range(len(t_ns))]
     floors = _noise_floors(infos, windows)
+    full = [stamps[s.name] for s in infos]
     choices: list[Choice | None] = []
     scores: list[list[CameraScore] | None] = []
     retry = []
     for n, wins in enumerate(windows):
         assert wins is not None
         sc = [score_camera(w, floors[w.stream]) for w in wins]
-        ch = choose_common_time(wins, sc, t_ns[n])
+        ch = choose_common_time(wins, sc, t_ns[n], full)
         choices.append(ch)
         scores.append(sc)
-        if (ch is None or ch.stretch in ("before", "none")) and options.extend_s > 0:
+        if options.extend_s > 0 and _worth_extending(ch):
             retry.append(n)
     if retry:
         extra = int(options.extend_s * NS)
         more = list(pool.map(scan, [(n, c, extra) for n in retry for c in range(len(infos))]))
+        report("windows", 1.0)
         for k, n in enumerate(retry):
             wins = more[k * len(infos):(k + 1) * len(infos)]
             sc = [score_camera(w, floors[w.stream]) for w in wins]
-            ch = choose_common_time(wins, sc, t_ns[n])
-            old = choices[n]
-            rank = ("at", "after", "before", "none")
-            if ch is not None and (old is None
-                                   or rank.index(ch.stretch) < rank.index(old.stretch)):
+            ch = choose_common_time(wins, sc, t_ns[n], full)
+            if ch is not None and _better(ch, choices[n]):
                 choices[n], windows[n], scores[n] = ch, wins, sc
     return choices, windows, scores
+
+
+_RANK = ("at", "after", "before", "none")
+
+
+def _still_length(ch: Choice) -> int:
+    return ch.still_ns[1] - ch.still_ns[0] if ch.still_ns else -1
+
+
+def _worth_extending(ch: Choice | None) -> bool:
+    """No still moment at or after the word, or only a short one (it may go on later)."""
+    if ch is None or ch.stretch in ("before", "none"):
+        return True
+    return _still_length(ch) < MIN_RUN_NS
+
+
+def _better(new: Choice, old: Choice | None) -> bool:
+    """Whether a choice from the extended window beats the first one."""
+    if old is None:
+        return True
+    a, b = _RANK.index(new.stretch), _RANK.index(old.stretch)
+    return a < b or (a == b and _still_length(new) > _still_length(old))
 
 
 def _noise_floors(infos: list[StreamInfo],
