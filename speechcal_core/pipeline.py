@@ -25,15 +25,16 @@ def _noop(_text: str, _fraction: float) -> None:
     pass
 
 
-def detect_trigger_words(audio, trigger_words: Sequence[str]) -> list[Trigger]:
-    """Trigger words in ``audio`` (an :class:`~speechcal_core.audio.Audio`) as triggers."""
-    from speechcal_core.speech.matching import TriggerSpec, match_triggers
-    from speechcal_core.speech.pocketsphinx_backend import PocketsphinxBackend
+def detect_trigger_words(audio, trigger_words: Sequence[str],
+                         transcript: str | None = None) -> tuple[list[Trigger], list[str]]:
+    """Trigger words in ``audio`` (an :class:`~speechcal_core.audio.Audio`), or in a
+    transcript file when one is given; returns the triggers and the detector's notes."""
+    from speechcal_core.speech import detect_triggers
 
-    spec = TriggerSpec(words=tuple(trigger_words))
-    words = match_triggers(PocketsphinxBackend().words(audio, spec), spec)
-    return [Trigger(w.word, w.start_s, w.end_s, w.score, w.source or "pocketsphinx")
-            for w in words]
+    detection = detect_triggers(audio, tuple(trigger_words), transcript=transcript)
+    triggers = [Trigger(w.word, w.start_s, w.end_s, w.score, w.source or detection.backend)
+                for w in detection.triggers]
+    return triggers, list(detection.notes)
 
 
 def process_recording(
@@ -53,15 +54,11 @@ def process_recording(
     (or turns the best-still-frame search off).
     """
     from speechcal_core.audio import load_audio
-    from speechcal_core.errors import NotYetAvailableError
     from speechcal_core.frames.analysis import analyse_frames
     from speechcal_core.sources import open_recording
     from speechcal_core.sync.pipeline import sync_recording
     from speechcal_core.target import TargetSpec
 
-    if transcript is not None:
-        raise NotYetAvailableError("--transcript needs the speech layer's transcript import, "
-                                   "which this version does not have yet")
     report = progress or _noop
     report("indexing the recording", 0.02)
     with open_recording(list(recording)) as source:
@@ -78,8 +75,7 @@ def process_recording(
             evidence = {k: v for k, v in result.to_dict().items()
                         if k not in ("offset_ns", "drift", "source")}
         report("finding the trigger words", 0.45)
-        triggers = detect_trigger_words(sound.resampled(16000) if sound.rate != 16000
-                                        else sound, trigger_words)
+        triggers, notes = detect_trigger_words(sound, trigger_words, transcript)
 
         def frames_progress(stage: str, fraction: float) -> None:
             start, span = {"windows": (0.6, 0.2), "corners": (0.8, 0.1)}.get(stage, (0.9, 0.1))
@@ -97,7 +93,7 @@ def process_recording(
         triggers_word=list(trigger_words),
         sync_evidence=evidence,
         calibration=analysis.calibration,
-        extra=analysis.extra,
+        extra={**analysis.extra, "detection_notes": notes} if notes else analysis.extra,
     )
     report("done", 1.0)
     return session

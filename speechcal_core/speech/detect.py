@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from speechcal_core.speech.backend import SpeechBackend, Word
 from speechcal_core.speech.errors import SpeechError
@@ -14,6 +15,9 @@ from speechcal_core.speech.matching import (
     TriggerSpec,
     match_triggers,
 )
+
+if TYPE_CHECKING:
+    from speechcal_core.audio import Audio
 
 BACKENDS = ("pocketsphinx", "faster-whisper", "whisperx", "transcript", "example")
 
@@ -68,13 +72,17 @@ def make_backend(name: str, *, model_dir: str | Path | None = None,
     raise SpeechError(f"unknown backend {name!r}; use one of {', '.join(BACKENDS)}")
 
 
-def detect_triggers(audio_path: str | Path | None, triggers: Sequence[str] = DEFAULT_TRIGGERS,
+def detect_triggers(audio_path: str | Path | Audio | None,
+                    triggers: Sequence[str] = DEFAULT_TRIGGERS,
                     *, backend: str = "pocketsphinx", transcript: str | Path | None = None,
                     sensitivity: float = DEFAULT_SENSITIVITY,
                     pronunciations: Mapping[str, str] | None = None,
                     model_dir: str | Path | None = None,
                     examples: Sequence[tuple[float, float]] = ()) -> Detection:
-    """Find the trigger words of an audio file, or take them from a transcript."""
+    """Find the trigger words of an audio file, or take them from a transcript.
+
+    ``audio_path`` may also be an already loaded :class:`~speechcal_core.audio.Audio`.
+    """
     spec = TriggerSpec(tuple(triggers), sensitivity, dict(pronunciations or {}))
     chosen = make_backend(backend, model_dir=model_dir, transcript=transcript,
                           examples=examples, example_word=spec.words[0])
@@ -88,9 +96,13 @@ def detect_triggers(audio_path: str | Path | None, triggers: Sequence[str] = DEF
     else:
         if audio_path is None:
             raise SpeechError("no audio given; pass the microphone recording")
-        from speechcal_core.audio import load_audio
+        from speechcal_core.audio import Audio, load_audio
 
-        audio = load_audio(audio_path, rate=16000)
+        if isinstance(audio_path, Audio):
+            audio = audio_path if audio_path.rate == 16000 else audio_path.resampled(16000)
+            audio_path = audio.path or "audio"
+        else:
+            audio = load_audio(audio_path, rate=16000)
         duration = audio.duration_s
         words = chosen.words(audio, spec)
     found = match_triggers(words, spec)

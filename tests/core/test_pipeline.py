@@ -1,0 +1,31 @@
+"""The processing facade with a transcript and a known offset (no clap, no recogniser)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from speechcal_core.pipeline import process_recording
+
+
+def test_transcript_and_known_offset_give_one_set_per_trigger_inside_its_hold(
+    tiny_synth: tuple[Path, dict], tmp_path: Path
+) -> None:
+    folder, truth = tiny_synth
+    csv = tmp_path / "words.csv"
+    rows = ["word,start,end", "okay,0.20,0.45"]
+    rows += [f"Capture!,{t['start_s']:.4f},{t['end_s']:.4f}" for t in truth["triggers"]]
+    csv.write_text("\n".join(rows) + "\n")
+    stages: list[str] = []
+    session = process_recording(
+        [str(folder / truth["recording"])], str(folder / truth["audio"]),
+        transcript=str(csv), offset_ns=truth["sync"]["offset_ns"],
+        progress=lambda text, _f: stages.append(text),
+    )
+    assert session.sync.source == "manual" and session.sync_evidence == {}
+    assert [s.trigger.word for s in session.sets] == ["capture"] * len(truth["triggers"])
+    for frame_set, trig in zip(session.sets, truth["triggers"], strict=True):
+        start, end = trig["hold"]
+        for frame in frame_set.frames:
+            assert frame.index >= 0
+            assert start - 40e6 <= frame.stamp_ns <= end + 40e6
+    assert "finding the clap" not in stages and stages[-1] == "done"
