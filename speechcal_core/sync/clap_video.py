@@ -84,17 +84,18 @@ def find_video_claps(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np
     period = float(np.median(np.diff(t))) if t.size > 1 else 1 / 30
     events = _events(stack, t, period)
     out: list[VideoClap] = []
+    full_res = scale < 1.0 and detail is not None
     for k, (x, y, w, h), score in events:
-        t_clap = _refine(stack[:, y:y + h, x:x + w], t, k, period)
-        if t_clap is None:
-            continue
         roi_full = (int(x / scale), int(y / scale), int(w / scale), int(h / scale))
-        if scale < 1.0 and detail is not None:
+        t_clap = _refine(stack[:, y:y + h, x:x + w], t, k, period)
+        if full_res and (t_clap is not None or score >= 0.5 * events[0][2]):
             fine = _refine_full(detail, roi_full, t, k, period)
-            if fine is not None and abs(fine - t_clap) < 0.5 * period:
+            if fine is not None and (t_clap is None or abs(fine - t_clap) < 0.5 * period):
                 t_clap = fine
-        out.append(_clap(stream, stamps, t_clap, score, "v-fit", roi_full, period))
-    if not out and events:
+        if t_clap is not None:
+            out.append(_clap(stream, stamps, t_clap, score, "v-fit", roi_full, period))
+    if events and (not out or events[0][2] > 3.0 * max(c.score for c in out)):
+        # a much clearer burst without the V shape still counts, timed to its frame
         k, (x, y, w, h), score = events[0]
         roi_full = (int(x / scale), int(y / scale), int(w / scale), int(h / scale))
         out.append(_clap(stream, stamps, float(t[k]), score, "peak", roi_full, period))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -85,6 +86,7 @@ def video_clap_candidates(source: FrameSource, stream: str, t0_ns: int,
         return []
     index = [int(np.searchsorted(stamps, k)) for k in kept]
 
+    @functools.lru_cache(maxsize=160)
     def detail(j: int) -> np.ndarray:
         return to_gray_small(source.frame(stream, index[j]), 1 << 30)[0]
 
