@@ -10,7 +10,7 @@ import numpy as np
 from speechcal_core.target import TargetSpec
 
 #: longest image side used for the coarse search; corners are refined at full resolution
-DETECT_MAX_SIDE = 640
+DETECT_MAX_SIDE = 800
 _SUBPIX = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 30, 0.01)
 # OpenCV's corners run TL, TR, BR, BL around its marker image, which is the AprilTag turned
 # by 180 degrees. Kalibr prints the AprilTag upright (y up) and numbers corners
