@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.session.model import FrameChoice, FrameSet, Trigger
+from speechcal_core.sources import stats
 from speechcal_core.sync.model import SyncModel
 
 if TYPE_CHECKING:
@@ -16,14 +17,7 @@ if TYPE_CHECKING:
 
 def nearest_index(stamps: np.ndarray, t_ns: int) -> int:
     """Index of the stamp closest to ``t_ns`` in a sorted int64 array (-1 if empty)."""
-    if len(stamps) == 0:
-        return -1
-    i = int(np.searchsorted(stamps, t_ns))
-    if i == 0:
-        return 0
-    if i == len(stamps):
-        return len(stamps) - 1
-    return i if stamps[i] - t_ns < t_ns - stamps[i - 1] else i - 1
+    return stats.nearest_index(stamps, t_ns) if len(stamps) else -1
 
 
 def frame_period_ns(stamps: np.ndarray) -> int:

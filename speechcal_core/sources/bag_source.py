@@ -9,7 +9,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.sources import index_cache
-from speechcal_core.sources.base import COMPRESSED_MSGTYPE, RawFrame, StreamInfo
+from speechcal_core.sources.base import (
+    COMPRESSED_MSGTYPE,
+    ClosingContext,
+    RawFrame,
+    StreamInfo,
+)
 from speechcal_core.sources.decode import (
     compressed_kind,
     decode_compressed,
@@ -22,7 +27,6 @@ from speechcal_core.sources.stats import nearest_index, stamp_stats
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
-    from types import TracebackType
 
     from speechcal_core.sources.scan import FileScan, MessageFile, TopicScan
 
@@ -63,7 +67,7 @@ def fill_meta(t: TopicScan, f: MessageFile) -> None:
             continue
 
 
-class BagSource:
+class BagSource(ClosingContext):
     """Image topics of bag files (ROS1, ROS2 sqlite3, MCAP) keyed by header stamp."""
 
     def __init__(self, files: Sequence[MessageFile], *, use_cache: bool = True) -> None:
@@ -247,14 +251,3 @@ class BagSource:
         """Close every file."""
         for f in self._files:
             f.close()
-
-    def __enter__(self) -> BagSource:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()

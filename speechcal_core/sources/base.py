@@ -9,6 +9,7 @@ if TYPE_CHECKING:
     from types import TracebackType
 
     import numpy as np
+    from typing_extensions import Self
 
 IMAGE_MSGTYPE = "sensor_msgs/msg/Image"
 COMPRESSED_MSGTYPE = "sensor_msgs/msg/CompressedImage"
@@ -94,3 +95,21 @@ class FrameSource(Protocol):
         exc: BaseException | None,
         tb: TracebackType | None,
     ) -> None: ...
+
+
+class ClosingContext:
+    """``with source:`` support shared by every frame source: leaving the block closes it."""
+
+    def close(self) -> None:
+        """Release files (nothing by default)."""
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()

@@ -4,18 +4,18 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from speechcal_core.sources.base import ClosingContext
 from speechcal_core.sources.errors import SourceError
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
-    from types import TracebackType
 
     import numpy as np
 
     from speechcal_core.sources.base import FrameSource, RawFrame, StreamInfo
 
 
-class CombinedSource:
+class CombinedSource(ClosingContext):
     """Streams of several sources (e.g. one video per camera); names must not clash."""
 
     def __init__(self, sources: Sequence[FrameSource]) -> None:
@@ -64,14 +64,3 @@ class CombinedSource:
         """Close every source."""
         for src in self._sources:
             src.close()
-
-    def __enter__(self) -> CombinedSource:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()

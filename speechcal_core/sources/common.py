@@ -6,19 +6,18 @@ import threading
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+from speechcal_core.sources.base import ClosingContext
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sources.stats import nearest_index
 
 if TYPE_CHECKING:
-    from types import TracebackType
 
     import numpy as np
-    from typing_extensions import Self
 
     from speechcal_core.sources.base import StreamInfo
 
 
-class StreamTable:
+class StreamTable(ClosingContext):
     """Holds ``StreamInfo`` and sorted stamps per stream; subclasses add frame/raw/close."""
 
     def __init__(self) -> None:
@@ -65,14 +64,3 @@ class StreamTable:
 
     def close(self) -> None:
         """Release files (nothing by default)."""
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()
