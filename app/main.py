@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 
@@ -24,7 +24,7 @@ def run_review(
     recording: Sequence[str] | None = None,
     audio: str | None = None,
     screenshot: str | None = None,
-    on_demo: Callable[[], tuple[str, ...]] | None = None,
+    offer_demo: bool = True,
 ) -> int:
     """Open the window on the given input; with ``screenshot`` render it to PNG and exit."""
     if screenshot and not has_display():
@@ -37,10 +37,7 @@ def run_review(
     app.setApplicationName("SpeechCal")
     window = ReviewWindow()
     window.setProperty("headless", bool(screenshot))
-    if on_demo is not None:
-        window.demo_button.clicked.connect(lambda: window.open(session_path=on_demo()[0]))
-    else:
-        window.demo_button.hide()
+    window.demo_button.setVisible(offer_demo)
     if session_path or recording:
         window.open(session_path=session_path, recording=list(recording or []) or None,
                     audio=audio)

@@ -82,6 +82,7 @@ class ReviewWindow(QMainWindow):
         open_button.clicked.connect(self.choose_session)
         row.addWidget(open_button)
         self.demo_button = QPushButton("Open the demo session")
+        self.demo_button.clicked.connect(self.open_demo)
         row.addWidget(self.demo_button)
         row.addStretch(1)
         layout.addLayout(row)
@@ -213,14 +214,28 @@ class ReviewWindow(QMainWindow):
     def open(self, *, session_path: str | None = None, recording: list[str] | None = None,
              audio: str | None = None) -> None:
         """Load a session file, or process a recording + audio, on a worker thread."""
+        self._start(lambda report: load_for_review(
+            session_path=session_path, recording=recording, audio=audio, progress=report),
+            "opening…")
+
+    def _start(self, work, text: str) -> None:
         self.load_error = ""
-        self.task = BackgroundTask(lambda report: load_for_review(
-            session_path=session_path, recording=recording, audio=audio, progress=report))
+        self.task = BackgroundTask(work)
         self.task.signals.progress.connect(self._on_progress)
         self.task.signals.finished.connect(self._on_loaded)
         self.task.signals.failed.connect(self._on_failed)
-        self._show_busy("opening…")
+        self._show_busy(text)
         start(self.task)
+
+    def open_demo(self) -> None:
+        """Make (once) and open the synthetic demo session, off the UI thread."""
+        from speechcal_core.synth.demo import ensure_demo_session
+
+        def work(report):
+            recording, audio = ensure_demo_session(progress=report)
+            return load_for_review(recording=[recording], audio=audio, progress=report)
+
+        self._start(work, "preparing the demo session…")
 
     def cancel_task(self) -> None:
         if self.task is not None:

@@ -3,13 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import json
-import os
 from pathlib import Path
 
 from speechcal_core.cli._output import progress
-
-DEMO_SEED = 7
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -21,36 +17,15 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     return p
 
 
-def default_workdir() -> Path:
-    cache = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(cache) / "speechcal" / "demo"
-
-
-def ensure_demo_session(workdir: Path) -> Path:
-    """Generate the demo recording once; later runs reuse it (and the review work in it)."""
-    from speechcal_core.synth.options import SynthOptions
-    from speechcal_core.synth.session import generate_session
-
-    truth = workdir / "truth.json"
-    if truth.exists():
-        progress(f"using the demo session in {workdir}")
-        return workdir
-    progress(f"making a synthetic demo session in {workdir} …")
-    options = SynthOptions(cameras=4, fisheye=1, duration=45.0, seed=DEMO_SEED, claps=2)
-    generate_session(workdir, options, force=workdir.exists(),
-                     progress=lambda stage, f: None)
-    return workdir
-
-
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand."""
     from app.main import has_display, run_review
+    from speechcal_core.synth.demo import default_demo_dir, ensure_demo_session
 
-    workdir = Path(args.workdir) if args.workdir else default_workdir()
-    ensure_demo_session(workdir)
-    truth = json.loads((workdir / "truth.json").read_text())
-    recording = str(workdir / truth["recording"])
-    audio = str(workdir / truth["audio"])
+    workdir = Path(args.workdir) if args.workdir else default_demo_dir()
+    if not (workdir / "truth.json").exists():
+        progress(f"making a synthetic demo session in {workdir} …")
+    recording, audio = ensure_demo_session(workdir)
     if has_display() or args.screenshot:
         return run_review(recording=[recording], audio=audio, screenshot=args.screenshot)
     progress("no display here (DISPLAY is not set): running the pipeline headless instead")

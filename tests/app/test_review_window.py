@@ -118,3 +118,22 @@ def test_offset_buttons_and_clap_drag_edit_the_sync(qtbot, window, truth_session
     clap.sigPositionChangeFinished.emit(clap)
     assert window.model.session.sync.offset_ns == pytest.approx(before + 11_000_000, abs=2)
     assert load_session(truth_session_file).sync.offset_ns == window.model.session.sync.offset_ns
+
+
+def test_demo_button_opens_the_demo_session_and_processes_it(
+    qtbot, tiny_synth, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import shutil
+
+    folder, _truth = tiny_synth
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    shutil.copytree(folder, tmp_path / "speechcal" / "demo")  # an earlier demo is reused
+    win = ReviewWindow()
+    win.setProperty("headless", True)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.mouseClick(win.demo_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: win.task is None, timeout=120_000)
+    assert win.load_error == ""
+    assert win.model is not None and len(win.model.session.sets) >= 1
+    assert (tmp_path / "speechcal" / "demo" / "recording.speechcal.json").exists()
