@@ -105,19 +105,22 @@ def scan_window(
     hulls = []
     if detector is not None:
         hints = roi_hint_ns or (t1_ns, (t0_ns + t1_ns) // 2, t0_ns)
-        for t in hints:
+        # a small board needs more pixels: the first hint is tried at full size as well
+        tries = [(t, detect_factor) for t in hints]
+        if detect_factor > 1:
+            tries.insert(1, (hints[0], 1))
+        for t, f in tries:
             k = int(np.argmin(np.abs(st - t)))
             if frames[k] is None:
                 continue
-            img = frames[k]
-            if detect_factor != factor:
-                try:
-                    img = preview_gray(source, stream, int(idx[k]), detect_factor, compressed)
-                except BadFrameError:
-                    continue
+            try:
+                img = frames[k] if f == factor else preview_gray(source, stream, int(idx[k]),
+                                                                 f, compressed)
+            except BadFrameError:
+                continue
             det = detector.detect(img)
             if det is not None:
-                hull = det.hull().astype(np.float64) * (detect_factor / factor)
+                hull = det.hull().astype(np.float64) * (f / factor)
                 centre = hull.mean(axis=0)
                 hulls.append(centre + (hull - centre) * (1 + ROI_GROWTH))
                 break
