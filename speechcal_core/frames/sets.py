@@ -266,6 +266,8 @@ def _search(
                           detector=local.preview, factor=factors[s.name],
                           detect_factor=det_factors[s.name], compressed=compressed[s.name],
                           period_ns=periods[s.name], stride=strides[s.name])
+        if win.roi_factor == 1 and det_factors[s.name] > 1:
+            det_factors[s.name] = 1  # this camera's board is small: look at full size
         done[0] += 1
         report("windows", min(1.0, done[0] / total))
         return win

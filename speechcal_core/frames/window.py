@@ -45,6 +45,7 @@ class CameraWindow:
     bad: np.ndarray
     target_found: bool
     period_ns: int
+    roi_factor: int = 0  # reduction of the frame the target region was found on (0: none)
 
 
 def window_indices(stamps: np.ndarray, t0_ns: int, t1_ns: int, stride: int = 1) -> np.ndarray:
@@ -103,6 +104,7 @@ def scan_window(
                             bad, False, period_ns)
     shape = good[0].shape[:2]
     hulls = []
+    roi_factor = 0
     if detector is not None:
         hints = roi_hint_ns or (t1_ns, (t0_ns + t1_ns) // 2, t0_ns)
         # a small board needs more pixels: the first hint is tried at full size as well
@@ -123,6 +125,7 @@ def scan_window(
                 hull = det.hull().astype(np.float64) * (f / factor)
                 centre = hull.mean(axis=0)
                 hulls.append(centre + (hull - centre) * (1 + ROI_GROWTH))
+                roi_factor = f
                 break
     mask = region_mask(shape, hulls, grow_px=max(2, shape[1] // 100))
     rows, cols = mask_box(mask)
@@ -136,4 +139,5 @@ def scan_window(
     motion = motion_against_neighbours(diffs)
     bad |= np.array([c is None for c in crops])
     inside = (st >= t0_ns) & (st <= t1_ns)
-    return CameraWindow(stream, idx, st, inside, sharp, motion, bad, bool(hulls), period_ns)
+    return CameraWindow(stream, idx, st, inside, sharp, motion, bad, bool(hulls), period_ns,
+                        roi_factor)
