@@ -87,7 +87,9 @@ def choose_common_time(
             all_still[:] = False
             continue
         j = nearest_indices(w.stamps, cands)
-        ok = np.abs(w.stamps[j] - cands) <= (w.period_ns // 2 + 1 if w.period_ns else np.inf)
+        # a skipped frame between two read ones may be the one nearest (refined later)
+        tol = (w.period_ns // 2 + 1 if w.stride == 1 else w.period_ns) if w.period_ns else np.inf
+        ok = np.abs(w.stamps[j] - cands) <= tol
         q = np.where(ok, s.quality[j], 0.0)
         worst = np.minimum(worst, q)
         all_still &= ok & s.still[j]

@@ -46,6 +46,7 @@ class CameraWindow:
     target_found: bool
     period_ns: int
     roi_factor: int = 0  # reduction of the frame the target region was found on (0: none)
+    stride: int = 1  # every stride-th frame was read (period_ns is stride frame periods)
 
 
 def window_indices(stamps: np.ndarray, t0_ns: int, t1_ns: int, stride: int = 1) -> np.ndarray:
@@ -101,7 +102,7 @@ def scan_window(
     if not good:
         zeros = np.zeros(n)
         return CameraWindow(stream, idx, st, (st >= t0_ns) & (st <= t1_ns), zeros, zeros,
-                            bad, False, period_ns)
+                            bad, False, period_ns, 0, stride)
     shape = good[0].shape[:2]
     hulls = []
     roi_factor = 0
@@ -140,4 +141,4 @@ def scan_window(
     bad |= np.array([c is None for c in crops])
     inside = (st >= t0_ns) & (st <= t1_ns)
     return CameraWindow(stream, idx, st, inside, sharp, motion, bad, bool(hulls), period_ns,
-                        roi_factor)
+                        roi_factor, stride)
