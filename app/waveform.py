@@ -114,7 +114,7 @@ class WaveformView(pg.PlotWidget):
         self._lower.setData(xs, mn * self._scale)
 
     def set_sets(self, sets: list[FrameSet]) -> None:
-        """One marker per frame set: the word's extent, coloured and labelled by decision."""
+        """One marker per frame set: the word's extent, coloured, labelled decision + set id."""
         for item in self._markers:
             self.removeItem(item)
         self._markers = []
@@ -128,7 +128,7 @@ class WaveformView(pg.PlotWidget):
             region = pg.LinearRegionItem((start, end), movable=False, brush=brush,
                                          pen=pg.mkPen(colour))
             region.setZValue(5)
-            label = pg.TextItem(f"{DECISION_SYMBOLS[s.decision]}{s.trigger.word}",
+            label = pg.TextItem(f"{DECISION_SYMBOLS[s.decision]}{s.id}",
                                 color=colour.lighter(140), anchor=(0.5, 0.0))
             label.setPos((start + end) / 2, 1.0)
             for item in (region, label):
