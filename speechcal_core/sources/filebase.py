@@ -219,3 +219,25 @@ class StreamedChunk:
                 msg = f"{self.f.name}: a {self.compression} chunk is damaged ({exc})"
                 raise SourceError(msg) from None
         return bytes(self.buf[pos : pos + n])
+
+
+class IndexedFile:
+    """Message reads through a :class:`PFile` once an index is attached (ROS1 and MCAP)."""
+
+    f: PFile
+
+    def attach(self, scan: FileScan) -> None:
+        """Use an index for reads."""
+        self.f.attach(scan)
+
+    def read(self, offset: int, chunk: int, size: int) -> bytes:
+        """Message bytes at a location from the index."""
+        return self.f.read(offset, chunk, size)
+
+    def head(self, offset: int, chunk: int, n: int) -> bytes:
+        """The first n bytes of a message."""
+        return self.f.head(offset, chunk, n)
+
+    def close(self) -> None:
+        """Close the file."""
+        self.f.close()

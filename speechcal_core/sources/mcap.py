@@ -9,7 +9,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.sources.errors import SourceError
-from speechcal_core.sources.filebase import STREAMED, PFile, StreamedChunk, Window, decompress
+from speechcal_core.sources.filebase import (
+    STREAMED,
+    IndexedFile,
+    PFile,
+    StreamedChunk,
+    Window,
+    decompress,
+)
 from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_cdr
 from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
 
@@ -58,7 +65,7 @@ class _Buf:
         return out
 
 
-class McapFile:
+class McapFile(IndexedFile):
     """One MCAP file; ``scan`` indexes its image channels, ``read`` fetches a message."""
 
     def __init__(self, path: Path, *, scan: bool = False) -> None:
@@ -80,21 +87,6 @@ class McapFile:
         self.schemas: dict[int, tuple[str, str]] = {}
         self.channels: dict[int, dict[str, str]] = {}
 
-    def attach(self, scan: FileScan) -> None:
-        """Use an index for reads."""
-        self.f.attach(scan)
-
-    def read(self, offset: int, chunk: int, size: int) -> bytes:
-        """Message bytes at a location from the index."""
-        return self.f.read(offset, chunk, size)
-
-    def head(self, offset: int, chunk: int, n: int) -> bytes:
-        """The first n bytes of a message."""
-        return self.f.head(offset, chunk, n)
-
-    def close(self) -> None:
-        """Close the file."""
-        self.f.close()
 
     def scan(self) -> FileScan:
         """Walk the data section, reading only record heads in uncompressed chunks."""

@@ -7,7 +7,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from speechcal_core.sources.errors import SourceError
-from speechcal_core.sources.filebase import STREAMED, PFile, StreamedChunk, Window, decompress
+from speechcal_core.sources.filebase import (
+    STREAMED,
+    IndexedFile,
+    PFile,
+    StreamedChunk,
+    Window,
+    decompress,
+)
 from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_ros1
 from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
 
@@ -69,7 +76,7 @@ class _Reader:
         return fields, pos + 8 + hlen, dlen
 
 
-class Ros1Bag:
+class Ros1Bag(IndexedFile):
     """One ROS1 bag file; ``scan`` indexes its image topics, ``read`` fetches a message."""
 
     def __init__(self, path: Path, *, scan: bool = False) -> None:
@@ -98,20 +105,8 @@ class Ros1Bag:
 
     def attach(self, scan: FileScan) -> None:
         """Use an index for reads."""
-        self.f.attach(scan)
+        super().attach(scan)
         self.f.advise_normal()
-
-    def read(self, offset: int, chunk: int, size: int) -> bytes:
-        """Message bytes at a location from the index."""
-        return self.f.read(offset, chunk, size)
-
-    def head(self, offset: int, chunk: int, n: int) -> bytes:
-        """The first n bytes of a message."""
-        return self.f.head(offset, chunk, n)
-
-    def close(self) -> None:
-        """Close the file."""
-        self.f.close()
 
     # -- indexing ----------------------------------------------------------------------
 
