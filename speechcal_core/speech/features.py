@@ -12,10 +12,16 @@ N_MELS = 26
 N_CEPS = 13
 FMIN, FMAX = 200.0, 5000.0  # above room rumble and hum, below the noise-dominated top
 CHUNK_FRAMES = 6000
+NOISE_PERCENTILE = 30.0  # a band's noise power: this percentile over all frames
 
 
-def mfcc(samples: np.ndarray, rate: int) -> np.ndarray:
-    """MFCC frames (n_frames x 12, c0 dropped) every 10 ms over 25 ms Hamming windows."""
+def mfcc(samples: np.ndarray, rate: int, noise_floor: float = 0.0) -> np.ndarray:
+    """MFCC frames (n_frames x 12, c0 dropped) every 10 ms over 25 ms Hamming windows.
+
+    ``noise_floor`` > 0 adds that many times the recording's noise power per mel band
+    (its quiet-frame level) before the log: low-energy detail that the noise would
+    overwrite is flattened alike everywhere, so noisy and clean instances compare better.
+    """
     hop, win = round(rate * HOP_S), round(rate * WIN_S)
     x = np.asarray(samples, dtype=np.float32)
     if x.size < win:
@@ -26,14 +32,15 @@ def mfcc(samples: np.ndarray, rate: int) -> np.ndarray:
     fb = _mel_filterbank(rate, nfft)
     dct = _dct_matrix()
     window = np.hamming(win).astype(np.float32)
-    out = np.empty((n, N_CEPS - 1), dtype=np.float32)
+    mel = np.empty((n, N_MELS), dtype=np.float32)
     for a in range(0, n, CHUNK_FRAMES):
         b = min(n, a + CHUNK_FRAMES)
         idx = (np.arange(a, b) * hop)[:, None] + np.arange(win)[None, :]
         power = np.abs(np.fft.rfft(x[idx] * window, nfft, axis=1)) ** 2
-        logmel = np.log(power @ fb.T + 1e-10)
-        out[a:b] = (logmel @ dct.T)[:, 1:]
-    return out
+        mel[a:b] = power @ fb.T
+    if noise_floor > 0.0:
+        mel += noise_floor * np.percentile(mel, NOISE_PERCENTILE, axis=0).astype(np.float32)
+    return (np.log(mel + 1e-10) @ dct.T)[:, 1:]
 
 
 def normalize(feats: np.ndarray) -> np.ndarray:

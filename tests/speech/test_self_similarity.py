@@ -4,10 +4,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from speech_scenes import make_scene
+import numpy as np
+from speech_scenes import clip, make_scene
 
 from speechcal_core.speech import Word
-from speechcal_core.speech.self_similarity import expand_by_similarity
+from speechcal_core.speech.features import mfcc, normalize
+from speechcal_core.speech.query_by_example import unit_rows
+from speechcal_core.speech.self_similarity import confirm_and_expand, expand_by_similarity
 from speechcal_core.speech.vad import voice_activity
 
 
@@ -34,3 +37,40 @@ def test_a_single_seed_is_not_enough_to_judge_similarity(tmp_path: Path) -> None
     activity = voice_activity(scene.samples, 16000)
     assert expand_by_similarity(scene.samples, 16000, [Word("capture", a, b)], activity,
                                 blocked=[]) == []
+
+
+def test_a_seed_unlike_the_other_seeds_is_dropped_the_real_ones_stay(tmp_path: Path) -> None:
+    items = [("capture", "rms/capture_1"), ("rapture", "rms/rapture_1"),
+             ("capture", "rms/capture_2"), ("capture", "rms/capture_3"),
+             ("capsule", "rms/capsule_1"), ("capture", "rms/capture_5"),
+             ("capture", "rms/capture_1"), ("capture", "rms/capture_3"),
+             ("picture", "rms/picture_1"), ("capture", "rms/capture_2")]
+    scene = make_scene(tmp_path / "verify.wav", items, snr_db=15.0, seed=3)
+    true_seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in scene.spans("capture")]
+    false_seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for text, a, b in scene.placed
+                   if text != "capture"]
+    seeds = sorted(true_seeds + false_seeds, key=lambda w: w.start_s)
+    activity = voice_activity(scene.samples, 16000)
+    kept, extra = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
+                                     noise_floor=3.0)
+    kept_spans = {(w.start_s, w.end_s) for w in kept}
+    assert {(w.start_s, w.end_s) for w in true_seeds} <= kept_spans
+    assert scene.spans("capsule")[0] not in kept_spans
+    assert extra == []
+    kept_all, _ = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
+                                     verify=None, noise_floor=3.0)
+    assert len(kept_all) == len(seeds)
+
+
+def test_noise_floored_features_bring_noisy_and_clean_instances_closer() -> None:
+    word = clip("slt/capture_2")
+    word = word / np.sqrt(np.mean(word**2)) * 0.1
+    rng = np.random.default_rng(5)
+    noisy = word + rng.standard_normal(word.size).astype(np.float32) * 0.1 / 10 ** (6 / 20)
+
+    def distance(floor: float) -> float:
+        a = normalize(mfcc(word, 16000, noise_floor=floor))
+        b = normalize(mfcc(noisy, 16000, noise_floor=floor))
+        return float(np.mean(1.0 - np.sum(unit_rows(a) * unit_rows(b), axis=1)))
+
+    assert distance(3.0) < distance(0.0)
