@@ -50,7 +50,8 @@ def run_review(
             print(f"speechcal review: error: {window.load_error}", file=sys.stderr)
             return 1
         return 0 if ok else 1
-    return app.exec()
+    run_event_loop = app.exec  # Qt's event loop (QApplication.exec), not Python's exec
+    return run_event_loop()
 
 
 def wait_until_settled(window, app, timeout_s: float = 60.0) -> bool:
