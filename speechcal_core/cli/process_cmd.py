@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from speechcal_core.cli._output import progress
+from speechcal_core.fsutil import OutputExistsError
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -17,6 +19,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--transcript", metavar="F")
     p.add_argument("--offset-ns", type=int, metavar="N")
     p.add_argument("-o", "--output", required=True, metavar="SESSION.json")
+    p.add_argument("--force", action="store_true",
+                   help="replace an existing session file (its review decisions are lost; "
+                        "the old file is kept as SESSION.json.bak)")
     return p
 
 
@@ -26,6 +31,11 @@ def run(args: argparse.Namespace) -> int:
     from speechcal_core.session.store import save_session
     from speechcal_core.target import TargetSpec
 
+    if Path(args.output).exists() and not args.force:
+        raise OutputExistsError(
+            f"{args.output} already exists and may hold review decisions; "
+            "choose another -o or pass --force"
+        )
     target = TargetSpec.from_kalibr_yaml(args.target) if args.target else TargetSpec()
     last = [-1]
 

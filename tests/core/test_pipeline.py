@@ -29,3 +29,23 @@ def test_transcript_and_known_offset_give_one_set_per_trigger_inside_its_hold(
             assert frame.index >= 0
             assert start - 40e6 <= frame.stamp_ns <= end + 40e6
     assert "finding the clap" not in stages and stages[-1] == "done"
+
+
+def test_process_refuses_to_replace_a_session_without_force(
+    tiny_synth: tuple[Path, dict], tmp_path: Path, capsys
+) -> None:
+    from speechcal_core.cli import main
+
+    folder, truth = tiny_synth
+    session = tmp_path / "session.json"
+    session.write_text('{"schema": 1, "note": "reviewed"}')
+    args = ["process", str(folder / truth["recording"]), "--audio",
+            str(folder / truth["audio"]), "--offset-ns", str(truth["sync"]["offset_ns"]),
+            "-o", str(session)]
+    assert main(args) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "already exists" in err[0] and "--force" in err[0]
+    assert "reviewed" in session.read_text()
+    assert main([*args, "--force"]) == 0
+    assert '"sets"' in session.read_text()
+    assert "reviewed" in (tmp_path / "session.json.bak").read_text()
