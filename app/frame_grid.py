@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from PySide6.QtCore import QRectF, Qt, Signal
+from PySide6.QtCore import QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QFont, QImage, QPainter, QPen
 from PySide6.QtWidgets import QGridLayout, QSizePolicy, QWidget
 
@@ -24,6 +24,7 @@ class CameraTile(QWidget):
         self.caption = ""
         self.decision: str | None = None
         self.warning = ""
+        self.corners: tuple[tuple[float, float], ...] = ()  # overlay, image pixels
         self.setMinimumSize(160, 120)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
 
@@ -55,6 +56,12 @@ class CameraTile(QWidget):
             target = QRectF(area.x() + (area.width() - w) / 2, area.y() + (area.height() - h) / 2,
                             w, h)
             p.drawImage(target, self.image)
+            if self.corners:
+                p.setPen(QPen(QColor(60, 220, 120), 1.5))
+                r = max(1.5, min(4.0, 2.0 * scale))
+                for x, y in self.corners:
+                    p.drawEllipse(QPointF(target.x() + (x + 0.5) * scale,
+                                          target.y() + (y + 0.5) * scale), r, r)
         else:
             p.setPen(QColor(200, 200, 200))
             p.drawText(area, Qt.AlignmentFlag.AlignCenter | Qt.TextFlag.TextWordWrap, self.message)

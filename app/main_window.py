@@ -198,6 +198,7 @@ class ReviewWindow(QMainWindow):
             self.waveform.set_audio(inputs.pyramid, model.session.sync)
         self.waveform.set_clap(inputs.clap_audio_s)
         self.waveform.clap_moved.connect(model.nudge_offset)
+        self.waveform.clap_dragging.connect(model.preview_offset)
         self.waveform.set_sets(model.session.sets)
         self.waveform.show_all(start_ns, end_ns)
         self.waveform.playhead_moved.connect(model.set_playhead)
@@ -314,6 +315,7 @@ class ReviewWindow(QMainWindow):
                 widget.set_state(decision, "no frame")
                 continue
             widget.set_state(decision, ", ".join(tile.flags))
+            widget.corners = tile.corners
             widget.caption = ("chosen frame" if tile.chosen
                               else f"{tile.offset_ns / 1e6:+.1f} ms")
             wanted.append((tile.stream, tile.index))

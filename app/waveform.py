@@ -23,7 +23,8 @@ class WaveformView(pg.PlotWidget):
     """
 
     playhead_moved = Signal(int)  # session ns
-    clap_moved = Signal(int)  # how far the clap handle was dragged, ns
+    clap_moved = Signal(int)  # how far the clap handle was dragged, ns (on release)
+    clap_dragging = Signal(int)  # the same while the handle is being dragged
 
     def __init__(self, origin_ns: int, parent=None) -> None:
         super().__init__(parent, background=(30, 32, 36))
@@ -56,6 +57,7 @@ class WaveformView(pg.PlotWidget):
         self.clap.setZValue(15)
         self.clap.sigPositionChangeFinished.connect(
             lambda _line: self.clap_moved.emit(self.clap_shift_ns()))
+        self.clap.sigDragged.connect(lambda _line: self.clap_dragging.emit(self.clap_shift_ns()))
         self.clap.hide()
         self.addItem(self.clap)
         self.getViewBox().sigXRangeChanged.connect(lambda *_: self.redraw())

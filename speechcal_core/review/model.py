@@ -51,6 +51,7 @@ class TileState:
     offset_ns: int  # stamp - playhead
     chosen: bool = False  # the frame set's chosen frame (playhead at the set)
     flags: tuple[str, ...] = ()  # quality warnings of the chosen frame
+    corners: tuple[tuple[float, float], ...] = ()  # detected target corners, image pixels
 
 
 def set_time_ns(frame_set: FrameSet) -> int:
@@ -121,7 +122,8 @@ class ReviewModel:
             chosen = {f.stream: f for f in current.frames}
             if set(chosen) >= set(self._stamps):
                 return [TileState(f.stream, f.index, f.stamp_ns, f.stamp_ns - self.playhead_ns,
-                                  True, f.flags) for f in (chosen[n] for n in self._stamps)]
+                                  True, f.flags, self.corners(current.id, f.stream))
+                        for f in (chosen[n] for n in self._stamps)]
         out = []
         for name, stamps in self._stamps.items():
             i = nearest_index(stamps, self.playhead_ns)
@@ -135,6 +137,20 @@ class ReviewModel:
             else:
                 out.append(TileState(name, i, int(stamps[i]), delta))
         return out
+
+    def corners(self, set_id: int, stream: str) -> tuple[tuple[float, float], ...]:
+        """Target corners found in a set's chosen frame of ``stream`` (empty if none)."""
+        details = self.session.extra.get("frame_details")
+        try:
+            points = details[str(set_id)]["frames"][stream]["points"]  # type: ignore[index]
+            return tuple((float(x), float(y)) for x, y in points)
+        except (KeyError, TypeError, ValueError):
+            return ()
+
+    def preview_offset(self, delta_ns: int) -> None:
+        """Show (without applying) where the current set would sit with the offset shifted."""
+        if self.current_set is not None:
+            self.set_playhead(set_time_ns(self.current_set) + int(delta_ns))
 
     def set_at_playhead(self, tolerance_ns: int = 50_000_000) -> FrameSet | None:
         """The frame set whose time is within ``tolerance_ns`` of the playhead."""

@@ -128,3 +128,23 @@ def test_at_a_set_the_tiles_show_its_chosen_frames_and_their_warnings(
     assert tiles[0].flags == ("blurred",) and tiles[1].flags == ()
     model.next_frame()  # off the set's time: plain nearest frames again
     assert not any(t.chosen for t in model.tiles())
+
+
+def test_chosen_frames_carry_their_corners_and_drag_preview_changes_nothing(
+    truth_session_file: Path,
+) -> None:
+    session = load_session(truth_session_file)
+    first = session.sets[0]
+    name = first.frames[0].stream
+    session.extra["frame_details"] = {
+        str(first.id): {"frames": {name: {"ids": [0, 1], "points": [[10.0, 20.5], [30, 40]]}}}
+    }
+    model = ReviewModel(session, open_recording(session.recording))
+    model.go_to_set(0)
+    tiles = {t.stream: t for t in model.tiles()}
+    assert tiles[name].corners == ((10.0, 20.5), (30.0, 40.0))
+    assert all(t.corners == () for s, t in tiles.items() if s != name)
+    offset = model.session.sync.offset_ns
+    model.preview_offset(20_000_000)
+    assert model.playhead_ns == set_time_ns(first) + 20_000_000
+    assert model.session.sync.offset_ns == offset and model.session.sets[0] == first
