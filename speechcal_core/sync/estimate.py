@@ -145,8 +145,22 @@ def build_result(claps: list[Clap], warnings: list[str] | None = None,
                      "check that both claps were matched (set them by hand)")
     result = SyncResult(model, ordered, (), dict(extra or {}))
     for cam in result.residuals():
-        period = cam["period_ns"] or 33_333_333
-        if abs(cam["residual_ns"]) > period / 2:
-            notes.append(f"{cam['name']}: clap {cam['residual_ns'] / 1e6:+.1f} ms off the "
-                         "other cameras; its clock may be off")
+        notes.extend(_residual_warning(cam))
     return replace(result, warnings=tuple(dict.fromkeys(notes)))
+
+
+def _residual_warning(cam: dict) -> list[str]:
+    """A note for a camera whose clap sits more than half a frame off the others.
+
+    Seen at two claps with the same offset, the camera's clock is off; otherwise its clap
+    may as well have been timed wrongly, and the operator should look at it.
+    """
+    period = cam["period_ns"] or 33_333_333
+    res = cam["residuals_ns"]
+    if abs(cam["residual_ns"]) <= period / 2:
+        return []
+    head = f"{cam['name']}: clap {cam['residual_ns'] / 1e6:+.1f} ms off the other cameras"
+    if len(res) >= 2 and max(res) - min(res) < period / 4:
+        return [f"{head} at both claps; its clock is off by that much"]
+    return [f"{head}; its clock may be off, or its clap was not seen clearly "
+            "(check the clap in the review)"]

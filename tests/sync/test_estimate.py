@@ -45,7 +45,22 @@ def test_two_claps_give_drift_and_camera_offsets_cancel() -> None:
 
 def test_camera_with_clock_off_is_reported() -> None:
     r = build_result([_clap(1.0, 3_000_000_000, {"/a": 0, "/b": 0, "/c": 80_000_000})])
-    assert any("/c" in w and "clock" in w for w in r.warnings)
+    assert any("/c" in w and "clock may be off" in w and "not seen clearly" in w
+               for w in r.warnings)
+
+
+def test_camera_off_by_the_same_amount_at_both_claps_has_its_clock_off() -> None:
+    offs = {"/a": 0, "/b": 0, "/c": 80_000_000}
+    r = build_result([_clap(1.0, 3_000_000_000, offs), _clap(50.0, 52_000_000_000, offs)])
+    assert [w for w in r.warnings if "/c" in w] == [
+        "/c: clap +80.0 ms off the other cameras at both claps; its clock is off by that much"]
+
+
+def test_camera_off_at_one_clap_only_may_be_a_missed_clap() -> None:
+    first = _clap(1.0, 3_000_000_000, {"/a": 0, "/b": 0, "/c": -22_500_000})
+    second = _clap(50.0, 52_000_000_000, {"/a": 0, "/b": 0, "/c": 0})
+    r = build_result([first, second])
+    assert any("/c" in w and "not seen clearly" in w for w in r.warnings)
 
 
 def test_manual_edits_are_marked_and_move_the_offset() -> None:
