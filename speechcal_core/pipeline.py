@@ -15,8 +15,10 @@ from speechcal_core.session.model import Session, Trigger
 from speechcal_core.sync.model import SyncModel
 
 if TYPE_CHECKING:
+    from speechcal_core.audio import Audio
     from speechcal_core.frames.detect import Target
     from speechcal_core.frames.sets import FrameSetOptions
+    from speechcal_core.sources.base import FrameSource
 
 Progress = Callable[[str, float], None]
 
@@ -54,42 +56,65 @@ def process_recording(
     (or turns the best-still-frame search off).
     """
     from speechcal_core.audio import load_audio
-    from speechcal_core.frames.analysis import analyse_frames
     from speechcal_core.sources import open_recording
-    from speechcal_core.sync.pipeline import sync_recording
-    from speechcal_core.target import TargetSpec
 
     report = progress or _noop
     report("indexing the recording", 0.02)
     with open_recording(list(recording)) as source:
         report("reading the audio", 0.1)
         sound = load_audio(audio)
-        evidence: dict = {}
-        if offset_ns is not None:
-            sync = SyncModel(int(offset_ns), 0.0, "manual")
-        else:
-            report("finding the clap", 0.2)
-            result = sync_recording(source, sound,
-                                    progress=lambda text: report(f"clap: {text}", 0.3))
-            sync = result.model
-            evidence = {k: v for k, v in result.to_dict().items()
-                        if k not in ("offset_ns", "drift", "source")}
-        report("finding the trigger words", 0.45)
-        triggers, notes = detect_trigger_words(sound, trigger_words, transcript)
+        return process_loaded(
+            source, sound, recording, audio, trigger_words=trigger_words,
+            transcript=transcript, offset_ns=offset_ns, target=target,
+            frame_options=frame_options, progress=report,
+        )
 
-        def frames_progress(stage: str, fraction: float) -> None:
-            start, span = {"windows": (0.6, 0.2), "corners": (0.8, 0.1)}.get(stage, (0.9, 0.1))
-            report(f"frames: {stage}", start + span * fraction)
 
-        report("choosing frames", 0.6)
-        analysis = analyse_frames(source, sync, triggers, target or TargetSpec(),
-                                  options=frame_options, progress=frames_progress)
-        sets = analysis.sets
+def process_loaded(
+    source: FrameSource,
+    sound: Audio,
+    recording: Sequence[str],
+    audio: str,
+    *,
+    trigger_words: Sequence[str] = ("capture",),
+    transcript: str | None = None,
+    offset_ns: int | None = None,
+    target: Target | None = None,
+    frame_options: FrameSetOptions | None = None,
+    progress: Progress | None = None,
+) -> Session:
+    """:func:`process_recording` on a recording and audio the caller already opened
+    (the review keeps both for display instead of reading them twice)."""
+    from speechcal_core.frames.analysis import analyse_frames
+    from speechcal_core.sync.pipeline import sync_recording
+    from speechcal_core.target import TargetSpec
+
+    report = progress or _noop
+    evidence: dict = {}
+    if offset_ns is not None:
+        sync = SyncModel(int(offset_ns), 0.0, "manual")
+    else:
+        report("finding the clap", 0.2)
+        result = sync_recording(source, sound,
+                                progress=lambda text: report(f"clap: {text}", 0.3))
+        sync = result.model
+        evidence = {k: v for k, v in result.to_dict().items()
+                    if k not in ("offset_ns", "drift", "source")}
+    report("finding the trigger words", 0.45)
+    triggers, notes = detect_trigger_words(sound, trigger_words, transcript)
+
+    def frames_progress(stage: str, fraction: float) -> None:
+        start, span = {"windows": (0.6, 0.2), "corners": (0.8, 0.1)}.get(stage, (0.9, 0.1))
+        report(f"frames: {stage}", start + span * fraction)
+
+    report("choosing frames", 0.6)
+    analysis = analyse_frames(source, sync, triggers, target or TargetSpec(),
+                              options=frame_options, progress=frames_progress)
     session = Session(
         recording=[str(Path(p).absolute()) for p in recording],
         audio=str(Path(audio).absolute()),
         sync=sync,
-        sets=sets,
+        sets=analysis.sets,
         triggers_word=list(trigger_words),
         sync_evidence=evidence,
         calibration=analysis.calibration,

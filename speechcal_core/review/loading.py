@@ -57,6 +57,7 @@ def load_for_review(
 
     report = progress or (lambda _t, _f: None)
     note = ""
+    source = sound = None
     if session_path is not None:
         report("reading session", 0.05)
         path = Path(session_path)
@@ -70,23 +71,33 @@ def load_for_review(
             session = load_session(path)
             note = f"opened the existing {path.name} (review work kept)"
         else:
-            from speechcal_core.pipeline import process_recording
+            from speechcal_core.pipeline import process_loaded
 
-            session = process_recording(list(recording), audio, progress=report)
-            save_session(session, path)
+            report("indexing the recording", 0.02)
+            source = open_recording(list(recording))
+            try:
+                report("reading the audio", 0.1)
+                sound = load_audio(audio)
+                session = process_loaded(source, sound, list(recording), audio,
+                                         progress=lambda t, f: report(t, 0.9 * f))
+                save_session(session, path)
+            except BaseException:
+                source.close()
+                raise
             note = f"new session saved as {path.name}"
     else:
         raise UsageError("nothing to open: give a session file or a recording with --audio")
 
-    report("indexing recording", 0.6)
-    source = open_recording(session.recording)
+    if source is None:
+        report("indexing recording", 0.6)
+        source = open_recording(session.recording)
     pyramid = None
     claps = session.sync_evidence.get("claps") or []
     clap = claps[0].get("audio_s") if claps and isinstance(claps[0], dict) else None
     if session.audio:
-        report("reading audio", 0.8)
+        report("reading audio", 0.92)
         try:
-            sound = load_audio(session.audio)
+            sound = sound or load_audio(session.audio)
             pyramid = EnvelopePyramid(sound.samples, sound.rate)
         except SpeechCalError as exc:
             note = f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
