@@ -25,13 +25,17 @@ def frame_period_ns(stamps: np.ndarray) -> int:
     return int(np.median(np.diff(stamps))) if len(stamps) > 1 else 0
 
 
-def nearest_choice(stream: str, stamps: np.ndarray, t_ns: int) -> FrameChoice:
-    """The nearest frame, flagged ``no-frame`` when it is further than half a period away."""
+def nearest_choice(stream: str, stamps: np.ndarray, t_ns: int,
+                   period_ns: int | None = None) -> FrameChoice:
+    """The nearest frame, flagged ``no-frame`` when it is further than half a period away.
+
+    ``period_ns`` is the stream's frame period when the caller already knows it.
+    """
     i = nearest_index(stamps, t_ns)
     if i < 0:
         return FrameChoice(stream, -1, t_ns, flags=("no-frame",))
     stamp = int(stamps[i])
-    period = frame_period_ns(stamps)
+    period = frame_period_ns(stamps) if period_ns is None else period_ns
     if period and abs(stamp - t_ns) > period // 2 + 1:
         return FrameChoice(stream, -1, stamp, flags=("no-frame",))
     return FrameChoice(stream, i, stamp)

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from speechcal_core.frames.nearest import frame_period_ns, nearest_choice, nearest_index
+from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
 from speechcal_core.session.model import FrameSet, Session
 from speechcal_core.sync.model import SyncModel
 
@@ -126,16 +126,12 @@ class ReviewModel:
                         for f in (chosen[n] for n in self._stamps)]
         out = []
         for name, stamps in self._stamps.items():
-            i = nearest_index(stamps, self.playhead_ns)
-            if i < 0:
+            if len(stamps) == 0:
                 out.append(TileState(name, -1, 0, 0))
                 continue
-            delta = int(stamps[i]) - self.playhead_ns
-            period = self._periods[name]
-            if period and abs(delta) > period // 2 + 1:
-                out.append(TileState(name, -1, int(stamps[i]), delta))
-            else:
-                out.append(TileState(name, i, int(stamps[i]), delta))
+            near = nearest_choice(name, stamps, self.playhead_ns, self._periods[name])
+            out.append(TileState(name, near.index, near.stamp_ns,
+                                 near.stamp_ns - self.playhead_ns))
         return out
 
     def corners(self, set_id: int, stream: str) -> tuple[tuple[float, float], ...]:
@@ -218,7 +214,8 @@ class ReviewModel:
         self.session.sync = sync
         for i, s in enumerate(self.session.sets):
             t_ns = int(sync.to_session(s.trigger.t_s))
-            frames = tuple(nearest_choice(name, st, t_ns) for name, st in self._stamps.items())
+            frames = tuple(nearest_choice(name, st, t_ns, self._periods[name])
+                           for name, st in self._stamps.items())
             self.session.sets[i] = replace(s, t_ns=t_ns, frames=frames or s.frames)
         if self.current_set is not None:
             self.playhead_ns = set_time_ns(self.current_set)
