@@ -4,19 +4,56 @@ from __future__ import annotations
 
 import argparse
 
-from speechcal_core.errors import NotYetAvailableError
+from speechcal_core.cli._output import emit_json, progress
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
-    p = subparsers.add_parser("export", help="export accepted frame sets")
+    p = subparsers.add_parser(
+        "export", help="export accepted frame sets",
+        description="Write the accepted frame sets of a session: kalibr (cam0/<t_ns>.png... "
+                    "+ target.yaml), folders (one folder per camera topic), rosbag1 "
+                    "(OUT/calibration.bag) or rosbag2 (OUT/calibration/), each with "
+                    "manifest.json and manifest.csv.")
     p.add_argument("session", metavar="SESSION.json")
     p.add_argument("--format", required=True, choices=("kalibr", "folders", "rosbag1", "rosbag2"))
-    p.add_argument("--out", required=True, metavar="DIR")
-    p.add_argument("--force", action="store_true")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder (must not exist)")
+    p.add_argument("--force", action="store_true", help="replace an existing output folder")
+    p.add_argument("--include-undecided", action="store_true",
+                   help="export undecided sets too (rejected sets never are)")
+    p.add_argument("--target", metavar="TARGET.yaml",
+                   help="Kalibr target yaml for kalibr's target.yaml (default: the session's "
+                        "target, else the 6x6 AprilGrid that process assumes)")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
     return p
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the subcommand."""
-    raise NotYetAvailableError("export is not yet available")
+    """Run the subcommand: progress on stderr, the folder appears only when complete."""
+    from speechcal_core.export import export_session_file
+    from speechcal_core.target import TargetSpec
+
+    target = TargetSpec.from_kalibr_yaml(args.target) if args.target else None
+    last = [-1]
+
+    def report(text: str, fraction: float) -> None:
+        pct = int(fraction * 100)
+        if pct // 10 != last[0] // 10 or not text.startswith(("writing ", "reading ")):
+            last[0] = pct
+            progress(f"[{pct:3d}%] {text}")
+
+    result = export_session_file(
+        args.session, args.format, args.out, force=args.force,
+        include_undecided=args.include_undecided, target=target, progress=report,
+    )
+    for line in result.skipped:
+        progress(f"left out: {line}")
+    if result.target == "default":
+        progress("target.yaml describes the default 6x6 AprilGrid; pass --target TARGET.yaml "
+                 "if the recording shows another target")
+    if args.json:
+        emit_json(result.to_dict())
+    else:
+        print(f"exported {result.sets} frame sets ({result.frames} frames, "
+                 f"{result.files} files) to {result.out}")
+    return 0

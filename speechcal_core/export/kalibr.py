@@ -1,0 +1,37 @@
+"""Kalibr layout: ``cam0/<t_ns>.png``, ``cam1/<t_ns>.png``… and ``target.yaml``.
+
+Cameras are numbered in the recording's stream order (the manifest names each ``camN``'s
+topic). ``kalibr_bagcreater --folder OUT --output-bag calib.bag`` turns the folder into a
+bag whose ``/camN/image_raw`` messages of one set share a stamp.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from speechcal_core.export.images import Progress, write_image_folders
+from speechcal_core.fsutil import atomic_write_text
+
+if TYPE_CHECKING:
+    from pathlib import Path
+
+    from speechcal_core.export.plan import Outcome, Plan
+    from speechcal_core.sources.base import FrameSource
+    from speechcal_core.target import TargetSpec
+
+TARGET_FILE = "target.yaml"
+
+
+def kalibr_folders(plan: Plan) -> dict[str, str]:
+    """Stream -> ``camN`` in export order."""
+    return {stream: f"cam{k}" for k, stream in enumerate(plan.streams)}
+
+
+def write_kalibr(
+    source: FrameSource, plan: Plan, root: Path, target: TargetSpec, progress: Progress
+) -> Outcome:
+    """Images per camera folder plus the Kalibr target description."""
+    out = write_image_folders(source, plan, root, kalibr_folders(plan), progress)
+    atomic_write_text(root / TARGET_FILE, target.to_kalibr_yaml())
+    out.written.append(TARGET_FILE)
+    return out

@@ -1,0 +1,130 @@
+"""What goes where: camera order and folder names, one shared file name per frame set.
+
+The file name of a set is its trigger time ``t_ns`` (``<t_ns>.png``), the same in every
+camera's folder, so Kalibr's ``kalibr_bagcreater`` and other same-name tools pair the
+cameras' images. Two sets with the same ``t_ns`` (rare: duplicate triggers) get the later
+one's name moved by 1 ns.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from speechcal_core.export.errors import ExportError
+
+if TYPE_CHECKING:
+    from speechcal_core.session.model import FrameChoice, FrameSet
+    from speechcal_core.sources.base import FrameSource
+
+_UNSAFE = re.compile(r"[^A-Za-z0-9._-]+")
+
+
+def safe_name(topic: str) -> str:
+    """A folder name from a topic: ``/cam0/image_raw`` -> ``cam0_image_raw``."""
+    name = _UNSAFE.sub("_", topic.strip("/")).strip("._")
+    return name or "camera"
+
+
+def unique_safe_names(topics: list[str]) -> dict[str, str]:
+    """Filesystem-safe folder names, made unique with ``_2``, ``_3``... (case-insensitively)."""
+    out: dict[str, str] = {}
+    used: set[str] = set()
+    for topic in topics:
+        base = name = safe_name(topic)
+        k = 2
+        while name.lower() in used:
+            name = f"{base}_{k}"
+            k += 1
+        used.add(name.lower())
+        out[topic] = name
+    return out
+
+
+@dataclass(frozen=True)
+class PlannedFrame:
+    """One camera's frame of one set, with its index checked against the recording."""
+
+    frame_set: FrameSet
+    choice: FrameChoice
+    index: int
+    name: str  # the set's shared file stem
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Cameras in export order and every frame to write."""
+
+    streams: list[str]
+    sets: list[FrameSet]
+    names: dict[int, str]  # set id -> shared file stem
+    frames: list[PlannedFrame]
+
+    def frames_of(self, set_id: int) -> list[PlannedFrame]:
+        return [f for f in self.frames if f.frame_set.id == set_id]
+
+
+def shared_names(sets: list[FrameSet]) -> dict[int, str]:
+    """One file stem per set: its ``t_ns``, moved by 1 ns when an earlier set took it."""
+    names: dict[int, str] = {}
+    used: set[int] = set()
+    for s in sets:
+        t = s.t_ns
+        while t in used:
+            t += 1
+        used.add(t)
+        names[s.id] = str(t)
+    return names
+
+
+def resolve_index(source: FrameSource, choice: FrameChoice, where: str) -> int:
+    """The frame's index in ``source``, found by its header stamp if the index moved."""
+    stamps = source.stamps(choice.stream)
+    i = choice.index
+    if 0 <= i < stamps.size and int(stamps[i]) == choice.stamp_ns:
+        return i
+    k = int(np.searchsorted(stamps, choice.stamp_ns))
+    if k < stamps.size and int(stamps[k]) == choice.stamp_ns:
+        return k
+    raise ExportError(
+        f"{where}: {choice.stream} has no frame stamped {choice.stamp_ns}; the recording "
+        "differs from the one this session was made from (process it again)"
+    )
+
+
+def make_plan(source: FrameSource, sets: list[FrameSet], where: str) -> Plan:
+    """Cameras (recording order) and the frames of ``sets``; ``ExportError`` on a mismatch."""
+    known = [s.name for s in source.streams]
+    used = {f.stream for s in sets for f in s.frames if f.index >= 0}
+    missing = sorted(used - set(known))
+    if missing:
+        raise ExportError(
+            f"{where}: the recording has no stream {missing[0]!r} (it has {', '.join(known)}); "
+            "the session belongs to another recording"
+        )
+    streams = [n for n in known if n in used]
+    names = shared_names(sets)
+    order = {n: k for k, n in enumerate(streams)}
+    frames = [
+        PlannedFrame(s, f, resolve_index(source, f, where), names[s.id])
+        for s in sets
+        for f in sorted((f for f in s.frames if f.index >= 0), key=lambda f: order[f.stream])
+    ]
+    return Plan(streams, sets, names, frames)
+
+
+@dataclass
+class Outcome:
+    """What a writer produced: per (set id, stream) the file (relative to the export
+    folder) or why the frame was left out, and every file written."""
+
+    files: dict[tuple[int, str], str]
+    skipped: dict[tuple[int, str], str]
+    written: list[str]
+
+    @classmethod
+    def empty(cls) -> Outcome:
+        return cls({}, {}, [])

@@ -1,0 +1,110 @@
+"""rosbag1 and rosbag2 exports read back with rosbags: same topics, stamps and payloads."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from rosbags.highlevel import AnyReader
+
+from speechcal_core.export import export_session_file
+from speechcal_core.session.store import load_session
+from speechcal_core.sources import open_recording
+from speechcal_core.sources.msgparse import parse_image
+
+BAG = {"rosbag1": "calibration.bag", "rosbag2": "calibration"}
+
+
+def _expected(session_path: Path) -> dict[tuple[str, int], tuple[int, bytes, str]]:
+    """(topic, stamp) -> (log time, serialized message, serialization) of accepted frames."""
+    session = load_session(session_path)
+    out = {}
+    with open_recording(session.recording) as source:
+        for s in session.sets:
+            if s.decision != "accepted":
+                continue
+            for f in s.frames:
+                if f.index >= 0:
+                    raw = source.raw(f.stream, f.index)
+                    out[f.stream, f.stamp_ns] = (raw.log_time_ns, raw.rawdata, raw.serialization)
+    return out
+
+
+def _read(bag: Path) -> dict[tuple[str, int], tuple[int, bytes, object, str]]:
+    got = {}
+    with AnyReader([bag]) as reader:
+        for conn, log_time, rawdata in reader.messages():
+            msg = reader.deserialize(rawdata, conn.msgtype)
+            stamp = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+            assert (conn.topic, stamp) not in got
+            got[conn.topic, stamp] = (log_time, bytes(rawdata), msg, conn.msgtype)
+    return got
+
+
+@pytest.mark.parametrize(("source_fmt", "encoding", "export_fmt"), [
+    ("ros1", "jpeg", "rosbag1"),
+    ("ros2-sqlite3", "png", "rosbag2"),
+    ("ros2-mcap", "mono16", "rosbag2"),
+])
+def test_bag_of_the_same_ros_version_holds_the_source_messages_byte_for_byte(
+    session_file, tmp_path: Path, source_fmt: str, encoding: str, export_fmt: str
+) -> None:
+    path = session_file(source_fmt, encoding)
+    out = tmp_path / "bag"
+    result = export_session_file(path, export_fmt, out)
+    expected = _expected(path)
+    got = _read(out / BAG[export_fmt])
+    assert set(got) == set(expected) and result.frames == len(expected) == 6
+    for key, (log_time, rawdata, _ser) in expected.items():
+        assert got[key][0] == log_time
+        assert got[key][1] == rawdata
+
+
+@pytest.mark.parametrize(("source_fmt", "encoding", "export_fmt"), [
+    ("ros1", "jpeg", "rosbag2"),
+    ("ros2-sqlite3", "bayer_rggb8", "rosbag1"),
+])
+def test_bag_of_the_other_ros_version_keeps_header_encoding_and_payload(
+    session_file, tmp_path: Path, source_fmt: str, encoding: str, export_fmt: str
+) -> None:
+    path = session_file(source_fmt, encoding)
+    out = tmp_path / "bag"
+    export_session_file(path, export_fmt, out)
+    expected = _expected(path)
+    got = _read(out / BAG[export_fmt])
+    assert set(got) == set(expected)
+    for key, (log_time, rawdata, serialization) in expected.items():
+        src = parse_image(rawdata, serialization == "cdr", encoding == "jpeg")
+        _log, _raw, msg, msgtype = got[key]
+        assert _log == log_time
+        assert msg.header.frame_id == src.frame_id
+        assert bytes(msg.data) == bytes(src.data)  # payload copied, not re-encoded
+        if encoding == "jpeg":
+            assert msgtype == "sensor_msgs/msg/CompressedImage" and msg.format == src.encoding
+        else:
+            assert msgtype == "sensor_msgs/msg/Image"
+            assert (msg.encoding, msg.width, msg.height, msg.step) == (
+                src.encoding, src.width, src.height, src.step)
+
+
+def test_bag_export_of_an_image_folder_carries_the_png_files_unchanged(
+    session_file, tmp_path: Path
+) -> None:
+    from speechcal_core.export import export_frame_sets
+    from speechcal_core.session.model import FrameChoice, FrameSet, Session, Trigger
+    from speechcal_core.sync.model import SyncModel
+
+    kalibr = tmp_path / "kalibr"
+    export_session_file(session_file(), "kalibr", kalibr)
+    with open_recording([kalibr]) as folder_source:
+        stamps = folder_source.stamps("cam0")
+        sets = [FrameSet(k + 1, int(t), Trigger("capture", k, k + 0.5),
+                         tuple(FrameChoice(n, k, int(t)) for n in ("cam0", "cam1")), "accepted")
+                for k, t in enumerate(stamps)]
+        session = Session([str(kalibr)], None, SyncModel(0, 0.0, "manual"), sets)
+        export_frame_sets(session, folder_source, "rosbag1", tmp_path / "bag")
+    got = _read(tmp_path / "bag" / "calibration.bag")
+    assert {k[0] for k in got} == {"/cam0", "/cam1"}
+    for (topic, stamp), (_log, _raw, msg, msgtype) in got.items():
+        assert msgtype == "sensor_msgs/msg/CompressedImage" and msg.format == "png"
+        assert bytes(msg.data) == (kalibr / topic[1:] / f"{stamp}.png").read_bytes()

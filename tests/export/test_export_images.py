@@ -1,0 +1,103 @@
+"""Kalibr and per-camera folder exports: layout, shared names, lossless pixels, target.yaml."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+from ruamel.yaml import YAML
+
+from speechcal_core.export import export_session_file
+from speechcal_core.session.store import load_session
+from speechcal_core.sources import open_recording
+from speechcal_core.target import TargetSpec
+
+
+def _accepted(session_path: Path):
+    return [s for s in load_session(session_path).sets if s.decision == "accepted"]
+
+
+def _assert_pixels_equal_source(session_path: Path, out: Path, folders: dict[str, str]) -> int:
+    session = load_session(session_path)
+    checked = 0
+    with open_recording(session.recording) as source:
+        for s in _accepted(session_path):
+            for f in s.frames:
+                if f.index < 0:
+                    continue
+                written = cv2.imread(str(out / folders[f.stream] / f"{s.t_ns}.png"),
+                                     cv2.IMREAD_UNCHANGED)
+                expected = source.frame(f.stream, f.index)
+                assert written.dtype == expected.dtype and written.shape == expected.shape
+                assert np.array_equal(written, expected)
+                checked += 1
+    return checked
+
+
+def test_kalibr_export_names_files_alike_across_cameras(session_file, tmp_path: Path) -> None:
+    path = session_file()
+    out = tmp_path / "kalibr"
+    result = export_session_file(path, "kalibr", out)
+    accepted = _accepted(path)
+    assert result.sets == len(accepted) == 3
+    names = {f"{s.t_ns}.png" for s in accepted}
+    cams = sorted(p.name for p in out.iterdir() if p.is_dir())
+    assert cams == ["cam0", "cam1"]
+    for cam in cams:
+        assert {p.name for p in (out / cam).iterdir()} == names
+    assert sorted(p.name for p in out.iterdir() if p.is_file()) == [
+        "manifest.csv", "manifest.json", "target.yaml"]
+
+
+def test_kalibr_pngs_hold_exactly_the_decoded_source_frames(session_file, tmp_path) -> None:
+    path = session_file("ros1", "jpeg")
+    out = tmp_path / "kalibr"
+    export_session_file(path, "kalibr", out)
+    with open_recording(load_session(path).recording) as source:
+        streams = [s.name for s in source.streams]
+    assert _assert_pixels_equal_source(path, out, {n: f"cam{k}" for k, n in enumerate(streams)})
+
+
+def test_target_yaml_is_kalibr_yaml_with_float_sizes(session_file, tmp_path: Path) -> None:
+    out = tmp_path / "kalibr"
+    result = export_session_file(session_file(), "kalibr", out)
+    doc = YAML(typ="safe").load((out / "target.yaml").read_text())
+    assert doc == {"target_type": "aprilgrid", "tagCols": 6, "tagRows": 6,
+                   "tagSize": 0.055, "tagSpacing": 0.3}
+    assert isinstance(doc["tagSize"], float) and isinstance(doc["tagSpacing"], float)
+    assert result.target == "default"
+
+
+def test_a_given_checkerboard_target_is_written_with_float_spacings(session_file, tmp_path):
+    out = tmp_path / "kalibr"
+    target = TargetSpec("checkerboard", 7, 9, 0.04)
+    result = export_session_file(session_file(), "kalibr", out, target=target)
+    doc = YAML(typ="safe").load((out / "target.yaml").read_text())
+    assert doc["target_type"] == "checkerboard"
+    assert (doc["targetRows"], doc["targetCols"]) == (7, 9)
+    assert isinstance(doc["rowSpacingMeters"], float) and doc["colSpacingMeters"] == 0.04
+    assert TargetSpec.from_kalibr_yaml(out / "target.yaml") == target
+    assert result.target == "given"
+
+
+@pytest.mark.parametrize(("fmt", "encoding", "dtype", "channels"), [
+    ("ros2-sqlite3", "mono16", np.uint16, 1),
+    ("ros2-mcap", "bayer_rggb8", np.uint8, 3),
+    ("ros1", "mono8", np.uint8, 1),
+])
+def test_folders_export_keeps_depth_and_demosaics_bayer(
+    session_file, tmp_path: Path, fmt: str, encoding: str, dtype, channels: int
+) -> None:
+    path = session_file(fmt, encoding)
+    out = tmp_path / "folders"
+    export_session_file(path, "folders", out)
+    folders = {"/cam0/image_raw": "cam0_image_raw", "/cam1/image_raw": "cam1_image_raw"}
+    assert sorted(p.name for p in out.iterdir() if p.is_dir()) == sorted(folders.values())
+    names = {f"{s.t_ns}.png" for s in _accepted(path)}
+    for folder in folders.values():
+        assert {p.name for p in (out / folder).iterdir()} == names
+    one = cv2.imread(str(out / "cam0_image_raw" / sorted(names)[0]), cv2.IMREAD_UNCHANGED)
+    assert one.dtype == dtype and (one.ndim == 2) == (channels == 1)
+    assert _assert_pixels_equal_source(path, out, folders) == 6
