@@ -1,0 +1,142 @@
+"""``speechcal export``: exit codes, one-line errors, --json, --force, nothing left behind."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from speechcal_core.cli import main
+from speechcal_core.export import export_session_file
+
+
+def _run(capsys, *args: str) -> tuple[int, str, str]:
+    code = main(["export", *args])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def _leftovers(parent: Path) -> list[str]:
+    return sorted(p.name for p in parent.iterdir() if p.name.startswith("."))
+
+
+def test_json_prints_one_document_on_stdout_and_progress_on_stderr(session_file, tmp_path):
+    path = session_file()
+    out = tmp_path / "exp"
+    result = subprocess.run(
+        [sys.executable, "-m", "speechcal_core.cli", "export", str(path), "--format",
+         "rosbag2", "--out", str(out), "--json"],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert result.returncode == 0, result.stderr
+    doc = json.loads(result.stdout)
+    assert doc == {"out": str(out), "format": "rosbag2", "sets": 3, "frames": 6,
+                   "files": doc["files"], "skipped": []}
+    assert doc["files"] == 4  # metadata.yaml, calibration.db3, manifest.json, manifest.csv
+    assert "writing the manifest" in result.stderr
+
+
+def test_existing_folder_is_refused_naming_it_and_force(session_file, tmp_path, capsys) -> None:
+    path = session_file()
+    out = tmp_path / "exp"
+    out.mkdir()
+    (out / "keep.txt").write_text("mine")
+    code, stdout, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out))
+    assert code == 1 and stdout == ""
+    assert err.count("\n") == 1 and str(out) in err and "--force" in err
+    assert [p.name for p in out.iterdir()] == ["keep.txt"]
+
+
+def test_force_replaces_the_folder_and_leaves_no_temporary_folders(
+    session_file, tmp_path, capsys
+) -> None:
+    path = session_file()
+    out = tmp_path / "exp"
+    out.mkdir()
+    (out / "old.txt").write_text("old")
+    code, stdout, _err = _run(capsys, str(path), "--format", "folders", "--out", str(out),
+                              "--force")
+    assert code == 0 and "exported 3 frame sets" in stdout
+    assert not (out / "old.txt").exists() and (out / "manifest.json").exists()
+    assert _leftovers(tmp_path) == []
+
+
+def test_cancelled_export_leaves_nothing_and_keeps_the_old_folder(session_file, tmp_path):
+    path = session_file()
+
+    class Stop(Exception):
+        pass
+
+    def stop_halfway(text: str, fraction: float) -> None:
+        if fraction > 0.5:
+            raise Stop(text)
+
+    with pytest.raises(Stop):
+        export_session_file(path, "kalibr", tmp_path / "new", progress=stop_halfway)
+    assert not (tmp_path / "new").exists()
+    old = tmp_path / "old"
+    old.mkdir()
+    (old / "keep.txt").write_text("mine")
+    with pytest.raises(Stop):
+        export_session_file(path, "rosbag1", old, force=True, progress=stop_halfway)
+    assert [p.name for p in old.iterdir()] == ["keep.txt"]
+    assert _leftovers(tmp_path) == []
+
+
+def test_bad_session_file_is_one_line_exit_1(tmp_path: Path, capsys) -> None:
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    code, _out, err = _run(capsys, str(bad), "--format", "kalibr", "--out", str(tmp_path / "o"))
+    assert code == 1 and err.count("\n") == 1 and str(bad) in err and "not valid JSON" in err
+    code, _out, err = _run(capsys, str(tmp_path / "none.json"), "--format", "kalibr",
+                           "--out", str(tmp_path / "o"))
+    assert code == 1 and "no such session file" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_missing_recording_names_it_and_what_to_do(session_file, tmp_path, capsys) -> None:
+    path = session_file()
+    session_json = json.loads(path.read_text())
+    session_json["recording"] = ["../nowhere/recording.bag"]
+    path.write_text(json.dumps(session_json))
+    code, _out, err = _run(capsys, str(path), "--format", "rosbag1", "--out",
+                           str(tmp_path / "o"))
+    assert code == 1 and err.count("\n") == 1
+    assert "recording.bag is missing" in err and "put it back" in err and str(path) in err
+
+
+def test_no_accepted_sets_is_exit_1(session_file, tmp_path, capsys) -> None:
+    path = session_file(decisions=("undecided",))
+    code, _out, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(tmp_path / "o"))
+    assert code == 1 and "accept sets in the review window first" in err
+    code, _out, _err = _run(capsys, str(path), "--format", "kalibr", "--out",
+                            str(tmp_path / "o"), "--include-undecided")
+    assert code == 0 and (tmp_path / "o" / "cam1").is_dir()
+
+
+@pytest.mark.parametrize("args", [
+    ["--format", "colmap", "--out", "o"],
+    ["--format", "kalibr"],
+    ["--out", "o"],
+])
+def test_bad_usage_is_exit_2(args, capsys) -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["export", "session.json", *args])
+    assert exc.value.code == 2
+
+
+def test_the_recordings_own_folder_is_never_an_output_even_with_force(
+    session_file, capsys
+) -> None:
+    from speechcal_core.session.store import load_session
+
+    path = session_file()
+    folder = Path(load_session(path).recording[0]).parent
+    before = sorted(p.name for p in folder.iterdir())
+    code, _out, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(folder),
+                           "--force")
+    assert code == 1 and "choose another output folder" in err
+    assert sorted(p.name for p in folder.iterdir()) == before
