@@ -21,6 +21,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.export_action import ExportAction
 from app.frame_grid import FrameGrid
 from app.frame_loader import FrameLoader
 from app.set_table import SetTable
@@ -59,6 +60,7 @@ class ReviewWindow(QMainWindow):
         self.review_page = QWidget()
         self.stack.addWidget(self.review_page)
         self._build_status_line()
+        self.exporter = ExportAction(self)
         self._build_actions()
         self.setAcceptDrops(True)
         self._save_clock = QTimer(self)
@@ -111,6 +113,18 @@ class ReviewWindow(QMainWindow):
         open_action.setShortcut(QKeySequence.StandardKey.Open)
         open_action.triggered.connect(self.choose_session)
         menu.addAction(open_action)
+        self.export_action = QAction("&Export frame sets…", self)
+        self.export_action.setShortcut(QKeySequence("Ctrl+E"))
+        self.export_action.triggered.connect(self.exporter.choose)
+        self.export_action.setEnabled(False)
+        menu.addAction(self.export_action)
+        self.export_button = QPushButton("Export…")
+        self.export_button.setToolTip("Write the accepted frame sets for Kalibr, per-camera "
+                                      "folders or a bag  (Ctrl+E)")
+        self.export_button.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+        self.export_button.clicked.connect(self.exporter.choose)
+        self.export_button.setEnabled(False)
+        self.menuBar().setCornerWidget(self.export_button)
         quit_action = QAction("&Quit", self)
         quit_action.setShortcut(QKeySequence.StandardKey.Quit)
         quit_action.triggered.connect(self.close)
@@ -241,6 +255,7 @@ class ReviewWindow(QMainWindow):
     def cancel_task(self) -> None:
         if self.task is not None:
             self.task.cancel()
+        self.exporter.cancel()
 
     def _show_busy(self, text: str) -> None:
         self.status_text.setText(text)
@@ -281,6 +296,8 @@ class ReviewWindow(QMainWindow):
                                                    inputs.session.audio or ""] if p)
         self.setWindowTitle(f"SpeechCal — {title}")
         self.stack.setCurrentWidget(self.review_page)
+        self.export_button.setEnabled(True)
+        self.export_action.setEnabled(True)
         n = len(inputs.session.sets)
         self.status_text.setText(f"{len(self.model.streams)} cameras, {n} frame sets"
                                  + (f" · {inputs.note}" if inputs.note else ""))
@@ -446,6 +463,7 @@ class ReviewWindow(QMainWindow):
     def closeEvent(self, event) -> None:
         if self.task is not None:
             self.task.cancel()
+        self.exporter.cancel()
         if self.loader is not None:
             self.loader.shutdown()
         if self.inputs is not None:

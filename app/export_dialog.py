@@ -1,0 +1,113 @@
+"""The export dialog: format, output folder, whether undecided sets go too."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QDialog,
+    QDialogButtonBox,
+    QFileDialog,
+    QFormLayout,
+    QHBoxLayout,
+    QLabel,
+    QLineEdit,
+    QPushButton,
+    QVBoxLayout,
+    QWidget,
+)
+
+#: export format -> what the operator reads in the list
+FORMAT_LABELS = {
+    "kalibr": "Kalibr — cam0/, cam1/… <stamp>.png + target.yaml",
+    "folders": "Folder per camera — calib.io, mrcal, multical",
+    "rosbag1": "ROS1 bag — original topics and messages",
+    "rosbag2": "ROS2 bag — original topics and messages",
+}
+
+
+class ExportDialog(QDialog):
+    """Asks for format and folder; ``choice()`` after it was accepted."""
+
+    def __init__(self, parent: QWidget | None, base_folder: Path, stem: str,
+                 counts: dict[str, int]) -> None:
+        super().__init__(parent)
+        self.setWindowTitle("Export frame sets")
+        self.setMinimumWidth(560)
+        self.base_folder = base_folder
+        self.stem = stem
+        self.counts = counts
+        self._edited = False
+        self.format_box = QComboBox()
+        for key, label in FORMAT_LABELS.items():
+            self.format_box.addItem(label, key)
+        self.path_edit = QLineEdit()
+        self.path_edit.textEdited.connect(self._on_edited)
+        browse = QPushButton("Browse…")
+        browse.clicked.connect(self._browse)
+        path_row = QHBoxLayout()
+        path_row.addWidget(self.path_edit, 1)
+        path_row.addWidget(browse)
+        self.undecided_box = QCheckBox(f"also the {counts.get('undecided', 0)} undecided sets")
+        self.summary = QLabel("")
+        form = QFormLayout()
+        form.addRow("Format", self.format_box)
+        form.addRow("Folder", path_row)
+        form.addRow("", self.undecided_box)
+        self.buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok
+                                        | QDialogButtonBox.StandardButton.Cancel)
+        self.buttons.button(QDialogButtonBox.StandardButton.Ok).setText("Export")
+        self.buttons.accepted.connect(self.accept)
+        self.buttons.rejected.connect(self.reject)
+        layout = QVBoxLayout(self)
+        layout.addLayout(form)
+        layout.addWidget(self.summary)
+        layout.addWidget(self.buttons)
+        self.format_box.currentIndexChanged.connect(self._update)
+        self.undecided_box.toggled.connect(self._update)
+        self._update()
+
+    @property
+    def format(self) -> str:
+        return str(self.format_box.currentData())
+
+    def set_format(self, fmt: str) -> None:
+        self.format_box.setCurrentIndex(self.format_box.findData(fmt))
+
+    def set_folder(self, folder: Path) -> None:
+        """Export into ``folder`` (kept when the format changes, as if typed)."""
+        self.path_edit.setText(str(folder))
+        self._on_edited(str(folder))
+
+    def choice(self) -> tuple[str, Path, bool]:
+        """Format, output folder and whether undecided sets are included."""
+        return self.format, Path(self.path_edit.text()).expanduser(), \
+            self.undecided_box.isChecked()
+
+    def _on_edited(self, _text: str) -> None:
+        self._edited = True
+        self._update()
+
+    def _browse(self) -> None:
+        parent = QFileDialog.getExistingDirectory(self, "Folder to export into",
+                                                  str(Path(self.path_edit.text()).parent))
+        if parent:
+            self.base_folder = Path(parent)
+            self._edited = False
+            self._update()
+
+    def _update(self) -> None:
+        if not self._edited:
+            self.path_edit.setText(str(self.base_folder / f"{self.stem}-{self.format}"))
+        n = self.counts.get("accepted", 0)
+        if self.undecided_box.isChecked():
+            n += self.counts.get("undecided", 0)
+        out = Path(self.path_edit.text())
+        note = "  (the folder exists: you will be asked to replace it)" if out.exists() else ""
+        self.summary.setText(f"{n} frame sets will be written to a new folder{note}")
+        ok = self.buttons.button(QDialogButtonBox.StandardButton.Ok)
+        ok.setEnabled(n > 0 and bool(self.path_edit.text().strip()))
+        if n == 0:
+            self.summary.setText("No accepted frame sets yet: accept sets (A) first")

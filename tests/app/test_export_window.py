@@ -1,0 +1,98 @@
+"""Exporting from the review window: dialog, worker thread, replace prompt, status line."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QDialogButtonBox
+
+from app.main_window import ReviewWindow
+
+
+@pytest.fixture
+def window(qtbot, truth_session_file: Path) -> ReviewWindow:
+    win = ReviewWindow()
+    win.setProperty("headless", True)
+    qtbot.addWidget(win)
+    win.show()
+    assert not win.export_button.isEnabled()
+    win.open(session_path=str(truth_session_file))
+    qtbot.waitUntil(lambda: win.model is not None, timeout=30_000)
+    return win
+
+
+def _export_through_dialog(qtbot, win: ReviewWindow, fmt: str, out: Path) -> None:
+    qtbot.mouseClick(win.export_button, Qt.MouseButton.LeftButton)
+    dialog = win.exporter.dialog
+    assert dialog is not None and dialog.isVisible()
+    dialog.set_format(fmt)
+    dialog.set_folder(out)
+    qtbot.mouseClick(dialog.buttons.button(QDialogButtonBox.StandardButton.Ok),
+                     Qt.MouseButton.LeftButton)
+
+
+def test_export_button_writes_the_accepted_sets_off_the_ui_thread(
+    qtbot, window: ReviewWindow, tmp_path: Path
+) -> None:
+    qtbot.keyClick(window, Qt.Key.Key_A)  # accept the first set
+    out = tmp_path / "kalibr"
+    _export_through_dialog(qtbot, window, "kalibr", out)
+    qtbot.waitUntil(lambda: window.exporter.task is None, timeout=30_000)
+    assert window.exporter.last_error == ""
+    assert (out / "target.yaml").exists() and (out / "manifest.json").exists()
+    first = window.model.session.sets[0]
+    names = {p.name for p in (out / "cam0").iterdir()}
+    assert names == {f"{first.t_ns}.png"}
+    assert {p.name for p in (out / "cam2").iterdir()} == names
+    text = window.status_text.text()
+    assert text.startswith("Exported 1 frame sets") and str(out) in text
+    assert not window.progress.isVisible()
+
+
+def test_existing_folder_asks_before_replacing_it(qtbot, window, tmp_path: Path) -> None:
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    out = tmp_path / "bag"
+    out.mkdir()
+    (out / "old.txt").write_text("old")
+    _export_through_dialog(qtbot, window, "rosbag1", out)
+    box = window.exporter.replace_box
+    assert box is not None and box.isVisible() and str(out) in box.text()
+    assert window.exporter.task is None and (out / "old.txt").exists()
+    replace = next(b for b in box.buttons() if b.text() == "Replace")
+    qtbot.mouseClick(replace, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: (out / "calibration.bag").exists(), timeout=30_000)
+    qtbot.waitUntil(lambda: window.exporter.task is None, timeout=30_000)
+    assert not (out / "old.txt").exists()
+    assert json.loads((out / "manifest.json").read_text())["format"] == "rosbag1"
+
+
+def test_declining_the_replace_keeps_the_folder(qtbot, window, tmp_path: Path) -> None:
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    out = tmp_path / "kept"
+    out.mkdir()
+    window.exporter.start("folders", out)
+    box = window.exporter.replace_box
+    qtbot.mouseClick(box.button(box.StandardButton.Cancel), Qt.MouseButton.LeftButton)
+    assert [p.name for p in out.iterdir()] == []
+    assert "already exists" in window.status_text.text()
+
+
+def test_without_accepted_sets_the_dialog_says_to_accept_first(qtbot, window) -> None:
+    qtbot.mouseClick(window.export_button, Qt.MouseButton.LeftButton)
+    dialog = window.exporter.dialog
+    assert not dialog.buttons.button(QDialogButtonBox.StandardButton.Ok).isEnabled()
+    assert "accept sets" in dialog.summary.text()
+    dialog.undecided_box.setChecked(True)
+    assert dialog.buttons.button(QDialogButtonBox.StandardButton.Ok).isEnabled()
+    dialog.reject()
+
+
+def test_a_failed_export_is_shown_in_the_status_line(qtbot, window, tmp_path: Path) -> None:
+    window.exporter.start("kalibr", tmp_path / "none")  # nothing accepted
+    qtbot.waitUntil(lambda: window.exporter.task is None, timeout=30_000)
+    assert "no accepted frame sets" in window.exporter.last_error
+    assert window.status_text.text().startswith("Export failed:")
+    assert not (tmp_path / "none").exists()
