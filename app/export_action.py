@@ -94,14 +94,20 @@ class ExportAction(QObject):
         self.task.signals.finished.connect(self._finished)
         self.task.signals.failed.connect(self._failed)
         w._show_busy(f"exporting to {out}…")
+        self._set_enabled(False)
         start(self.task)
 
     def cancel(self) -> None:
         if self.task is not None:
             self.task.cancel()
 
+    def _set_enabled(self, enabled: bool) -> None:
+        self.window.export_button.setEnabled(enabled)
+        self.window.export_action.setEnabled(enabled)
+
     def _done(self) -> None:
         self.task = None
+        self._set_enabled(True)
         self.window.progress.hide()
         self.window.cancel_button.hide()
 

@@ -49,7 +49,7 @@ def test_export_button_writes_the_accepted_sets_off_the_ui_thread(
     assert {p.name for p in (out / "cam2").iterdir()} == names
     text = window.status_text.text()
     assert text.startswith("Exported 1 frame sets") and str(out) in text
-    assert not window.progress.isVisible()
+    assert not window.progress.isVisible() and window.export_button.isEnabled()
 
 
 def test_existing_folder_asks_before_replacing_it(qtbot, window, tmp_path: Path) -> None:
