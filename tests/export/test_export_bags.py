@@ -90,18 +90,14 @@ def test_bag_of_the_other_ros_version_keeps_header_encoding_and_payload(
 def test_bag_export_of_an_image_folder_carries_the_png_files_unchanged(
     session_file, tmp_path: Path
 ) -> None:
+    from export_sessions import accepted_sets_over
+
     from speechcal_core.export import export_frame_sets
-    from speechcal_core.session.model import FrameChoice, FrameSet, Session, Trigger
-    from speechcal_core.sync.model import SyncModel
 
     kalibr = tmp_path / "kalibr"
     export_session_file(session_file(), "kalibr", kalibr)
     with open_recording([kalibr]) as folder_source:
-        stamps = folder_source.stamps("cam0")
-        sets = [FrameSet(k + 1, int(t), Trigger("capture", k, k + 0.5),
-                         tuple(FrameChoice(n, k, int(t)) for n in ("cam0", "cam1")), "accepted")
-                for k, t in enumerate(stamps)]
-        session = Session([str(kalibr)], None, SyncModel(0, 0.0, "manual"), sets)
+        session = accepted_sets_over(folder_source, ["cam0", "cam1"])
         export_frame_sets(session, folder_source, "rosbag1", tmp_path / "bag")
     got = _read(tmp_path / "bag" / "calibration.bag")
     assert {k[0] for k in got} == {"/cam0", "/cam1"}

@@ -101,3 +101,26 @@ def test_folders_export_keeps_depth_and_demosaics_bayer(
     one = cv2.imread(str(out / "cam0_image_raw" / sorted(names)[0]), cv2.IMREAD_UNCHANGED)
     assert one.dtype == dtype and (one.ndim == 2) == (channels == 1)
     assert _assert_pixels_equal_source(path, out, folders) == 6
+
+
+def test_a_frame_that_cannot_be_decoded_is_left_out_and_named(session_file, tmp_path) -> None:
+    import json
+
+    from export_sessions import accepted_sets_over
+
+    from speechcal_core.export import export_frame_sets
+
+    kalibr = tmp_path / "kalibr"
+    export_session_file(session_file(), "kalibr", kalibr)
+    damaged = sorted((kalibr / "cam1").iterdir())[0]
+    damaged.write_bytes(damaged.read_bytes()[:200])  # truncated PNG
+    with open_recording([kalibr]) as folder_source:
+        session = accepted_sets_over(folder_source, ["cam0", "cam1"])
+        result = export_frame_sets(session, folder_source, "folders", tmp_path / "out")
+    assert result.sets == 3 and result.frames == 5
+    assert len(result.skipped) == 1 and damaged.name in result.skipped[0]
+    assert not (tmp_path / "out" / "cam1" / damaged.name).exists()
+    assert (tmp_path / "out" / "cam0" / damaged.name).exists()
+    doc = json.loads((tmp_path / "out" / "manifest.json").read_text())
+    frame = next(f for s in doc["sets"] for f in s["frames"] if "skipped" in f)
+    assert frame["stream"] == "cam1" and frame["file"] is None
