@@ -130,3 +130,23 @@ def _rival_distance(pron: Pron, other: Pron) -> int | None:
     if n < m <= n + MAX_EXTRA_PHONES and other[:n] == pron:
         return m - n
     return None
+
+
+def confusable_words(prons: tuple[Pron, ...], exclude: set[str]) -> list[str]:
+    """Common words one phone away from a trigger, same length ("rapture", "captor").
+
+    Rivals for clearly heard speech only: in noise they win over real triggers too often.
+    Looser neighbourhoods (shared opening or ending: "captain", "globe's" for "clubs")
+    took real triggers from recorded human speech even at 25 dB.
+    """
+    return list(_confusables(tuple(sorted(prons)), tuple(sorted(exclude))))
+
+
+@functools.lru_cache(maxsize=16)
+def _confusables(prons: tuple[Pron, ...], exclude: tuple[str, ...]) -> tuple[str, ...]:
+    common = _common_words()
+    out = [word for word, alts in load_dictionary().items()
+           if word not in exclude and word in common
+           and any(len(a) == len(p) and sum(x != y for x, y in zip(a, p, strict=True)) == 1
+                   for a in alts for p in prons)]
+    return tuple(sorted(out)[:MAX_RIVALS])

@@ -1,11 +1,14 @@
 """Default backend: keyword-versus-filler decoding with pocketsphinx on voice-active spans.
 
 Each speech span is decoded with one finite-state grammar in which the trigger words
-compete, at equal prior, with their rival words (inflections such as "captured", one-phone
-neighbours such as "rapture") and, at a cost per phone, with a free phone loop that
-absorbs everything else. A trigger is reported only where it explains the audio better
-than all of those. Its bounds come from the same Viterbi path, then move to the onset and
-offset of the word's energy (recognised bounds run 30-40 ms early on reverberant speech).
+compete, at equal prior, with their rival words (inflections such as "captured") and, at a
+cost per phone, with a free phone loop that absorbs everything else. A trigger is reported
+only where it explains the audio better than all of those. How clearly a span is heard
+(its level above the noise floor) picks the grammar's tier: clearly heard spans also weigh
+one-phone neighbours ("rapture", "captor") against the trigger, which noisy spans cannot
+afford (noise lets them win over real triggers). A trigger's bounds come from the same
+Viterbi path, then move to the onset and offset of the word's energy (recognised bounds
+run 30-40 ms early on reverberant speech).
 The sensitivity sets the phone-loop cost (a dearer filler lets more words pass) and how
 close to the found triggers a span must sound to join them.
 Finally the recording is searched for spans that sound like the triggers found (same
@@ -14,13 +17,21 @@ speaker, same word: see ``self_similarity``), which recovers words lost in noise
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from speechcal_core.speech.backend import Word
 from speechcal_core.speech.errors import SpeechError
-from speechcal_core.speech.lexicon import PHONES, model_dir, pronunciations, rival_words
+from speechcal_core.speech.lexicon import (
+    PHONES,
+    confusable_words,
+    model_dir,
+    pronunciations,
+    rival_words,
+)
 from speechcal_core.speech.self_similarity import confirm_and_expand
 from speechcal_core.speech.timing import refine_bounds
 from speechcal_core.speech.vad import VoiceActivity, voice_activity
@@ -36,8 +47,28 @@ PHONE_PREFIX = "ph_"
 DECODER_OPTIONS: dict[str, Any] = {
     "beam": 1e-30, "pbeam": 1e-30, "wbeam": 1e-20, "bestpath": False, "loglevel": "ERROR",
 }
-#: log10 cost of one filler phone at sensitivity 0 and 1
-PHONE_LOG10 = (-3.0, -11.0)
+
+
+@dataclass(frozen=True)
+class Tier:
+    """How to decode spans heard at least ``min_level_db`` above the noise floor.
+
+    ``phone_log10``: log10 cost of one filler phone at sensitivity 0 and 1 (a dearer
+    filler lets more words pass). ``confusable_log10``: log10 prior of a confusable word
+    ("rapture", "captain") against a trigger, or None to leave them out: in noise they win
+    over real triggers too often.
+    """
+
+    min_level_db: float
+    phone_log10: tuple[float, float] = (-3.0, -11.0)
+    confusable_log10: float | None = None
+
+
+#: from the clearest spans down; the last tier takes everything else
+TIERS: tuple[Tier, ...] = (
+    Tier(18.0, confusable_log10=-10.0),
+    Tier(-math.inf),
+)
 #: similarity expansion: accepted cost relative to the triggers' mutual cost, at 0 and 1
 SIMILARITY_FACTOR = (1.0, 1.2)
 #: checking the found triggers against each other (``confirm_and_expand``'s ``verify``) is
@@ -68,6 +99,7 @@ class PocketsphinxBackend:
         found: list[Word] = []
         for start, end in activity.segments:
             a, b = int(start * RATE), int(end * RATE)
+            decoder.activate_search(_tier_name(activity.level_db(start, end)))
             found.extend(decode_span(decoder, x[a:b], start, self._vocab))
         refined = []
         for w in _dedupe(found):
@@ -99,28 +131,54 @@ class PocketsphinxBackend:
                                        **DECODER_OPTIONS)
         user = dict(spec.pronunciations)
         rivals: list[str] = []
+        confusables: list[str] = []
         for w in spec.words:
             prons = pronunciations(w, user)
             if w in user or decoder.lookup_word(w) is None:
                 _add_word(decoder, w, prons[0])
             rivals += [r for r in rival_words(prons, set(spec.words)) if r not in rivals]
+            confusables += [r for r in confusable_words(prons, set(spec.words))
+                            if r not in rivals and r not in confusables]
         phones = [PHONE_PREFIX + p.lower() for p in sorted(PHONES)]
         for p in sorted(PHONES):
             _add_word(decoder, PHONE_PREFIX + p.lower(), (p,))
         logmath = decoder.get_logmath()
-        lo, hi = PHONE_LOG10
-        phone_cost = int(logmath.log(10.0) * (lo + (hi - lo) * spec.sensitivity))
-        fsg = pocketsphinx.FsgModel("spot", logmath, 1.0, 2)
-        for w in [*spec.words, *rivals, *phones]:
-            fsg.trans_add(0, 0, phone_cost if w in phones else 0, fsg.word_add(w))
-        fsg.null_trans_add(0, 1, 0)
-        fsg.set_start_state(0)
-        fsg.set_final_state(1)
-        decoder.add_fsg("spot", fsg)
-        decoder.activate_search("spot")
+        for tier in TIERS:
+            decoder.add_fsg(_tier_name(tier.min_level_db),
+                            _spot_grammar(logmath, spec, rivals, confusables, phones, tier))
         self._decoder, self._key = decoder, key
-        self._vocab = set(spec.words) | set(rivals)
+        self._vocab = set(spec.words) | set(rivals) | set(confusables)
         return decoder
+
+
+def _tier_name(level_db: float) -> str:
+    """The search (one per tier) for a span at ``level_db`` above the noise floor."""
+    for k, tier in enumerate(TIERS):
+        if level_db >= tier.min_level_db:
+            return f"tier{k}"
+    return f"tier{len(TIERS) - 1}"
+
+
+def _spot_grammar(logmath: Any, spec: TriggerSpec, rivals: list[str], confusables: list[str],
+                  phones: list[str], tier: Tier) -> Any:
+    """One state looping over triggers and rivals (free), confusable words (at the tier's
+    prior, if any) and phones (at a cost each)."""
+    import pocketsphinx
+
+    lo, hi = tier.phone_log10
+    phone_cost = int(logmath.log(10.0) * (lo + (hi - lo) * spec.sensitivity))
+    fsg = pocketsphinx.FsgModel("spot", logmath, 1.0, 2)
+    words = [(w, 0) for w in [*spec.words, *rivals]]
+    if tier.confusable_log10 is not None:
+        cost = int(logmath.log(10.0) * tier.confusable_log10)
+        words += [(w, cost) for w in confusables]
+    words += [(w, phone_cost) for w in phones]
+    for w, cost in words:
+        fsg.trans_add(0, 0, cost, fsg.word_add(w))
+    fsg.null_trans_add(0, 1, 0)
+    fsg.set_start_state(0)
+    fsg.set_final_state(1)
+    return fsg
 
 
 def _add_word(decoder: Any, word: str, phones: tuple[str, ...]) -> None:

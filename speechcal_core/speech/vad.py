@@ -14,6 +14,7 @@ BLOCK_FRAMES = 100  # noise-floor statistics per second
 FLOOR_PERCENTILE = 20.0
 FLOOR_SPAN_BLOCKS = 9  # the floor is the lowest block statistic within +-4 s
 SILENCE_LEVEL = 1e-5  # below this everywhere (about -100 dBFS) a file is silent
+LEVEL_PERCENTILE = 90.0  # a span's level: this percentile of its energy above the floor
 CHUNK_FRAMES = 6000  # energies are computed a minute at a time (bounded memory)
 
 
@@ -68,6 +69,18 @@ class VoiceActivity:
 
     segments: list[tuple[float, float]]
     floor_db: np.ndarray
+    energy_db: np.ndarray | None = None
+
+    def level_db(self, start_s: float, end_s: float) -> float:
+        """How far the loud part of ``start_s``..``end_s`` stands above the noise floor (dB).
+
+        The 90th percentile of band energy minus floor: a local signal-to-noise figure.
+        """
+        if self.energy_db is None or self.energy_db.size == 0:
+            return 0.0
+        a = min(self.energy_db.size - 1, max(0, int(start_s / HOP_S)))
+        b = min(self.energy_db.size, max(a + 1, int(end_s / HOP_S)))
+        return float(np.percentile(self.energy_db[a:b] - self.floor_db[a:b], LEVEL_PERCENTILE))
 
     def floor_at(self, t_s: float) -> float:
         """The noise floor at audio time ``t_s``."""
@@ -83,7 +96,7 @@ def voice_activity(samples: np.ndarray, rate: int,
         return VoiceActivity([], np.zeros(0, dtype=np.float32))  # empty or digital silence
     energy = band_energy_db(samples, rate)
     floor = noise_floor_db(energy)
-    return VoiceActivity(_segments(energy, floor, samples.size / rate, settings), floor)
+    return VoiceActivity(_segments(energy, floor, samples.size / rate, settings), floor, energy)
 
 
 def speech_segments(samples: np.ndarray, rate: int,

@@ -1,0 +1,63 @@
+"""Decoding tiers: how clearly a span is heard decides which rivals a trigger must beat."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from speech_scenes import Scene, make_scene
+
+from speechcal_core.speech import detect_triggers
+from speechcal_core.speech.lexicon import confusable_words, pronunciations
+from speechcal_core.speech.pocketsphinx_backend import TIERS, _tier_name
+from speechcal_core.speech.vad import voice_activity
+
+
+def test_confusables_are_common_words_one_phone_away() -> None:
+    assert confusable_words(pronunciations("capture"), {"capture"}) == ["captor", "rapture"]
+    near_mark = confusable_words(pronunciations("mark"), {"mark"})
+    assert {"park", "dark", "march"} <= set(near_mark)
+    assert "market" not in near_mark and "mark" not in near_mark  # longer; the word itself
+
+
+def test_span_level_tracks_how_far_speech_stands_above_the_noise(tmp_path: Path) -> None:
+    levels = {}
+    for snr in (30.0, 10.0):
+        scene = make_scene(tmp_path / f"l{snr:g}.wav", [("capture", "rms/capture_1")],
+                           snr_db=snr)
+        activity = voice_activity(scene.samples, 16000)
+        (a, b), = scene.spans("capture")
+        levels[snr] = activity.level_db(a, b)
+        assert activity.level_db(0.0, 0.5) < 6.0  # the lead-in is noise only
+    assert levels[30.0] > levels[10.0] + 10.0
+
+
+def test_clear_spans_use_the_first_tier_and_noisy_ones_the_last() -> None:
+    assert _tier_name(TIERS[0].min_level_db + 5.0) == "tier0"
+    assert _tier_name(-20.0) == f"tier{len(TIERS) - 1}"
+    assert TIERS[0].confusable_log10 is not None  # clear: one-phone neighbours compete
+    assert TIERS[-1].confusable_log10 is None and TIERS[-1].min_level_db == -np.inf
+
+
+def _found(scene: Scene, text: str) -> int:
+    result = detect_triggers(scene.path, ["capture"])
+    return sum(any(a - 0.1 <= w.t <= b + 0.1 for w in result.triggers)
+               for a, b in scene.spans(text))
+
+
+def test_clearly_heard_rapture_is_not_a_trigger_but_capture_is(tmp_path: Path) -> None:
+    scene = make_scene(tmp_path / "rapture.wav",
+                       [("rapture", "slt/rapture_1"), ("capture", "slt/capture_2"),
+                        ("rapture", "slt/rapture_2"), ("capture", "rms/capture_3")], snr_db=30.0)
+    assert _found(scene, "rapture") == 0
+    assert _found(scene, "capture") == 2
+
+
+def test_noisy_spans_still_give_most_triggers(tmp_path: Path) -> None:
+    items = [("capture", f"{voice}/capture_{k}") for voice in ("slt", "rms", "awb", "kal16")
+             for k in (1, 2, 3)]
+    scene = make_scene(tmp_path / "noisy.wav", items, snr_db=10.0)
+    activity = voice_activity(scene.samples, 16000)
+    levels = [activity.level_db(a, b) for a, b in scene.spans("capture")]
+    assert sum(level < TIERS[0].min_level_db for level in levels) >= 8  # mostly the noisy tier
+    assert _found(scene, "capture") >= 9
