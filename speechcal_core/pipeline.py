@@ -8,6 +8,7 @@ corners, and check a calibration per camera.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -108,7 +109,8 @@ def process_loaded(
         report(f"frames: {stage}", start + span * fraction)
 
     report("choosing frames", 0.6)
-    analysis = analyse_frames(source, sync, triggers, target or TargetSpec(),
+    target = target or TargetSpec()
+    analysis = analyse_frames(source, sync, triggers, target,
                               options=frame_options, progress=frames_progress)
     session = Session(
         recording=[str(Path(p).absolute()) for p in recording],
@@ -118,7 +120,8 @@ def process_loaded(
         triggers_word=list(trigger_words),
         sync_evidence=evidence,
         calibration=analysis.calibration,
-        extra={**analysis.extra, "detection_notes": notes} if notes else analysis.extra,
+        extra={**analysis.extra, "target": asdict(target),
+               **({"detection_notes": notes} if notes else {})},
     )
     report("done", 1.0)
     return session

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -69,6 +70,7 @@ def test_process_command_writes_the_session_with_progress_on_stderr(synth, tmp_p
     assert captured.out == "" and "choosing frames" in captured.err
     doc = json.loads(session_path.read_text())
     assert {"sets", "calibration", "frame_details", "coverage"} <= set(doc)
+    assert doc["target"] == asdict(TargetSpec())  # what export describes to Kalibr
     offsets = {c["name"]: c["clock_offset_ns"] for c in truth["cameras"]}
     for s in doc["sets"]:
         hold = _hold_of(truth, s["trigger"]["start_s"], s["trigger"]["end_s"])
