@@ -12,7 +12,9 @@ run 30-40 ms early on reverberant speech).
 The sensitivity sets the phone-loop cost (a dearer filler lets more words pass) and how
 close to the found triggers a span must sound to join them.
 Finally the recording is searched for spans that sound like the triggers found (same
-speaker, same word: see ``self_similarity``), which recovers words lost in noise.
+speaker, same word: see ``self_similarity``), which recovers words lost in noise; spans the
+recogniser heard clearly keep its verdict. Inflections compete at a small prior against
+the trigger, which operators say far more often.
 """
 
 from __future__ import annotations
@@ -69,6 +71,11 @@ TIERS: tuple[Tier, ...] = (
     Tier(18.0, confusable_log10=-10.0),
     Tier(-math.inf),
 )
+#: log10 prior of a rival (an inflection) against a trigger: operators say the trigger far
+#: more often, and some voices end "capture" so that it sounds like "captured"
+RIVAL_LOG10 = -2.0
+#: similarity search adds words only in spans heard less clearly than the clearest tier
+EXPAND_BELOW_DB = TIERS[0].min_level_db
 #: similarity expansion: accepted cost relative to the triggers' mutual cost, at 0 and 1
 SIMILARITY_FACTOR = (1.0, 1.2)
 #: checking the found triggers against each other (``confirm_and_expand``'s ``verify``) is
@@ -115,7 +122,10 @@ class PocketsphinxBackend:
                 * spec.sensitivity
             kept, extra = confirm_and_expand(x, RATE, seeds, activity, others, factor,
                                              verify=SEED_CHECK)
-            out += kept + extra
+            # the recogniser is trusted where it hears clearly: similarity adds words only
+            # in noisier spans, where it recovers what the recogniser lost
+            out += kept + [w for w in extra
+                           if activity.level_db(w.start_s, w.end_s) < EXPAND_BELOW_DB]
         return sorted(out, key=lambda w: w.start_s)
 
     def _prepare(self, spec: TriggerSpec) -> Any:
@@ -168,7 +178,8 @@ def _spot_grammar(logmath: Any, spec: TriggerSpec, rivals: list[str], confusable
     lo, hi = tier.phone_log10
     phone_cost = int(logmath.log(10.0) * (lo + (hi - lo) * spec.sensitivity))
     fsg = pocketsphinx.FsgModel("spot", logmath, 1.0, 2)
-    words = [(w, 0) for w in [*spec.words, *rivals]]
+    rival_cost = int(logmath.log(10.0) * RIVAL_LOG10)
+    words = [(w, 0) for w in spec.words] + [(w, rival_cost) for w in rivals]
     if tier.confusable_log10 is not None:
         cost = int(logmath.log(10.0) * tier.confusable_log10)
         words += [(w, cost) for w in confusables]
