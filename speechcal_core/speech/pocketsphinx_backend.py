@@ -64,6 +64,9 @@ class Tier:
     min_level_db: float
     phone_log10: tuple[float, float] = (-3.0, -11.0)
     confusable_log10: float | None = None
+    #: log10 prior of a rival (an inflection) against a trigger: operators say the
+    #: trigger far more often, and some voices end "capture" so it sounds like "captured"
+    rival_log10: float = -2.0
 
 
 #: from the clearest spans down; the last tier takes everything else
@@ -71,13 +74,10 @@ TIERS: tuple[Tier, ...] = (
     Tier(18.0, confusable_log10=-10.0),
     Tier(-math.inf),
 )
-#: log10 prior of a rival (an inflection) against a trigger: operators say the trigger far
-#: more often, and some voices end "capture" so that it sounds like "captured"
-RIVAL_LOG10 = -2.0
 #: similarity search adds words only in spans heard less clearly than the clearest tier
 EXPAND_BELOW_DB = TIERS[0].min_level_db
 #: similarity expansion: accepted cost relative to the triggers' mutual cost, at 0 and 1
-SIMILARITY_FACTOR = (1.0, 1.2)
+SIMILARITY_FACTOR = (1.15, 1.35)
 #: checking the found triggers against each other (``confirm_and_expand``'s ``verify``) is
 #: off: it removed near-homophones at 20 dB but dropped real triggers as templates at 5 dB
 #: (benchmark seeds 1-3: 5 dB recall 0.668 -> 0.571)
@@ -178,7 +178,7 @@ def _spot_grammar(logmath: Any, spec: TriggerSpec, rivals: list[str], confusable
     lo, hi = tier.phone_log10
     phone_cost = int(logmath.log(10.0) * (lo + (hi - lo) * spec.sensitivity))
     fsg = pocketsphinx.FsgModel("spot", logmath, 1.0, 2)
-    rival_cost = int(logmath.log(10.0) * RIVAL_LOG10)
+    rival_cost = int(logmath.log(10.0) * tier.rival_log10)
     words = [(w, 0) for w in spec.words] + [(w, rival_cost) for w in rivals]
     if tier.confusable_log10 is not None:
         cost = int(logmath.log(10.0) * tier.confusable_log10)
