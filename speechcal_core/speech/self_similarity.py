@@ -8,6 +8,8 @@ recogniser loses in noise, where a same-speaker comparison still holds.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from speechcal_core.speech.backend import Word
@@ -45,7 +47,8 @@ def expand_by_similarity(samples: np.ndarray, rate: int, seeds: list[Word],
 def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
                        activity: VoiceActivity, blocked: list[Word],
                        factor: float = COST_FACTOR, rounds: int = ROUNDS,
-                       verify: float | None = VERIFY_FACTOR, noise_floor: float = NOISE_FLOOR
+                       verify: float | None = VERIFY_FACTOR, noise_floor: float = NOISE_FLOOR,
+                       checked: Sequence[bool] | None = None
                        ) -> tuple[list[Word], list[Word]]:
     """The seeds that sound like the other seeds, and new instances similar to those.
 
@@ -54,6 +57,7 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     recogniser's false alarms ("rapture", "capsule") rarely sound like the operator's
     other triggers, while the real ones have close siblings. All comparisons are DTW
     costs over the same features, so unlike recogniser scores they compare across spans.
+    ``checked`` (one flag per seed) limits the check to some seeds; the others are kept.
     """
     if len(seeds) < MIN_SEEDS or not activity.segments:
         return list(seeds), []
@@ -87,7 +91,8 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
         return list(seeds), []
     median = float(np.median(finite))
     keep = [k for k in range(len(seeds)) if verify is None or len(seeds) < VERIFY_MIN_SEEDS
-            or matches[k] is None or closest[k] <= verify * median]
+            or matches[k] is None or closest[k] <= verify * median
+            or (checked is not None and not checked[k])]
     kept = [seeds[k] for k in keep]
     mutual = closest[keep]
     mutual = mutual[np.isfinite(mutual)]

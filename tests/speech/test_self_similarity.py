@@ -60,6 +60,10 @@ def test_a_seed_unlike_the_other_seeds_is_dropped_the_real_ones_stay(tmp_path: P
     kept_all, _ = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
                                      verify=None, noise_floor=3.0)
     assert len(kept_all) == len(seeds)
+    only_capsule = [(s.start_s, s.end_s) == scene.spans("capsule")[0] for s in seeds]
+    kept_some, _ = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
+                                      noise_floor=3.0, checked=only_capsule)
+    assert [w for w in seeds if w not in kept_some] == [seeds[only_capsule.index(True)]]
 
 
 def test_noise_floored_features_bring_noisy_and_clean_instances_closer() -> None:
