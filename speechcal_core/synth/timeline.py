@@ -24,6 +24,7 @@ MOVE_RANGE_S = (0.7, 1.6)
 LEAD_IN_S = 1.5  # before the clap
 CLAP_TO_FIRST_MOVE_S = 1.5
 EARLY_TRIGGER_FRACTION = 0.2  # triggers said while the board is still settling
+EARLY_MIN_MOVE_S = 1.0  # ... after a move this long at least (one word ends, the next starts)
 
 
 @dataclass(frozen=True)
@@ -192,9 +193,12 @@ def plan_session(options: SynthOptions) -> Timeline:
                                      max_duration_s=move_ns / NS * 0.9))
         t += move_ns
         segments.append(Segment(t, t + hold_ns, p, p))
-        if rng.random() < EARLY_TRIGGER_FRACTION:
-            # said while settling: the word ends up to 0.3 s before the hold starts
-            anchor = t - int(rng.uniform(0.0, 0.3) * NS)
+        early = rng.random() < EARLY_TRIGGER_FRACTION
+        if early and move_ns >= int(EARLY_MIN_MOVE_S * NS):
+            # said while settling: the word ends up to 0.3 s before the hold starts, and
+            # (words last up to 0.8 s) clear of the previous hold's word
+            lead = min(0.3, move_ns / NS - EARLY_MIN_MOVE_S)
+            anchor = t - int(rng.uniform(0.0, lead) * NS)
             speech.append(SpeechSlot("trigger", anchor, "end", hold_index))
         else:
             lo, hi = t + int(0.35 * NS), t + hold_ns - int(0.35 * NS)
