@@ -27,20 +27,12 @@ def tiny_synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
 @pytest.fixture
 def truth_session_file(tiny_synth: tuple[Path, dict], tmp_path: Path) -> Path:
     """A session file whose sets come from the truth's triggers (for review tests)."""
-    from speechcal_core.frames.nearest import nearest_frame_sets
-    from speechcal_core.session.model import Session, Trigger
+    from truth_sessions import truth_session
+
     from speechcal_core.session.store import save_session
-    from speechcal_core.sources import open_recording
-    from speechcal_core.sync.model import SyncModel
 
     folder, truth = tiny_synth
-    recording = str(folder / truth["recording"])
-    sync = SyncModel(truth["sync"]["offset_ns"], truth["sync"]["drift"], "auto")
-    triggers = [Trigger(t["word"], t["start_s"], t["end_s"], 1.0, "truth")
-                for t in truth["triggers"]]
-    with open_recording([recording]) as source:
-        sets = nearest_frame_sets(source, sync, triggers)
-    session = Session([recording], str(folder / truth["audio"]), sync, sets)
+    session = truth_session(folder, truth)
     session.sync_evidence = {"claps": truth["claps"]}
     path = tmp_path / "review.json"
     save_session(session, path)

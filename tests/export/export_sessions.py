@@ -14,26 +14,19 @@ def write_session(folder: Path, truth: dict, path: Path,
                   decisions: Sequence[str] = PATTERN) -> Path:
     """A session file over ``folder``'s recording: one set per true trigger, with
     ``decisions`` in turn and made-up quality figures on every chosen frame."""
-    from speechcal_core.frames.nearest import nearest_frame_sets
-    from speechcal_core.session.model import Session, Trigger
-    from speechcal_core.session.store import save_session
-    from speechcal_core.sources import open_recording
-    from speechcal_core.sync.model import SyncModel
+    from truth_sessions import truth_session
 
-    recording = str(folder / truth["recording"])
-    sync = SyncModel(truth["sync"]["offset_ns"], truth["sync"]["drift"], "auto")
-    triggers = [Trigger(t["word"], t["start_s"], t["end_s"], 1.0, "truth")
-                for t in truth["triggers"]]
-    with open_recording([recording]) as source:
-        sets = nearest_frame_sets(source, sync, triggers)
+    from speechcal_core.session.store import save_session
+
+    session = truth_session(folder, truth)
     sets = [
         replace(s, decision=decisions[k % len(decisions)], frames=tuple(
             replace(f, sharpness=round(100.0 + 10 * k + j + 0.25, 2), corners=140 + j,
                     flags=("blur",) if j == 1 else ())
             for j, f in enumerate(s.frames)))
-        for k, s in enumerate(sets)
+        for k, s in enumerate(session.sets)
     ]
-    session = Session([recording], str(folder / truth["audio"]), sync, sets)
+    session.sets = sets
     path.parent.mkdir(parents=True, exist_ok=True)
     save_session(session, path)
     return path
