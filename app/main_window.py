@@ -196,8 +196,9 @@ class ReviewWindow(QMainWindow):
             b.clicked.connect(lambda _=False, a=action: self.run_action(a))
             sync_row.addWidget(b)
         self.help_line = QLabel(
-            "Space play · ←/→ frame · J/K set · A/R/U decide · [ ] nudge audio 1 ms, { } one "
-            "frame · drag the clap handle · double-click a camera to enlarge, Esc back · "
+            "Space play · ←/→ frame · J/K set · A/R/U decide · T add · Del remove · "
+            "[ ] nudge audio 1 ms, { } one frame · drag the clap handle · "
+            "double-click a camera to enlarge, Esc back · "
             "wheel zooms the waveform, click moves the playhead")
         self.help_line.setStyleSheet("color: gray")
         bottom_layout.addLayout(sync_row)
@@ -291,6 +292,7 @@ class ReviewWindow(QMainWindow):
         self.model.connect("playhead", lambda _t: self._refresh_playhead())
         self.model.connect("current_set", self.table.select_row)
         self.model.connect("decision", self._on_decision)
+        self.model.connect("sets", self._on_sets)
         self.model.connect("sync", self._on_sync)
         title = " + ".join(Path(p).name for p in [*inputs.session.recording,
                                                    inputs.session.audio or ""] if p)
@@ -371,6 +373,14 @@ class ReviewWindow(QMainWindow):
         self.waveform.set_sets(model.session.sets)
         self._update_counts()
         self._refresh_playhead()
+
+    def _on_sets(self) -> None:
+        """A set was added or removed: list, markers and counts show the new sets."""
+        model = self.model
+        assert model is not None
+        self.table.set_sets(model.session.sets, model.time_range_ns()[0])
+        self.waveform.set_sets(model.session.sets)
+        self._update_counts()
 
     def _on_sync(self, sync) -> None:
         model = self.model

@@ -13,13 +13,18 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
-from speechcal_core.session.model import FrameSet, Session
+from speechcal_core.session.model import FrameSet, Session, Trigger
 from speechcal_core.sync.model import SyncModel
 
 if TYPE_CHECKING:
     from speechcal_core.sources.base import FrameSource
 
-EVENTS = ("playhead", "current_set", "decision", "sync", "saved")
+EVENTS = ("playhead", "current_set", "decision", "sets", "sync", "saved")
+
+#: ``Trigger.source`` of a trigger the operator added in review (kept in the session file)
+OPERATOR_SOURCE = "manual"
+#: adding a set is refused (the existing one is selected) this close to another set
+ADD_MIN_GAP_NS = 200_000_000
 
 #: key name -> action method name (the window only maps key presses to these)
 KEY_BINDINGS: dict[str, str] = {
@@ -34,6 +39,8 @@ KEY_BINDINGS: dict[str, str] = {
     "Left": "previous_frame",
     "Home": "first_set",
     "End": "last_set",
+    "T": "add_set",
+    "Delete": "remove_set",
     "[": "offset_minus_ms",
     "]": "offset_plus_ms",
     "{": "offset_minus_frame",
@@ -77,8 +84,10 @@ class ReviewModel:
         self.source = source
         self._autosave = autosave
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
-        self._undo: list[tuple[int, str]] = []  # (set id, previous decision)
-        self._redo: list[tuple[int, str]] = []
+        # undo/redo entries: ("decision", set id, decision to restore),
+        # ("add", set) and ("remove", set, its index, its frame details or None)
+        self._undo: list[tuple] = []
+        self._redo: list[tuple] = []
         self._stamps = (
             {s.name: source.stamps(s.name) for s in source.streams} if source else {}
         )
@@ -235,21 +244,34 @@ class ReviewModel:
         current = self.current_set
         if current is None or current.decision == decision:
             return
-        self._undo.append((current.id, current.decision))
+        self._undo.append(("decision", current.id, current.decision))
         self._redo.clear()
         self._apply(current.id, decision)
 
     def undo(self) -> None:
         if self._undo:
-            set_id, decision = self._undo.pop()
-            self._redo.append((set_id, self.session.set_by_id(set_id).decision))
-            self._apply(set_id, decision, select=True)
+            self._redo.append(self._revert(self._undo.pop()))
 
     def redo(self) -> None:
         if self._redo:
-            set_id, decision = self._redo.pop()
-            self._undo.append((set_id, self.session.set_by_id(set_id).decision))
+            self._undo.append(self._revert(self._redo.pop()))
+
+    def _revert(self, entry: tuple) -> tuple:
+        """Undo one stack entry; returns the entry that undoes this in turn."""
+        kind = entry[0]
+        if kind == "decision":
+            _kind, set_id, decision = entry
+            previous = self.session.set_by_id(set_id).decision
             self._apply(set_id, decision, select=True)
+            return ("decision", set_id, previous)
+        if kind == "add":
+            frame_set = entry[1]
+            index = self._index_of(frame_set.id)
+            details = self._drop_set(index)
+            return ("remove", frame_set, index, details)
+        _kind, frame_set, index, details = entry
+        self._insert_set(frame_set, index, details)
+        return ("add", frame_set)
 
     def _apply(self, set_id: int, decision: str, select: bool = False) -> None:
         self.session.replace_set(self.session.set_by_id(set_id).with_decision(decision))
@@ -259,6 +281,82 @@ class ReviewModel:
                 self.go_to_set(index)
         self._emit("decision", set_id, decision)
         self._save()
+
+    # -- adding and removing sets ---------------------------------------------------------
+    def add_set(self) -> None:
+        """Add a frame set at the playhead, for a trigger word the detector missed.
+
+        Its trigger is operator-added (``source`` :data:`OPERATOR_SOURCE`), with the
+        session's first trigger word and a zero-length word span: ``start_s == end_s`` is
+        the playhead mapped to audio time. Every camera gets the frame nearest the
+        playhead. Within :data:`ADD_MIN_GAP_NS` of an existing set nothing is added; that
+        set is selected instead. The new set is undecided and becomes the current set.
+        """
+        near = self.set_at_playhead(ADD_MIN_GAP_NS)
+        if near is not None:
+            self.go_to_set(self._index_of(near.id))
+            return
+        sync = self.session.sync
+        t_s = float(sync.to_audio(self.playhead_ns))
+        word = self.session.triggers_word[0] if self.session.triggers_word else "capture"
+        frames = tuple(nearest_choice(name, st, self.playhead_ns, self._periods[name])
+                       for name, st in self._stamps.items())
+        new = FrameSet(
+            id=max((s.id for s in self.session.sets), default=0) + 1,
+            t_ns=int(sync.to_session(t_s)),
+            trigger=Trigger(word, t_s, t_s, 1.0, OPERATOR_SOURCE),
+            frames=frames,
+        )
+        index = sum(1 for s in self.session.sets if s.t_ns <= new.t_ns)
+        self._undo.append(("add", new))
+        self._redo.clear()
+        self._insert_set(new, index, None)
+
+    def remove_set(self) -> None:
+        """Remove the current frame set (a false trigger); undo brings it back."""
+        current = self.current_set
+        if current is None:
+            return
+        index = self.current
+        details = self._drop_set(index)
+        self._undo.append(("remove", current, index, details))
+        self._redo.clear()
+
+    def _index_of(self, set_id: int) -> int:
+        return next(i for i, s in enumerate(self.session.sets) if s.id == set_id)
+
+    def _insert_set(self, frame_set: FrameSet, index: int, details: object) -> None:
+        """Put a set back (or in) at ``index``, select it, tell listeners, save."""
+        self.session.sets.insert(index, frame_set)
+        all_details = self.session.extra.get("frame_details")
+        if isinstance(all_details, dict):
+            if details is None:
+                all_details.pop(str(frame_set.id), None)  # never show another set's corners
+            else:
+                all_details[str(frame_set.id)] = details
+        self._emit("sets")
+        self.go_to_set(index)
+        self._save()
+
+    def _drop_set(self, index: int) -> object:
+        """Take the set at ``index`` out; the next one (or the last) becomes current.
+
+        Returns the set's frame details from the session extras (None if it had none),
+        so undo can put them back.
+        """
+        frame_set = self.session.sets.pop(index)
+        all_details = self.session.extra.get("frame_details")
+        details = (all_details.pop(str(frame_set.id), None)
+                   if isinstance(all_details, dict) else None)
+        self._emit("sets")
+        if self.session.sets:
+            self.go_to_set(min(index, len(self.session.sets) - 1))
+        else:
+            self.current = -1
+            self._emit("current_set", self.current)
+            self._emit("playhead", self.playhead_ns)
+        self._save()
+        return details
 
     def _save(self) -> None:
         if self._autosave is not None:

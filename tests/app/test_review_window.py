@@ -137,3 +137,24 @@ def test_demo_button_opens_the_demo_session_and_processes_it(
     assert win.load_error == ""
     assert win.model is not None and len(win.model.session.sets) >= 1
     assert (tmp_path / "speechcal" / "demo" / "recording.speechcal.json").exists()
+
+
+def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
+    qtbot, window, truth_session_file
+) -> None:
+    model = window.model
+    rows = window.table.rowCount()
+    a, b = (set_time_ns(s) for s in model.session.sets[:2])
+    model.set_playhead((a + b) // 2)
+    qtbot.keyClick(window, Qt.Key.Key_T)
+    assert window.table.rowCount() == rows + 1
+    assert len(window.waveform._markers) == 2 * (rows + 1)  # region + label per set
+    assert window.table.selectedIndexes()[0].row() == 1 == model.current
+    assert window.table.item(1, 0).text() == str(model.current_set.id)
+    assert len(load_session(truth_session_file).sets) == rows + 1
+    assert "T add · Del remove" in window.help_line.text()
+    qtbot.keyClick(window, Qt.Key.Key_Delete)
+    assert window.table.rowCount() == rows
+    assert len(window.waveform._markers) == 2 * rows
+    assert len(load_session(truth_session_file).sets) == rows
+    assert window.counts_label.text().endswith(f"? {rows} undecided")

@@ -1,0 +1,154 @@
+"""Operator fixes to detection in review: add a missed trigger's set, remove a false one."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from speechcal_core.frames.nearest import nearest_index
+from speechcal_core.review.model import KEY_BINDINGS, OPERATOR_SOURCE, ReviewModel, set_time_ns
+from speechcal_core.session.store import load_session, save_session
+from speechcal_core.sources import open_recording
+
+
+def _model(path: Path, saves: list | None = None) -> ReviewModel:
+    session = load_session(path)
+    source = open_recording(session.recording)
+
+    def autosave(s) -> None:
+        save_session(s, path)
+        if saves is not None:
+            saves.append([x.id for x in s.sets])
+
+    return ReviewModel(session, source, autosave=autosave)
+
+
+def _between_first_two_sets(model: ReviewModel) -> int:
+    """A playhead half way between the first two sets (well away from both)."""
+    a, b = (set_time_ns(s) for s in model.session.sets[:2])
+    assert b - a > 1_000_000_000
+    return (a + b) // 2
+
+
+def test_add_set_at_playhead_takes_nearest_frames_and_is_saved_as_operator_added(
+    truth_session_file: Path,
+) -> None:
+    saves: list = []
+    model = _model(truth_session_file, saves)
+    before = [s.id for s in model.session.sets]
+    playhead = _between_first_two_sets(model)
+    model.set_playhead(playhead)
+    model.add_set()
+
+    new = model.current_set
+    assert new is not None and model.current == 1
+    assert new.id == max(before) + 1
+    assert new.decision == "undecided"
+    assert [s.id for s in model.session.sets] == [before[0], new.id, *before[1:]]
+    times = [s.t_ns for s in model.session.sets]
+    assert times == sorted(times)
+    trig = new.trigger
+    assert trig.word == "capture" and trig.source == OPERATOR_SOURCE
+    assert trig.start_s == trig.end_s == model.session.sync.to_audio(playhead)
+    assert abs(new.t_ns - playhead) <= 1
+    for frame in new.frames:  # every camera: the frame nearest the playhead
+        stamps = model.source.stamps(frame.stream)
+        assert frame.index == nearest_index(stamps, playhead)
+        assert frame.stamp_ns == int(stamps[frame.index])
+    assert [f.stream for f in new.frames] == model.streams
+    assert model.playhead_ns == set_time_ns(new)
+
+    assert len(saves) == 1
+    reloaded = load_session(truth_session_file)
+    assert reloaded.sets == model.session.sets
+    assert reloaded.set_by_id(new.id).trigger.source == OPERATOR_SOURCE
+
+
+def test_add_next_to_an_existing_set_selects_it_instead(truth_session_file: Path) -> None:
+    saves: list = []
+    model = _model(truth_session_file, saves)
+    model.go_to_set(0)
+    model.set_playhead(set_time_ns(model.session.sets[1]) + 150_000_000)
+    count = len(model.session.sets)
+    model.add_set()
+    assert len(model.session.sets) == count
+    assert model.current == 1
+    assert saves == [] and model._undo == []
+
+
+def test_remove_takes_out_the_current_set_and_saves(truth_session_file: Path) -> None:
+    saves: list = []
+    model = _model(truth_session_file, saves)
+    ids = [s.id for s in model.session.sets]
+    model.go_to_set(1)
+    model.remove_set()
+    assert [s.id for s in model.session.sets] == [ids[0], *ids[2:]]
+    assert model.current == 1 and model.current_set.id == ids[2]
+    assert saves == [[ids[0], *ids[2:]]]
+    assert [s.id for s in load_session(truth_session_file).sets] == [ids[0], *ids[2:]]
+    model.last_set()
+    while model.session.sets:
+        model.remove_set()
+    assert model.current == -1 and model.current_set is None
+    model.remove_set()  # nothing left: nothing happens
+    assert load_session(truth_session_file).sets == []
+
+
+def test_add_and_remove_undo_and_redo_with_decisions(truth_session_file: Path) -> None:
+    saves: list = []
+    model = _model(truth_session_file, saves)
+    original = list(model.session.sets)
+    model.go_to_set(1)
+    model.reject()
+    rejected = model.current_set
+    model.remove_set()
+    model.set_playhead(_between_first_two_sets(model))
+    model.add_set()
+    added = model.current_set
+    assert [s.id for s in model.session.sets][:2] == [original[0].id, added.id]
+
+    model.undo()  # the add
+    assert added not in model.session.sets
+    model.undo()  # the removal: back in place, still rejected, selected
+    assert model.session.sets[1] == rejected and model.current == 1
+    model.undo()  # the rejection
+    assert model.session.sets == original
+    model.redo()
+    model.redo()
+    assert rejected not in model.session.sets
+    model.redo()
+    assert model.session.sets[1] == added and model.current_set == added
+    assert len(saves) == 9  # every action, undo and redo saved
+    assert load_session(truth_session_file).sets == model.session.sets
+
+    model.undo()
+    model.accept()  # a new action drops what could be redone
+    model.redo()
+    assert added not in model.session.sets
+
+
+def test_add_and_remove_tell_listeners_and_have_keys(truth_session_file: Path) -> None:
+    model = _model(truth_session_file)
+    events: list = []
+    model.connect("sets", lambda: events.append("sets"))
+    model.remove_set()
+    model.undo()
+    assert events == ["sets", "sets"]
+    assert KEY_BINDINGS["T"] == "add_set" and KEY_BINDINGS["Delete"] == "remove_set"
+
+
+def test_removing_a_set_drops_its_corners_until_undone(truth_session_file: Path) -> None:
+    session = load_session(truth_session_file)
+    last = session.sets[-1]
+    session.extra["frame_details"] = {str(last.id): {"frames": {}}}
+    model = ReviewModel(session, open_recording(session.recording))
+    model.last_set()
+    model.remove_set()
+    assert str(last.id) not in session.extra["frame_details"]
+    _start, end = model.time_range_ns()
+    model.set_playhead(end)
+    model.add_set()  # gets the removed set's id: must not show its corners
+    assert model.current_set.id == last.id
+    assert str(last.id) not in session.extra["frame_details"]
+    model.undo()
+    model.undo()
+    assert session.extra["frame_details"] == {str(last.id): {"frames": {}}}
