@@ -5,23 +5,18 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDialogButtonBox
 
 from app.main_window import ReviewWindow
 
 
-@pytest.fixture
-def window(qtbot, truth_session_file: Path) -> ReviewWindow:
+def test_export_is_disabled_until_a_session_is_open(qtbot) -> None:
     win = ReviewWindow()
     win.setProperty("headless", True)
     qtbot.addWidget(win)
     win.show()
     assert not win.export_button.isEnabled()
-    win.open(session_path=str(truth_session_file))
-    qtbot.waitUntil(lambda: win.model is not None, timeout=30_000)
-    return win
 
 
 def _export_through_dialog(qtbot, win: ReviewWindow, fmt: str, out: Path) -> None:

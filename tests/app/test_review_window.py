@@ -15,19 +15,6 @@ from speechcal_core.review.model import set_time_ns
 from speechcal_core.session.store import load_session
 
 
-@pytest.fixture
-def window(qtbot, truth_session_file: Path) -> ReviewWindow:
-    win = ReviewWindow()
-    win.setProperty("headless", True)
-    qtbot.addWidget(win)
-    win.show()
-    win.open(session_path=str(truth_session_file))
-    qtbot.waitUntil(lambda: win.model is not None, timeout=30_000)
-    qtbot.waitUntil(lambda: all(t.image is not None for t in win.grid.tiles.values()),
-                    timeout=30_000)
-    return win
-
-
 def test_empty_window_says_what_to_open(qtbot) -> None:
     win = ReviewWindow()
     qtbot.addWidget(win)
