@@ -4,22 +4,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from review_models import open_model
+
 from speechcal_core.frames.nearest import nearest_index
 from speechcal_core.review.model import KEY_BINDINGS, OPERATOR_SOURCE, ReviewModel, set_time_ns
-from speechcal_core.session.store import load_session, save_session
+from speechcal_core.session.store import load_session
 from speechcal_core.sources import open_recording
 
 
 def _model(path: Path, saves: list | None = None) -> ReviewModel:
-    session = load_session(path)
-    source = open_recording(session.recording)
-
-    def autosave(s) -> None:
-        save_session(s, path)
-        if saves is not None:
-            saves.append([x.id for x in s.sets])
-
-    return ReviewModel(session, source, autosave=autosave)
+    return open_model(path, saves, note=lambda s: [x.id for x in s.sets])
 
 
 def _between_first_two_sets(model: ReviewModel) -> int:

@@ -5,26 +5,16 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+from review_models import open_model
+
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel, set_time_ns
-from speechcal_core.session.store import load_session, save_session
+from speechcal_core.session.store import load_session
 from speechcal_core.sources import open_recording
-
-
-def _model(path: Path, saves: list | None = None) -> ReviewModel:
-    session = load_session(path)
-    source = open_recording(session.recording)
-
-    def autosave(s) -> None:
-        save_session(s, path)
-        if saves is not None:
-            saves.append(s.counts())
-
-    return ReviewModel(session, source, autosave=autosave)
 
 
 def test_accept_reject_undo_redo_and_every_action_autosaves(truth_session_file: Path) -> None:
     saves: list = []
-    model = _model(truth_session_file, saves)
+    model = open_model(truth_session_file, saves)
     assert len(model.session.sets) >= 3
     model.accept()
     model.next_set()
@@ -43,7 +33,7 @@ def test_accept_reject_undo_redo_and_every_action_autosaves(truth_session_file: 
 
 
 def test_set_navigation_moves_the_playhead_to_the_set(truth_session_file: Path) -> None:
-    model = _model(truth_session_file)
+    model = open_model(truth_session_file)
     seen = []
     model.connect("playhead", seen.append)
     model.last_set()
@@ -56,7 +46,7 @@ def test_set_navigation_moves_the_playhead_to_the_set(truth_session_file: Path) 
 
 
 def test_tiles_show_nearest_frames_and_say_when_none_is_near(truth_session_file: Path) -> None:
-    model = _model(truth_session_file)
+    model = open_model(truth_session_file)
     model.go_to_set(0)
     tiles = model.tiles()
     assert [t.stream for t in tiles] == model.streams
@@ -70,7 +60,7 @@ def test_tiles_show_nearest_frames_and_say_when_none_is_near(truth_session_file:
 
 
 def test_frame_stepping_visits_every_stamp_in_order(truth_session_file: Path) -> None:
-    model = _model(truth_session_file)
+    model = open_model(truth_session_file)
     model.go_to_set(1)
     before = model.playhead_ns
     model.next_frame()
@@ -88,7 +78,7 @@ def test_every_key_binding_names_an_action() -> None:
 
 
 def test_offset_nudge_moves_sets_marks_sync_manual_and_saves(truth_session_file: Path) -> None:
-    model = _model(truth_session_file)
+    model = open_model(truth_session_file)
     before = [s.t_ns for s in model.session.sets]
     events = []
     model.connect("sync", events.append)
