@@ -1,10 +1,11 @@
 """Default backend: keyword-versus-filler decoding with pocketsphinx on voice-active spans.
 
 Each speech span is decoded with one finite-state grammar in which the trigger words
-compete, at equal prior, with their rival words (inflections such as "captured") and, at a
-cost per phone, with a free phone loop that absorbs everything else. A trigger is reported
-only where it explains the audio better than all of those. How clearly a span is heard
-(its level above the noise floor) picks the grammar's tier: clearly heard spans also weigh
+compete with their rival words (inflections such as "captured", at a small prior: operators
+say the trigger far more often) and, at a cost per phone, with a free phone loop that
+absorbs everything else. A trigger is reported only where it explains the audio better
+than all of those. How clearly a span is heard (its level above the noise floor) picks
+the grammar's tier: clearly heard spans also weigh
 one-phone neighbours ("rapture", "captor") against the trigger, which noisy spans cannot
 afford (noise lets them win over real triggers). A trigger's bounds come from the same
 Viterbi path, then move to the onset and offset of the word's energy (recognised bounds
@@ -13,8 +14,7 @@ The sensitivity sets the phone-loop cost (a dearer filler lets more words pass) 
 close to the found triggers a span must sound to join them.
 Finally the recording is searched for spans that sound like the triggers found (same
 speaker, same word: see ``self_similarity``), which recovers words lost in noise; spans the
-recogniser heard clearly keep its verdict. Inflections compete at a small prior against
-the trigger, which operators say far more often.
+recogniser heard clearly keep its verdict.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ class Tier:
 
     ``phone_log10``: log10 cost of one filler phone at sensitivity 0 and 1 (a dearer
     filler lets more words pass). ``confusable_log10``: log10 prior of a confusable word
-    ("rapture", "captain") against a trigger, or None to leave them out: in noise they win
+    ("rapture", "captor") against a trigger, or None to leave them out: in noise they win
     over real triggers too often.
     """
 
@@ -175,8 +175,8 @@ def _tier_name(level_db: float) -> str:
 
 def _spot_grammar(logmath: Any, spec: TriggerSpec, rivals: list[str], confusables: list[str],
                   phones: list[str], tier: Tier) -> Any:
-    """One state looping over triggers and rivals (free), confusable words (at the tier's
-    prior, if any) and phones (at a cost each)."""
+    """One state looping over triggers (free), rivals and confusable words (at the tier's
+    priors; confusables only if it has one) and phones (at a cost each)."""
     import pocketsphinx
 
     lo, hi = tier.phone_log10
