@@ -76,8 +76,10 @@ TIERS: tuple[Tier, ...] = (
 )
 #: similarity search adds words only in spans heard less clearly than the clearest tier
 EXPAND_BELOW_DB = TIERS[0].min_level_db
+#: ... and where something stands out of the noise at all (not in a span's quiet padding)
+EXPAND_MIN_DB = 4.0
 #: similarity expansion: accepted cost relative to the triggers' mutual cost, at 0 and 1
-SIMILARITY_FACTOR = (1.15, 1.35)
+SIMILARITY_FACTOR = (1.25, 1.45)
 #: a found trigger in a clearly heard span whose closest other found trigger costs more
 #: than this times their median closest cost is dropped (``confirm_and_expand``'s
 #: ``verify``): near-homophones the recogniser took for the trigger rarely sound like the
@@ -128,8 +130,8 @@ class PocketsphinxBackend:
                                              verify=SEED_CHECK, checked=clear)
             # the recogniser is trusted where it hears clearly: similarity adds words only
             # in noisier spans, where it recovers what the recogniser lost
-            out += kept + [w for w in extra
-                           if activity.level_db(w.start_s, w.end_s) < EXPAND_BELOW_DB]
+            out += kept + [w for w in extra if EXPAND_MIN_DB <= activity.level_db(
+                w.start_s, w.end_s) < EXPAND_BELOW_DB]
         return sorted(out, key=lambda w: w.start_s)
 
     def _prepare(self, spec: TriggerSpec) -> Any:
