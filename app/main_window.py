@@ -167,6 +167,18 @@ class ReviewWindow(QMainWindow):
             b.clicked.connect(lambda _=False, a=action: self.run_action(a))
             buttons.addWidget(b)
         right_layout.addLayout(buttons)
+        edits = QHBoxLayout()
+        self.add_button = QPushButton("[T] add set at playhead")
+        self.add_button.setToolTip("a trigger the detection missed: a set of the frames "
+                                   "nearest the playhead")
+        self.remove_button = QPushButton("[Del] remove set")
+        self.remove_button.setToolTip("a false trigger: remove the current set (undo brings "
+                                      "it back)")
+        for b, action in ((self.add_button, "add_set"), (self.remove_button, "remove_set")):
+            b.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+            b.clicked.connect(lambda _=False, a=action: self.run_action(a))
+            edits.addWidget(b)
+        right_layout.addLayout(edits)
         self.counts_label = QLabel("")
         right_layout.addWidget(self.counts_label)
         top.addWidget(right)

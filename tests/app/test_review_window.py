@@ -145,3 +145,15 @@ def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
     assert len(window.waveform._markers) == 2 * rows
     assert len(load_session(truth_session_file).sets) == rows
     assert window.counts_label.text().endswith(f"? {rows} undecided")
+
+
+def test_add_and_remove_buttons_do_what_t_and_delete_do(qtbot, window) -> None:
+    model = window.model
+    rows = window.table.rowCount()
+    a, b = (set_time_ns(s) for s in model.session.sets[:2])
+    model.set_playhead((a + b) // 2)
+    qtbot.mouseClick(window.add_button, Qt.MouseButton.LeftButton)
+    assert window.table.rowCount() == rows + 1 and model.current_set.trigger.source == "manual"
+    qtbot.mouseClick(window.remove_button, Qt.MouseButton.LeftButton)
+    assert window.table.rowCount() == rows
+    assert all(s.trigger.source != "manual" for s in model.session.sets)
