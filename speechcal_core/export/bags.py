@@ -8,12 +8,11 @@ are written in log-time order, each frame once even when two sets chose it.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from speechcal_core.export.bag_messages import BagMessage, bag_message
 from speechcal_core.export.errors import ExportError
-from speechcal_core.export.plan import Outcome
+from speechcal_core.export.plan import Outcome, Progress
 from speechcal_core.sources.errors import BadFrameError
 
 if TYPE_CHECKING:
@@ -22,7 +21,6 @@ if TYPE_CHECKING:
     from speechcal_core.export.plan import Plan
     from speechcal_core.sources.base import FrameSource
 
-Progress = Callable[[str, float], None]
 ROS1_BAG = "calibration.bag"
 ROS2_BAG = "calibration"
 

@@ -8,14 +8,13 @@ images are demosaiced to BGR (what calibration tools read) by the source's decod
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
 
 from speechcal_core.export.errors import ExportError
-from speechcal_core.export.plan import Outcome
+from speechcal_core.export.plan import Outcome, Progress
 from speechcal_core.sources.errors import BadFrameError
 
 if TYPE_CHECKING:
@@ -24,7 +23,6 @@ if TYPE_CHECKING:
     from speechcal_core.export.plan import Plan
     from speechcal_core.sources.base import FrameSource
 
-Progress = Callable[[str, float], None]
 
 
 def write_png(path: Path, image: np.ndarray) -> None:

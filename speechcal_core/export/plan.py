@@ -9,6 +9,7 @@ one's name moved by 1 ns.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -20,6 +21,8 @@ if TYPE_CHECKING:
     from speechcal_core.session.model import FrameChoice, FrameSet
     from speechcal_core.sources.base import FrameSource
 
+#: progress callback of every writer: (what is being done, fraction done)
+Progress = Callable[[str, float], None]
 _UNSAFE = re.compile(r"[^A-Za-z0-9._-]+")
 
 

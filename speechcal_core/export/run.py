@@ -7,7 +7,6 @@ leaves nothing behind, and an existing folder is replaced only with ``force``.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -15,17 +14,16 @@ from typing import TYPE_CHECKING, Any
 from speechcal_core.errors import UsageError
 from speechcal_core.export.errors import ExportError
 from speechcal_core.export.manifest import manifest_document, write_manifest
-from speechcal_core.export.plan import make_plan
+from speechcal_core.export.plan import Progress, make_plan
 from speechcal_core.export.selection import select_sets
 from speechcal_core.fsutil import OutputExistsError, staged_directory
 from speechcal_core.target import TargetSpec
 
 if TYPE_CHECKING:
     from speechcal_core.export.plan import Outcome, Plan
-    from speechcal_core.session.model import Session
+    from speechcal_core.session.model import FrameSet, Session
     from speechcal_core.sources.base import FrameSource
 
-Progress = Callable[[str, float], None]
 FORMATS = ("kalibr", "folders", "rosbag1", "rosbag2")
 
 
@@ -100,6 +98,20 @@ def _write(fmt: str, source: FrameSource, plan: Plan, root: Path, target: Target
     return write(source, plan, root, progress), {n: topic_for(n, kinds[n]) for n in plan.streams}
 
 
+def _preflight(session: Session, fmt: str, out: Path, *, force: bool, include_undecided: bool,
+               session_path: str | Path | None) -> list[FrameSet]:
+    """The sets to export, after the checks that need no recording: format, sets, folder."""
+    if fmt not in FORMATS:
+        raise UsageError(f"unknown export format {fmt!r}; use one of {', '.join(FORMATS)}")
+    where = str(session_path) if session_path else "the session"
+    sets = select_sets(session, include_undecided=include_undecided, where=where)
+    protected = [Path(p) for p in session.recording]
+    if session_path:
+        protected.append(Path(session_path))
+    check_output(out, force, protected)
+    return sets
+
+
 def export_frame_sets(
     session: Session,
     source: FrameSource,
@@ -114,16 +126,20 @@ def export_frame_sets(
 ) -> ExportResult:
     """Write the session's accepted (and with ``include_undecided`` undecided) frame sets
     from the open ``source`` to the folder ``out`` in ``fmt`` (one of :data:`FORMATS`)."""
-    if fmt not in FORMATS:
-        raise UsageError(f"unknown export format {fmt!r}; use one of {', '.join(FORMATS)}")
-    report = progress or _noop
     out = Path(out).absolute()
+    sets = _preflight(session, fmt, out, force=force, include_undecided=include_undecided,
+                      session_path=session_path)
+    return _export(session, source, sets, fmt, out, force=force,
+                   include_undecided=include_undecided, target=target,
+                   session_path=session_path, progress=progress)
+
+
+def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: str, out: Path,
+            *, force: bool, include_undecided: bool, target: TargetSpec | None,
+            session_path: str | Path | None, progress: Progress | None) -> ExportResult:
+    """:func:`export_frame_sets` once :func:`_preflight` has passed."""
+    report = progress or _noop
     where = str(session_path) if session_path else "the session"
-    sets = select_sets(session, include_undecided=include_undecided, where=where)
-    protected = [Path(p) for p in session.recording]
-    if session_path:
-        protected.append(Path(session_path))
-    check_output(out, force, protected)
     report("checking the chosen frames", 0.0)
     plan = make_plan(source, sets, where)
     spec, target_from = export_target(session, target)
@@ -165,11 +181,10 @@ def export_session_file(
     from speechcal_core.sources import open_recording
 
     session_path = Path(session_path)
-    if fmt not in FORMATS:
-        raise UsageError(f"unknown export format {fmt!r}; use one of {', '.join(FORMATS)}")
+    out = Path(out).absolute()
     session = load_session(session_path)
-    select_sets(session, include_undecided=include_undecided, where=str(session_path))
-    check_output(Path(out), force, [*map(Path, session.recording), session_path])
+    sets = _preflight(session, fmt, out, force=force, include_undecided=include_undecided,
+                      session_path=session_path)
     for p in session.recording:
         if not Path(p).exists():
             raise ExportError(
@@ -179,7 +194,7 @@ def export_session_file(
     report = progress or _noop
     report("opening the recording", 0.0)
     with open_recording(session.recording) as source:
-        return export_frame_sets(session, source, fmt, out, force=force,
-                                 include_undecided=include_undecided, target=target,
-                                 session_path=session_path, progress=progress)
+        return _export(session, source, sets, fmt, out, force=force,
+                       include_undecided=include_undecided, target=target,
+                       session_path=session_path, progress=progress)
 
