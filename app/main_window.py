@@ -162,22 +162,17 @@ class ReviewWindow(QMainWindow):
         buttons = QHBoxLayout()
         for label, action in (("[A] accept", "accept"), ("[R] reject", "reject"),
                               ("[U] undo", "undo")):
-            b = QPushButton(label)
-            b.setFocusPolicy(Qt.FocusPolicy.NoFocus)
-            b.clicked.connect(lambda _=False, a=action: self.run_action(a))
-            buttons.addWidget(b)
+            buttons.addWidget(self._action_button(label, action))
         right_layout.addLayout(buttons)
         edits = QHBoxLayout()
-        self.add_button = QPushButton("[T] add set at playhead")
-        self.add_button.setToolTip("a trigger the detection missed: a set of the frames "
-                                   "nearest the playhead")
-        self.remove_button = QPushButton("[Del] remove set")
-        self.remove_button.setToolTip("a false trigger: remove the current set (undo brings "
-                                      "it back)")
-        for b, action in ((self.add_button, "add_set"), (self.remove_button, "remove_set")):
-            b.setFocusPolicy(Qt.FocusPolicy.NoFocus)
-            b.clicked.connect(lambda _=False, a=action: self.run_action(a))
-            edits.addWidget(b)
+        self.add_button = self._action_button(
+            "[T] add set at playhead", "add_set",
+            "a trigger the detection missed: a set of the frames nearest the playhead")
+        self.remove_button = self._action_button(
+            "[Del] remove set", "remove_set",
+            "a false trigger: remove the current set (undo brings it back)")
+        edits.addWidget(self.add_button)
+        edits.addWidget(self.remove_button)
         right_layout.addLayout(edits)
         self.counts_label = QLabel("")
         right_layout.addWidget(self.counts_label)
@@ -202,11 +197,7 @@ class ReviewWindow(QMainWindow):
             ("+1 ms", "offset_plus_ms", "audio 1 ms later  (])"),
             ("+1 frame", "offset_plus_frame", "audio one frame later  (})"),
         ):
-            b = QPushButton(label)
-            b.setToolTip(tip)
-            b.setFocusPolicy(Qt.FocusPolicy.NoFocus)
-            b.clicked.connect(lambda _=False, a=action: self.run_action(a))
-            sync_row.addWidget(b)
+            sync_row.addWidget(self._action_button(label, action, tip))
         self.help_line = QLabel(
             "Space play · ←/→ frame · J/K set · A/R/U decide · T add · Del remove · "
             "[ ] nudge audio 1 ms, { } one frame · drag the clap handle · "
@@ -264,6 +255,15 @@ class ReviewWindow(QMainWindow):
             return load_for_review(recording=[recording], audio=audio, progress=report)
 
         self._start(work, "preparing the demo session…")
+
+    def _action_button(self, label: str, action: str, tip: str = "") -> QPushButton:
+        """A button that runs a review action (keyboard focus stays on the window)."""
+        b = QPushButton(label)
+        if tip:
+            b.setToolTip(tip)
+        b.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+        b.clicked.connect(lambda _=False: self.run_action(action))
+        return b
 
     def cancel_task(self) -> None:
         if self.task is not None:
