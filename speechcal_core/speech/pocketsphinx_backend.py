@@ -159,8 +159,8 @@ class PocketsphinxBackend:
         for p in sorted(PHONES):
             _add_word(decoder, PHONE_PREFIX + p.lower(), (p,))
         logmath = decoder.get_logmath()
-        for tier in TIERS:
-            decoder.add_fsg(_tier_name(tier.min_level_db),
+        for k, tier in enumerate(TIERS):
+            decoder.add_fsg(f"tier{k}",
                             _spot_grammar(logmath, spec, rivals, confusables, phones, tier))
         self._decoder, self._key = decoder, key
         self._vocab = set(spec.words) | set(rivals) | set(confusables)
