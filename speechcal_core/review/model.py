@@ -13,13 +13,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
+from speechcal_core.review.summary import FILTERS, shown_indices
 from speechcal_core.session.model import FrameSet, Session, Trigger
 from speechcal_core.sync.model import SyncModel
 
 if TYPE_CHECKING:
     from speechcal_core.sources.base import FrameSource
 
-EVENTS = ("playhead", "current_set", "decision", "sets", "sync", "saved")
+EVENTS = ("playhead", "current_set", "decision", "sets", "sync", "saved", "filter")
 
 #: ``Trigger.source`` of a trigger the operator added in review (kept in the session file)
 OPERATOR_SOURCE = "manual"
@@ -39,6 +40,7 @@ KEY_BINDINGS: dict[str, str] = {
     "Left": "previous_frame",
     "Home": "first_set",
     "End": "last_set",
+    "F": "next_filter",
     "T": "add_set",
     "Delete": "remove_set",
     "[": "offset_minus_ms",
@@ -93,6 +95,8 @@ class ReviewModel:
         )
         self._periods = {k: frame_period_ns(v) for k, v in self._stamps.items()}
         self.current = 0 if session.sets else -1
+        #: which sets the list shows and J/K/Home/End step through (one of FILTERS)
+        self.filter = "all"
         self.playhead_ns = set_time_ns(session.sets[0]) if session.sets else self._first_stamp()
 
     # -- events -------------------------------------------------------------------------
@@ -157,6 +161,10 @@ class ReviewModel:
         if self.current_set is not None:
             self.set_playhead(set_time_ns(self.current_set) + int(delta_ns))
 
+    def shown(self) -> list[int]:
+        """Indices of the sets the filter shows (the current set may be among the hidden)."""
+        return shown_indices(self.session.sets, self.filter)
+
     def set_at_playhead(self, tolerance_ns: int = 50_000_000) -> FrameSet | None:
         """The frame set whose time is within ``tolerance_ns`` of the playhead."""
         best, best_d = None, tolerance_ns + 1
@@ -180,16 +188,42 @@ class ReviewModel:
         self.set_playhead(set_time_ns(self.session.sets[self.current]))
 
     def next_set(self) -> None:
-        self.go_to_set(self.current + 1)
+        """The next set the filter shows (the current one again at the end)."""
+        self._step_set(+1)
 
     def previous_set(self) -> None:
-        self.go_to_set(self.current - 1)
+        self._step_set(-1)
 
     def first_set(self) -> None:
-        self.go_to_set(0)
+        shown = self.shown()
+        if shown:
+            self.go_to_set(shown[0])
 
     def last_set(self) -> None:
-        self.go_to_set(len(self.session.sets) - 1)
+        shown = self.shown()
+        if shown:
+            self.go_to_set(shown[-1])
+
+    def _step_set(self, direction: int) -> None:
+        shown = self.shown()
+        ahead = [i for i in shown if (i - self.current) * direction > 0]
+        if ahead:
+            self.go_to_set(ahead[0] if direction > 0 else ahead[-1])
+        elif self.current in shown:
+            self.go_to_set(self.current)  # at the end: back to the set, playhead included
+
+    # -- the list's filter --------------------------------------------------------------
+    def set_filter(self, name: str) -> None:
+        """Show only the sets with one decision (or ``all``); the current set stays."""
+        if name not in FILTERS:
+            raise ValueError(f"filter must be one of {FILTERS}, got {name!r}")
+        if name != self.filter:
+            self.filter = name
+            self._emit("filter", name)
+
+    def next_filter(self) -> None:
+        """The next of :data:`FILTERS` (after the last, ``all`` again)."""
+        self.set_filter(FILTERS[(FILTERS.index(self.filter) + 1) % len(FILTERS)])
 
     def next_frame(self) -> None:
         self._step_frame(+1)

@@ -1,0 +1,104 @@
+"""What the frame-set list shows per set: worst quality over its cameras, and the filters.
+
+Sharpness is as :mod:`speechcal_core.frames.sets` stores it: each camera's raw sharpness
+over the 90th percentile of that camera's chosen frames in the session, so 1.0 is as
+sharp as the camera's sharp frames usually are, whatever its resolution or optics, and
+the figures of different cameras compare. A set is only as good as its worst camera, so
+the summary keeps the lowest sharpness and the fewest target corners.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from speechcal_core.session.model import FrameChoice, FrameSet
+
+#: the frame-set list's filters, in the order a key press cycles through them
+FILTERS = ("all", "undecided", "accepted", "rejected")
+
+#: quality flags each summary figure warns about; any other flag goes with the frame count
+SHARPNESS_FLAGS = ("blurred", "moving")
+CORNER_FLAGS = ("no-target",)
+SKEW_FLAGS = ("skew",)
+
+
+def passes(frame_set: FrameSet, filter_name: str) -> bool:
+    """Whether ``filter_name`` (one of :data:`FILTERS`) shows ``frame_set``."""
+    if filter_name not in FILTERS:
+        raise ValueError(f"filter must be one of {FILTERS}, got {filter_name!r}")
+    return filter_name == "all" or frame_set.decision == filter_name
+
+
+def shown_indices(sets: Sequence[FrameSet], filter_name: str) -> list[int]:
+    """Indices into ``sets`` of the sets ``filter_name`` shows, in order."""
+    return [i for i, s in enumerate(sets) if passes(s, filter_name)]
+
+
+@dataclass(frozen=True)
+class SetSummary:
+    """One set's quality as the list shows it (None: no camera has the figure)."""
+
+    worst_sharpness: float | None
+    fewest_corners: int | None
+    frames_found: int
+    frames_total: int
+    #: (stream, its flags) for every camera whose chosen frame has quality flags
+    flagged: tuple[tuple[str, tuple[str, ...]], ...]
+
+    @property
+    def flags(self) -> tuple[str, ...]:
+        """Every flag any camera has, each once, in the order first seen."""
+        return tuple(dict.fromkeys(f for _stream, fl in self.flagged for f in fl))
+
+    @property
+    def sharpness_warned(self) -> bool:
+        return any(f in SHARPNESS_FLAGS for f in self.flags)
+
+    @property
+    def corners_warned(self) -> bool:
+        return any(f in CORNER_FLAGS for f in self.flags)
+
+    @property
+    def skew_warned(self) -> bool:
+        return any(f in SKEW_FLAGS for f in self.flags)
+
+    @property
+    def frames_warned(self) -> bool:
+        """A camera without a frame, or a flag none of the quality figures covers."""
+        figures = (*SHARPNESS_FLAGS, *CORNER_FLAGS, *SKEW_FLAGS)
+        return (self.frames_found < self.frames_total
+                or any(f not in figures for f in self.flags))
+
+
+def summarize(frame_set: FrameSet) -> SetSummary:
+    """The worst sharpness and fewest corners over the cameras that have a chosen frame."""
+    chosen = [f for f in frame_set.frames if f.index >= 0]
+    sharp = [f.sharpness for f in chosen if f.sharpness is not None]
+    corners = [f.corners for f in chosen if f.corners is not None]
+    return SetSummary(
+        worst_sharpness=min(sharp) if sharp else None,
+        fewest_corners=min(corners) if corners else None,
+        frames_found=len(chosen),
+        frames_total=len(frame_set.frames),
+        flagged=tuple((f.stream, f.flags) for f in frame_set.frames if f.flags),
+    )
+
+
+def camera_lines(frame_set: FrameSet) -> str:
+    """Per camera its sharpness, corners and flags, one line each (for a tooltip)."""
+    return "\n".join(_camera_line(f) for f in frame_set.frames)
+
+
+def _camera_line(f: FrameChoice) -> str:
+    if f.index < 0:
+        figures = "no frame"
+    else:
+        sharp = "–" if f.sharpness is None else f"{f.sharpness:.2f}"
+        corners = "–" if f.corners is None else str(f.corners)
+        figures = f"sharpness {sharp}, {corners} corners"
+    flags = [fl for fl in f.flags if not (f.index < 0 and fl == "no-frame")]
+    return f"{f.stream}: {figures}" + (f"  ▲ {', '.join(flags)}" if flags else "")
