@@ -8,7 +8,13 @@ from PySide6.QtCore import QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QFont, QImage, QPainter, QPen
 from PySide6.QtWidgets import QGridLayout, QSizePolicy, QWidget
 
-from app.style import BACKGROUND, DECISION_COLOURS, DECISION_SYMBOLS, WARNING_COLOUR
+from app.style import (
+    BACKGROUND,
+    DECISION_COLOURS,
+    DECISION_SYMBOLS,
+    WARNING_COLOUR,
+    WARNING_SYMBOL,
+)
 
 
 class CameraTile(QWidget):
@@ -84,7 +90,7 @@ class CameraTile(QWidget):
             p.setPen(WARNING_COLOUR)
             p.drawText(QRectF(6, 2, self.width() - 12, header - 4),
                        Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter,
-                       f"▲ {self.warning}")
+                       f"{WARNING_SYMBOL} {self.warning}")
         elif self.caption:
             p.setPen(QColor(170, 170, 170))
             p.drawText(QRectF(6, 2, self.width() - 12, header - 4),

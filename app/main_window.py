@@ -8,6 +8,7 @@ from pathlib import Path
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence, QShortcut
 from PySide6.QtWidgets import (
+    QButtonGroup,
     QFileDialog,
     QHBoxLayout,
     QLabel,
@@ -17,6 +18,7 @@ from PySide6.QtWidgets import (
     QPushButton,
     QSplitter,
     QStackedWidget,
+    QToolButton,
     QVBoxLayout,
     QWidget,
 )
@@ -25,10 +27,12 @@ from app.export_action import ExportAction
 from app.frame_grid import FrameGrid
 from app.frame_loader import FrameLoader
 from app.set_table import SetTable
+from app.style import DECISION_SYMBOLS
 from app.tasks import BackgroundTask, start
 from app.waveform import WaveformView
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
+from speechcal_core.review.summary import FILTERS
 from speechcal_core.session.store import save_session
 
 EMPTY_TEXT = (
@@ -156,7 +160,7 @@ class ReviewWindow(QMainWindow):
         right = QWidget()
         right_layout = QVBoxLayout(right)
         right_layout.setContentsMargins(0, 0, 0, 0)
-        right_layout.addWidget(QLabel("<b>Frame sets</b>"))
+        right_layout.addLayout(self._build_filter_row())
         self.table = SetTable()
         right_layout.addWidget(self.table, 1)
         buttons = QHBoxLayout()
@@ -179,8 +183,8 @@ class ReviewWindow(QMainWindow):
         top.addWidget(right)
         top.setStretchFactor(0, 3)
         top.setStretchFactor(1, 1)
-        right.setMinimumWidth(400)
-        top.setSizes([980, 420])
+        right.setMinimumWidth(480)
+        top.setSizes([900, 500])
         split.addWidget(top)
         bottom = QWidget()
         bottom_layout = QVBoxLayout(bottom)
@@ -199,11 +203,12 @@ class ReviewWindow(QMainWindow):
         ):
             sync_row.addWidget(self._action_button(label, action, tip))
         self.help_line = QLabel(
-            "Space play · ←/→ frame · J/K set · A/R/U decide · T add · Del remove · "
-            "[ ] nudge audio 1 ms, { } one frame · drag the clap handle · "
+            "Space play · ←/→ frame · J/K set · F filter · A/R/U decide · T add · Del remove · "
+            "[ ] { } audio ±1 ms / ±1 frame · drag the clap handle · "
             "double-click a camera to enlarge, Esc back · "
-            "wheel zooms the waveform, click moves the playhead")
+            "waveform: wheel zooms, click moves the playhead")
         self.help_line.setStyleSheet("color: gray")
+        self.help_line.setWordWrap(True)  # never the reason the window is wider
         bottom_layout.addLayout(sync_row)
         bottom_layout.addWidget(self.help_line)
         split.addWidget(bottom)
@@ -256,6 +261,33 @@ class ReviewWindow(QMainWindow):
 
         self._start(work, "preparing the demo session…")
 
+    def _build_filter_row(self) -> QHBoxLayout:
+        """The list's title, one button per filter (F cycles them) and how many it shows."""
+        row = QHBoxLayout()
+        row.addWidget(QLabel("<b>Frame sets</b>"))
+        row.addStretch(1)
+        self.shown_label = QLabel("")
+        row.addWidget(self.shown_label)
+        self.filter_group = QButtonGroup(self)
+        self.filter_buttons: dict[str, QToolButton] = {}
+        for name in FILTERS:
+            b = QToolButton()
+            b.setText(name if name == "all" else f"{DECISION_SYMBOLS[name]} {name}")
+            b.setToolTip(f"list {'every set' if name == 'all' else f'only {name} sets'}; "
+                         "J/K step through the listed sets  (F: next filter)")
+            b.setCheckable(True)
+            b.setChecked(name == "all")
+            b.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+            b.clicked.connect(lambda _=False, n=name: self._choose_filter(n))
+            self.filter_group.addButton(b)
+            self.filter_buttons[name] = b
+            row.addWidget(b)
+        return row
+
+    def _choose_filter(self, name: str) -> None:
+        if self.model is not None:
+            self.model.set_filter(name)
+
     def _action_button(self, label: str, action: str, tip: str = "") -> QPushButton:
         """A button that runs a review action (keyboard focus stays on the window)."""
         b = QPushButton(label)
@@ -306,6 +338,7 @@ class ReviewWindow(QMainWindow):
         self.model.connect("decision", self._on_decision)
         self.model.connect("sets", self._on_sets)
         self.model.connect("sync", self._on_sync)
+        self.model.connect("filter", lambda _name: self._apply_filter())
         title = " + ".join(Path(p).name for p in [*inputs.session.recording,
                                                    inputs.session.audio or ""] if p)
         self.setWindowTitle(f"SpeechCal — {title}")
@@ -382,6 +415,7 @@ class ReviewWindow(QMainWindow):
         assert model is not None
         row = next(i for i, s in enumerate(model.session.sets) if s.id == set_id)
         self.table.update_row(row, model.session.sets[row])
+        self._apply_filter()
         self.waveform.set_sets(model.session.sets)
         self._update_counts()
         self._refresh_playhead()
@@ -391,6 +425,7 @@ class ReviewWindow(QMainWindow):
         model = self.model
         assert model is not None
         self.table.set_sets(model.session.sets, model.time_range_ns()[0])
+        self._apply_filter()
         self.waveform.set_sets(model.session.sets)
         self._update_counts()
 
@@ -400,7 +435,20 @@ class ReviewWindow(QMainWindow):
         self.waveform.set_sync(sync)
         self.waveform.set_sets(model.session.sets)
         self.table.set_sets(model.session.sets, model.time_range_ns()[0])
+        self._apply_filter()
         self._update_sync_line()
+
+    def _apply_filter(self) -> None:
+        """Show the rows the model's filter passes; its button checked, a count if hiding."""
+        model = self.model
+        if model is None:
+            return
+        shown = model.shown()
+        self.table.show_rows(shown, model.current)
+        for name, button in self.filter_buttons.items():
+            button.setChecked(name == model.filter)
+        total = len(model.session.sets)
+        self.shown_label.setText("" if len(shown) == total else f"{len(shown)} of {total}")
 
     def _update_counts(self) -> None:
         if self.model is None:

@@ -1,4 +1,7 @@
-"""The frame-set list: one row per set, decision shown by colour and symbol."""
+"""The frame-set list: one row per set, decision and warnings shown by colour and symbol.
+
+Row ``n`` is always the session's set ``n``; a filter hides rows, it never reorders them.
+"""
 
 from __future__ import annotations
 
@@ -6,20 +9,47 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QBrush
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QTableWidget, QTableWidgetItem
 
-from app.style import DECISION_COLOURS, DECISION_SYMBOLS, WARNING_COLOUR
+from app.style import DECISION_COLOURS, DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
+from speechcal_core.frames.sets import BLURRED_BELOW, MIN_CORNERS
+from speechcal_core.review.summary import camera_lines, summarize
 from speechcal_core.session.model import FrameSet
 
-COLUMNS = ("#", "time", "word", "skew ms", "frames", "decision")
+#: (header, header tooltip) per column
+COLUMNS = (
+    ("#", "the set's number (as on the waveform markers)"),
+    ("time", "the set's time from the first frame (min:s)"),
+    ("word", "the trigger word heard"),
+    ("worst\nsharp", "the least sharp of the set's chosen frames. Each camera's sharpness is "
+                     "relative to its sharp frames in this session: 1.00 is as sharp as "
+                     f"they usually are; below {BLURRED_BELOW:.2f} a frame is flagged "
+                     "blurred"),
+    ("fewest\ncorners", "the fewest target corners found in any camera's chosen frame; "
+                        f"under {MIN_CORNERS} the camera is flagged as not seeing the target"),
+    ("skew\nms", "the largest stamp difference between the set's frames"),
+    ("frames", "cameras with a frame for this set / cameras"),
+    ("decision", "accepted, rejected or undecided"),
+)
+HEADERS = tuple(h for h, _tip in COLUMNS)
+SHARP, CORNERS, SKEW, FRAMES, DECISION = 3, 4, 5, 6, 7
+MISSING = "–"  # a figure no camera has
+
+
+def column(name: str) -> int:
+    """The column whose header is ``name`` (line breaks read as spaces)."""
+    return [h.replace("\n", " ") for h in HEADERS].index(name)
 
 
 class SetTable(QTableWidget):
     """Lists frame sets; selecting a row asks to go to that set."""
 
-    set_chosen = Signal(int)  # row index into the session's sets
+    set_chosen = Signal(int)  # row index == index into the session's sets
 
     def __init__(self, parent=None) -> None:
         super().__init__(0, len(COLUMNS), parent)
-        self.setHorizontalHeaderLabels(COLUMNS)
+        for col, (header, tip) in enumerate(COLUMNS):
+            item = QTableWidgetItem(header)
+            item.setToolTip(tip)
+            self.setHorizontalHeaderItem(col, item)
         self.verticalHeader().hide()
         self.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
         self.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
@@ -42,28 +72,50 @@ class SetTable(QTableWidget):
 
     def update_row(self, row: int, s: FrameSet) -> None:
         rel = (s.t_ns - self._origin_ns) / 1e9
-        found = sum(1 for f in s.frames if f.index >= 0)
+        q = summarize(s)
+        sharp = MISSING if q.worst_sharpness is None else f"{q.worst_sharpness:.2f}"
+        corners = MISSING if q.fewest_corners is None else str(q.fewest_corners)
         values = (str(s.id), f"{int(rel // 60):02d}:{rel % 60:05.2f}", s.trigger.word,
-                  f"{s.skew_ns / 1e6:.1f}", f"{found}/{len(s.frames)}",
+                  sharp, corners, f"{s.skew_ns / 1e6:.1f}",
+                  f"{q.frames_found}/{q.frames_total}",
                   f"{DECISION_SYMBOLS[s.decision]} {s.decision}")
+        warned = {SHARP: q.sharpness_warned, CORNERS: q.corners_warned,
+                  SKEW: q.skew_warned, FRAMES: q.frames_warned}
+        details = camera_lines(s)
         for col, value in enumerate(values):
-            item = QTableWidgetItem(value)
-            if col == len(values) - 1:
+            item = QTableWidgetItem(f"{WARNING_SYMBOL} {value}" if warned.get(col) else value)
+            if SHARP <= col <= FRAMES:
+                item.setTextAlignment(Qt.AlignmentFlag.AlignRight
+                                      | Qt.AlignmentFlag.AlignVCenter)
+            if col == DECISION:
                 item.setForeground(QBrush(DECISION_COLOURS[s.decision]))
-            if col == 4 and found < len(s.frames):
+            if warned.get(col):
                 item.setForeground(QBrush(WARNING_COLOUR))
+            item.setToolTip(details)
             self.setItem(row, col, item)
+
+    def show_rows(self, rows: list[int], current: int) -> None:
+        """Hide every row not in ``rows``; select ``current`` if it is shown, else none."""
+        self._updating = True
+        keep = set(rows)
+        for row in range(self.rowCount()):
+            self.setRowHidden(row, row not in keep)
+        self._updating = False
+        self.select_row(current)
 
     def select_row(self, row: int) -> None:
         self._updating = True
-        self.selectRow(row)
-        if self.item(row, 0) is not None:
-            self.scrollToItem(self.item(row, 0))
+        if 0 <= row < self.rowCount() and not self.isRowHidden(row):
+            self.selectRow(row)
+            if self.item(row, 0) is not None:
+                self.scrollToItem(self.item(row, 0))
+        else:
+            self.clearSelection()
         self._updating = False
 
     def _selection_changed(self) -> None:
         if self._updating:
             return
-        rows = {i.row() for i in self.selectedIndexes()}
+        rows = {i.row() for i in self.selectedIndexes() if not self.isRowHidden(i.row())}
         if rows:
             self.set_chosen.emit(min(rows))

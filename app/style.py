@@ -11,5 +11,6 @@ DECISION_COLOURS = {
 }
 DECISION_SYMBOLS = {"accepted": "✔", "rejected": "✘", "undecided": "?"}
 WARNING_COLOUR = QColor(219, 154, 4)
+WARNING_SYMBOL = "▲"  # with WARNING_COLOUR wherever a warning shows
 PLAYHEAD_COLOUR = QColor(255, 210, 60)
 BACKGROUND = QColor(30, 32, 36)

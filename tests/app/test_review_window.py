@@ -11,6 +11,7 @@ import pytest
 from PySide6.QtCore import Qt
 
 from app.main_window import ReviewWindow
+from app.set_table import column
 from speechcal_core.review.model import set_time_ns
 from speechcal_core.session.store import load_session
 
@@ -37,7 +38,7 @@ def test_keys_accept_reject_undo_and_autosave(qtbot, window, truth_session_file)
     qtbot.keyClick(window, Qt.Key.Key_A)
     assert window.model.session.sets[0].decision == "accepted"
     assert load_session(truth_session_file).sets[0].decision == "accepted"
-    assert "accepted" in window.table.item(0, 5).text()
+    assert "accepted" in window.table.item(0, column("decision")).text()
     assert window.saved_label.text() == "saved just now"
     qtbot.keyClick(window, Qt.Key.Key_K)
     assert window.model.current == 1

@@ -1,0 +1,121 @@
+"""The window's frame-set list: quality columns with warnings, and the decision filter."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+from PySide6.QtCore import Qt
+
+from app.set_table import column
+from app.style import WARNING_COLOUR
+from speechcal_core.review.model import set_time_ns
+from speechcal_core.session.store import load_session, save_session
+
+
+def shown_rows(window) -> list[int]:
+    return [r for r in range(window.table.rowCount()) if not window.table.isRowHidden(r)]
+
+
+def selected_rows(window) -> list[int]:
+    return sorted({i.row() for i in window.table.selectedIndexes()})
+
+
+def click_filter(qtbot, window, name: str) -> None:
+    qtbot.mouseClick(window.filter_buttons[name], Qt.MouseButton.LeftButton)
+
+
+def test_quality_columns_show_the_worst_camera_and_warn_in_amber_with_a_symbol(
+    open_window, truth_session_file: Path
+) -> None:
+    session = load_session(truth_session_file)
+    first = session.sets[0]
+    figures = [(0.92, 144, ()), (0.18, 96, ("blurred",)), (None, None, ())]
+    session.replace_set(replace(first, frames=tuple(
+        replace(f, sharpness=sharp, corners=corners, flags=flags)
+        for f, (sharp, corners, flags) in zip(first.frames, figures, strict=True))))
+    save_session(session, truth_session_file)
+    window = open_window(truth_session_file)
+    table = window.table
+    sharp, corners = table.item(0, column("worst sharp")), table.item(0, column("fewest corners"))
+    assert sharp.text() == "▲ 0.18"
+    assert sharp.foreground().color() == WARNING_COLOUR
+    assert corners.text() == "96"
+    assert corners.foreground().color() != WARNING_COLOUR
+    cam1 = first.frames[1].stream
+    assert f"{cam1}: sharpness 0.18, 96 corners  ▲ blurred" in sharp.toolTip()
+    # nearest-frame sets carry no figures
+    assert table.item(1, column("worst sharp")).text() == "–"
+    assert table.item(1, column("fewest corners")).text() == "–"
+    header = table.horizontalHeaderItem(column("worst sharp"))
+    assert "relative to its sharp frames" in header.toolTip()
+
+
+def test_filter_buttons_and_f_hide_and_show_rows(qtbot, window) -> None:
+    n = window.table.rowCount()
+    qtbot.keyClick(window, Qt.Key.Key_A)  # set 0 accepted
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    qtbot.keyClick(window, Qt.Key.Key_R)  # set 1 rejected
+    click_filter(qtbot, window, "undecided")
+    assert window.model.filter == "undecided"
+    assert shown_rows(window) == list(range(2, n))
+    assert window.shown_label.text() == f"{n - 2} of {n}"
+    click_filter(qtbot, window, "accepted")
+    assert shown_rows(window) == [0]
+    qtbot.keyClick(window, Qt.Key.Key_F)  # the next filter: rejected
+    assert shown_rows(window) == [1]
+    assert window.filter_buttons["rejected"].isChecked()
+    assert not window.filter_buttons["accepted"].isChecked()
+    assert selected_rows(window) == [1]  # the current set, shown again
+    qtbot.keyClick(window, Qt.Key.Key_F)
+    assert window.model.filter == "all" and shown_rows(window) == list(range(n))
+    assert window.shown_label.text() == ""
+
+
+def test_choosing_a_row_of_a_filtered_list_goes_to_that_set(qtbot, window) -> None:
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    click_filter(qtbot, window, "undecided")
+    assert 0 not in shown_rows(window) and selected_rows(window) == []
+    target = shown_rows(window)[1]
+    window.table.selectRow(target)
+    model = window.model
+    assert model.current == target
+    assert model.playhead_ns == set_time_ns(model.session.sets[target])
+    assert window.grid.word == model.session.sets[target].trigger.word
+
+
+def test_accepting_under_the_undecided_filter_takes_the_set_out_of_view(qtbot, window) -> None:
+    model = window.model
+    click_filter(qtbot, window, "undecided")
+    model.go_to_set(2)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    assert 2 not in shown_rows(window)
+    assert model.current == 2 and model.session.sets[2].decision == "accepted"  # no jump
+    assert selected_rows(window) == []
+    assert window.counts_label.text().startswith("✔ 1 accepted")
+    qtbot.keyClick(window, Qt.Key.Key_K)  # on to the next undecided set
+    assert model.current == 3 and selected_rows(window) == [3]
+    qtbot.keyClick(window, Qt.Key.Key_U)  # undo brings the set back, into view too
+    assert 2 in shown_rows(window)
+    assert model.current == 2 and selected_rows(window) == [2]
+
+
+def test_sets_added_or_removed_while_filtered_keep_rows_and_sets_in_step(
+    qtbot, window
+) -> None:
+    model = window.model
+    n = window.table.rowCount()
+    click_filter(qtbot, window, "accepted")  # none yet: every row hidden
+    assert shown_rows(window) == [] and window.shown_label.text() == f"0 of {n}"
+    a, b = (set_time_ns(s) for s in model.session.sets[:2])
+    model.set_playhead((a + b) // 2)
+    qtbot.keyClick(window, Qt.Key.Key_T)  # a new undecided set, hidden by the filter
+    assert window.table.rowCount() == n + 1 and shown_rows(window) == []
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    assert shown_rows(window) == [1] and selected_rows(window) == [1]
+    assert window.table.item(1, 0).text() == str(model.session.sets[1].id)
+    qtbot.keyClick(window, Qt.Key.Key_Delete)
+    assert window.table.rowCount() == n and shown_rows(window) == []
+    click_filter(qtbot, window, "all")
+    assert shown_rows(window) == list(range(n))
+    assert selected_rows(window) == [model.current]
