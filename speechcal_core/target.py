@@ -82,6 +82,17 @@ class TargetSpec:
         )
 
     @classmethod
+    def from_stored(cls, data: object) -> TargetSpec | None:
+        """The target a session file keeps under ``"target"`` (the fields as a dict);
+        None when there is none or it does not describe a usable target."""
+        if not isinstance(data, dict):
+            return None
+        try:
+            return cls(**data)
+        except (TypeError, ValueError, TargetError):
+            return None
+
+    @classmethod
     def from_kalibr_yaml(cls, path: str | Path) -> TargetSpec:
         """Read a Kalibr target yaml (flat ``key: value`` lines)."""
         path = Path(path)

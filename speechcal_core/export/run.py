@@ -71,12 +71,9 @@ def export_target(session: Session, target: TargetSpec | None) -> tuple[TargetSp
     6x6 AprilGrid that ``speechcal process`` also assumes without ``--target``."""
     if target is not None:
         return target, "given"
-    stored = session.extra.get("target")
-    if isinstance(stored, dict):
-        try:
-            return TargetSpec(**stored), "session"
-        except TypeError:
-            pass
+    stored = TargetSpec.from_stored(session.extra.get("target"))
+    if stored is not None:
+        return stored, "session"
     return TargetSpec(), "default"
 
 

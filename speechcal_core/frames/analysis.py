@@ -27,7 +27,9 @@ class FrameAnalysis:
     """Frame sets and the figures kept beside them in the session.
 
     ``extra`` holds ``"frame_details"`` (per set: chosen and nearest frames, stillness,
-    corners) and ``"coverage"`` (per camera); ``calibration`` is DESIGN.md §3's entry.
+    corners), ``"frame_references"`` (per camera: what sharpness and stillness were judged
+    against, for re-scoring sets later) and ``"coverage"`` (per camera); ``calibration`` is
+    DESIGN.md §3's entry.
     """
 
     sets: list[FrameSet]
@@ -54,8 +56,10 @@ def analyse_frames(
     """
     report = progress or (lambda _s, _f: None)
     result = build_frame_sets(source, sync, triggers, target, options, report)
-    out = FrameAnalysis(result.sets, {"frame_details": result.details},
-                        detections=result.detections)
+    extra: dict[str, Any] = {"frame_details": result.details}
+    if result.references is not None:
+        extra["frame_references"] = result.references.to_dict()
+    out = FrameAnalysis(result.sets, extra, detections=result.detections)
     if target is None:
         return out
     obj = target.object_points()

@@ -6,7 +6,7 @@ import os
 import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -63,6 +63,33 @@ class FrameSetResult:
     details: dict[str, Any] = field(default_factory=dict)  # set id (str) -> JSON-ready dict
     detections: dict[tuple[int, str], Detection] = field(default_factory=dict)
     image_sizes: dict[str, tuple[int, int]] = field(default_factory=dict)  # stream -> (w, h)
+    references: FrameReferences | None = None  # what the figures were judged against
+
+
+@dataclass(frozen=True)
+class FrameReferences:
+    """Per camera, the session-wide figures each set's measurements are judged against.
+
+    ``noise_floor``: the frame-to-frame difference of still frames (a frame is still within
+    a few times it); ``sharpness``: the raw sharpness of the camera's sharp chosen frames
+    (90th percentile), which is 1.0 of the normalized figure. Both come from all sets of a
+    session; re-scoring a few sets with them keeps their figures comparable to the rest.
+    """
+
+    noise_floor: dict[str, float]
+    sharpness: dict[str, float]
+
+    def to_dict(self) -> dict[str, dict[str, float]]:
+        return {"noise_floor": dict(self.noise_floor), "sharpness": dict(self.sharpness)}
+
+    @classmethod
+    def from_dict(cls, data: object) -> FrameReferences | None:
+        """Inverse of :meth:`to_dict`; None for anything else (an older session)."""
+        try:
+            return cls({str(k): float(v) for k, v in data["noise_floor"].items()},  # type: ignore[index]
+                       {str(k): float(v) for k, v in data["sharpness"].items()})  # type: ignore[index]
+        except (KeyError, TypeError, ValueError, AttributeError):
+            return None
 
 
 class _Detectors(threading.local):
@@ -83,12 +110,52 @@ def build_frame_sets(
     progress: Progress | None = None,
 ) -> FrameSetResult:
     """One frame set per trigger (sorted by time), every camera's frame chosen and measured."""
+    trig = sorted(triggers, key=lambda t: t.t_s)
+    return _build(source, sync, list(enumerate(trig, 1)), target, options, progress)
+
+
+def rescore_frame_sets(
+    source: FrameSource,
+    sync: SyncModel,
+    sets: Sequence[FrameSet],
+    target: Target | None,
+    options: FrameSetOptions | None = None,
+    references: FrameReferences | None = None,
+    progress: Progress | None = None,
+) -> FrameSetResult:
+    """``sets`` chosen and measured again for ``sync``, as :func:`build_frame_sets` does it
+    for detected triggers (after a clock offset edit, or for a set the operator added).
+
+    Ids, triggers, decisions and order are kept; times, frames and figures are new. With
+    ``references`` (a session's, see :class:`FrameReferences`) a few sets are scored like
+    the rest of their session; without, the references come from ``sets`` themselves, so
+    re-scoring all of a session's sets gives what the pipeline gives for that sync.
+    ``progress`` may raise to cancel (between frames).
+    """
+    result = _build(source, sync, [(s.id, s.trigger) for s in sets], target, options,
+                    progress, references)
+    result.sets = [replace(new, decision=old.decision)
+                   for new, old in zip(result.sets, sets, strict=True)]
+    return result
+
+
+def _build(
+    source: FrameSource,
+    sync: SyncModel,
+    items: Sequence[tuple[int, Trigger]],
+    target: Target | None,
+    options: FrameSetOptions | None = None,
+    progress: Progress | None = None,
+    references: FrameReferences | None = None,
+) -> FrameSetResult:
+    """Frame sets with these ids and triggers, in this order (see :func:`build_frame_sets`)."""
     options = options or FrameSetOptions()
     report = progress or (lambda _stage, _f: None)
     infos = list(source.streams)
     stamps = {s.name: source.stamps(s.name) for s in infos}
     periods = {s.name: s.median_period_ns or frame_period_ns(stamps[s.name]) for s in infos}
-    trig = sorted(triggers, key=lambda t: t.t_s)
+    ids = [set_id for set_id, _ in items]
+    trig = [trigger for _, trigger in items]
     t_ns = [int(sync.to_session(t.t_s)) for t in trig]
     nearest = [{s.name: nearest_choice(s.name, stamps[s.name], t) for s in infos} for t in t_ns]
     local = _Detectors(target)
@@ -97,10 +164,11 @@ def build_frame_sets(
 
     with ThreadPoolExecutor(max_workers=workers) as pool:
         if options.search and infos and trig:
-            choices, windows, scores = _search(source, infos, stamps, periods, t_ns, options,
-                                               local, pool, report)
+            choices, windows, scores, floors = _search(source, infos, stamps, periods, t_ns,
+                                                       options, local, pool, report, references)
         else:
             choices, windows, scores = [None] * len(trig), [None] * len(trig), [None] * len(trig)
+            floors = dict(references.noise_floor) if references else {}
         picks = [_pick(infos, stamps, nearest[n], choices[n], windows[n], scores[n], t)
                  for n, t in enumerate(t_ns)]
         measured = _measure(source, picks, compressed, local, pool, report)
@@ -108,18 +176,22 @@ def build_frame_sets(
     result = FrameSetResult([])
     for (n, name), (_sharp, det, size) in measured.items():
         if det is not None:
-            result.detections[(n + 1, name)] = det
+            result.detections[(ids[n], name)] = det
         if size is not None:
             result.image_sizes[name] = size
     refs = {}
     for s in infos:
+        if references is not None and s.name in references.sharpness:
+            refs[s.name] = references.sharpness[s.name]
+            continue
         vals = [v[0] for (_n, name), v in measured.items() if name == s.name and v[0] > 0]
         refs[s.name] = float(np.percentile(vals, 90)) if vals else 0.0
+    result.references = FrameReferences(floors, refs)
     # free-running cameras cannot always do better than the two longest half periods
     halves = sorted((p // 2 for p in periods.values() if p), reverse=True)
     tol = sum(halves[:2]) if len(halves) > 1 else 0
     for n, (trigger, t) in enumerate(zip(trig, t_ns, strict=True)):
-        set_id = n + 1
+        set_id = ids[n]
         frames = []
         for c, s in enumerate(infos):
             idx, stamp = picks[n][s.name]
@@ -244,9 +316,14 @@ def _search(
     local: _Detectors,
     pool: ThreadPoolExecutor,
     report: Progress,
+    references: FrameReferences | None = None,
 ) -> tuple[list[Choice | None], list[list[CameraWindow] | None],
-           list[list[CameraScore] | None]]:
-    """Scan every trigger's window in every camera, then pick each set's common time."""
+           list[list[CameraScore] | None], dict[str, float]]:
+    """Scan every trigger's window in every camera, then pick each set's common time.
+
+    Also returns each camera's noise floor: the references' when given, else measured
+    over these windows.
+    """
     w0, w1 = (int(v * NS) for v in options.window_s)
     # motion and sharpness on ~320 px wide frames, the target region found on ~640 px ones
     factors = {s.name: preview_factor(s.width, s.height, 320) if s.width else 1 for s in infos}
@@ -277,6 +354,8 @@ def _search(
     windows: list[list[CameraWindow] | None] = [
         flat[n * len(infos):(n + 1) * len(infos)] for n in range(len(t_ns))]
     floors = _noise_floors(infos, windows)
+    if references is not None:
+        floors.update({k: v for k, v in references.noise_floor.items() if k in floors})
     full = [stamps[s.name] for s in infos]
     choices: list[Choice | None] = []
     scores: list[list[CameraScore] | None] = []
@@ -299,7 +378,7 @@ def _search(
             ch = choose_common_time(wins, sc, t_ns[n], full)
             if ch is not None and _better(ch, choices[n]):
                 choices[n], windows[n], scores[n] = ch, wins, sc
-    return choices, windows, scores
+    return choices, windows, scores, floors
 
 
 _RANK = ("at", "after", "before", "none")
