@@ -37,3 +37,21 @@ def truth_session_file(tiny_synth: tuple[Path, dict], tmp_path: Path) -> Path:
     path = tmp_path / "review.json"
     save_session(session, path)
     return path
+
+
+@pytest.fixture(scope="session")
+def _searched_session(tiny_synth: tuple[Path, dict]):
+    """The tiny session as ``speechcal process`` makes it (true triggers and sync)."""
+    from truth_sessions import searched_session
+
+    return searched_session(*tiny_synth)
+
+
+@pytest.fixture
+def searched_session_file(_searched_session, tmp_path: Path) -> Path:
+    """A session file with best still frames, their figures, details and references."""
+    from speechcal_core.session.store import save_session
+
+    path = tmp_path / "searched.json"
+    save_session(_searched_session, path)
+    return path

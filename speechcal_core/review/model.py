@@ -2,6 +2,11 @@
 
 Plain Python with callbacks; the Qt window connects them to widgets. Every keyboard
 action is a named method here, so tests drive the review without a window.
+
+Offset edits and added sets show the frames nearest each trigger at once; the best-still
+search runs elsewhere (it takes about 0.1 s per set): :meth:`ReviewModel.rescore_request`
+says what to re-score, :meth:`ReviewModel.apply_rescored` takes the results unless they
+are stale.
 """
 
 from __future__ import annotations
@@ -13,14 +18,18 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
+from speechcal_core.frames.sets import FrameReferences
+from speechcal_core.review.rescore import RescoreRequest, RescoreResult
 from speechcal_core.review.summary import FILTERS, shown_indices
 from speechcal_core.session.model import FrameSet, Session, Trigger
 from speechcal_core.sync.model import SyncModel
+from speechcal_core.target import TargetSpec
 
 if TYPE_CHECKING:
     from speechcal_core.sources.base import FrameSource
 
-EVENTS = ("playhead", "current_set", "decision", "sets", "sync", "saved", "filter")
+EVENTS = ("playhead", "current_set", "decision", "sets", "sync", "saved", "filter",
+          "rescored")
 
 #: ``Trigger.source`` of a trigger the operator added in review (kept in the session file)
 OPERATOR_SOURCE = "manual"
@@ -87,7 +96,7 @@ class ReviewModel:
         self._autosave = autosave
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
         # undo/redo entries: ("decision", set id, decision to restore),
-        # ("add", set) and ("remove", set, its index, its frame details or None)
+        # ("add", set id) and ("remove", set, its index, its frame details or None)
         self._undo: list[tuple] = []
         self._redo: list[tuple] = []
         self._stamps = (
@@ -253,13 +262,17 @@ class ReviewModel:
         self.nudge_offset(direction * (min(periods) if periods else 33_333_333))
 
     def set_sync(self, sync: SyncModel) -> None:
-        """Use another sync model: every set's time and nearest frames follow it."""
+        """Use another sync model: every set's time follows it.
+
+        Sets that move take the frames nearest their new time, without figures, until
+        re-scored (see :meth:`rescore_request`).
+        """
         self.session.sync = sync
+        details = self._frame_details()
         for i, s in enumerate(self.session.sets):
-            t_ns = int(sync.to_session(s.trigger.t_s))
-            frames = tuple(nearest_choice(name, st, t_ns, self._periods[name])
-                           for name, st in self._stamps.items())
-            self.session.sets[i] = replace(s, t_ns=t_ns, frames=frames or s.frames)
+            if s.t_ns != int(sync.to_session(s.trigger.t_s)):
+                self.session.sets[i] = self._nearest_set(s)
+                details.pop(str(s.id), None)  # its corners belong to other frames
         if self.current_set is not None:
             self.playhead_ns = set_time_ns(self.current_set)
         self._emit("sync", sync)
@@ -299,13 +312,13 @@ class ReviewModel:
             self._apply(set_id, decision, select=True)
             return ("decision", set_id, previous)
         if kind == "add":
-            frame_set = entry[1]
-            index = self._index_of(frame_set.id)
+            index = self._index_of(entry[1])
+            frame_set = self.session.sets[index]  # as it is now (re-scored, decided)
             details = self._drop_set(index)
             return ("remove", frame_set, index, details)
         _kind, frame_set, index, details = entry
         self._insert_set(frame_set, index, details)
-        return ("add", frame_set)
+        return ("add", frame_set.id)
 
     def _apply(self, set_id: int, decision: str, select: bool = False) -> None:
         self.session.replace_set(self.session.set_by_id(set_id).with_decision(decision))
@@ -322,9 +335,10 @@ class ReviewModel:
 
         Its trigger is operator-added (``source`` :data:`OPERATOR_SOURCE`), with the
         session's first trigger word and a zero-length word span: ``start_s == end_s`` is
-        the playhead mapped to audio time. Every camera gets the frame nearest the
-        playhead. Within :data:`ADD_MIN_GAP_NS` of an existing set nothing is added; that
-        set is selected instead. The new set is undecided and becomes the current set.
+        the playhead mapped to audio time. Every camera shows the frame nearest the
+        playhead until it is re-scored like a detected trigger's (:meth:`rescore_request`).
+        Within :data:`ADD_MIN_GAP_NS` of an existing set nothing is added; that set is
+        selected instead. The new set is undecided and becomes the current set.
         """
         near = self.set_at_playhead(ADD_MIN_GAP_NS)
         if near is not None:
@@ -342,7 +356,8 @@ class ReviewModel:
             frames=frames,
         )
         index = sum(1 for s in self.session.sets if s.t_ns <= new.t_ns)
-        self._undo.append(("add", new))
+        self._frame_details()  # from now on, sets without details are re-scored
+        self._undo.append(("add", new.id))
         self._redo.clear()
         self._insert_set(new, index, None)
 
@@ -360,7 +375,13 @@ class ReviewModel:
         return next(i for i, s in enumerate(self.session.sets) if s.id == set_id)
 
     def _insert_set(self, frame_set: FrameSet, index: int, details: object) -> None:
-        """Put a set back (or in) at ``index``, select it, tell listeners, save."""
+        """Put a set back (or in) at ``index``, select it, tell listeners, save.
+
+        A set taken out before an offset edit comes back at its new time, with nearest
+        frames and without details (to be re-scored).
+        """
+        if frame_set.t_ns != int(self.session.sync.to_session(frame_set.trigger.t_s)):
+            frame_set, details = self._nearest_set(frame_set), None
         self.session.sets.insert(index, frame_set)
         all_details = self.session.extra.get("frame_details")
         if isinstance(all_details, dict):
@@ -391,6 +412,92 @@ class ReviewModel:
             self._emit("playhead", self.playhead_ns)
         self._save()
         return details
+
+    # -- re-scoring -----------------------------------------------------------------------
+    def needs_rescore(self, frame_set: FrameSet) -> bool:
+        """Whether a set shows nearest frames that the best-still search should replace.
+
+        True for sets without frame details (added, or moved by an offset edit) once the
+        session keeps details, and for details measured at another offset.
+        """
+        all_details = self.session.extra.get("frame_details")
+        if not isinstance(all_details, dict):
+            return False  # a session made without the search, and not edited since
+        details = all_details.get(str(frame_set.id))
+        if not isinstance(details, dict):
+            return True
+        measured_at = details.get("trigger_ns")
+        return measured_at is not None and \
+            measured_at != int(self.session.sync.to_session(frame_set.trigger.t_s))
+
+    def rescore_ids(self) -> list[int]:
+        """Ids of the sets that need re-scoring (see :meth:`needs_rescore`), in order."""
+        return [s.id for s in self.session.sets if self.needs_rescore(s)]
+
+    def rescore_request(self) -> RescoreRequest | None:
+        """What to re-score now (None: nothing, or no recording to read).
+
+        Just the sets that need it when the session knows what its figures are judged
+        against (``"frame_references"``); otherwise, and when every set needs it (after
+        an offset edit), all sets, measured as ``speechcal process`` measures them.
+        """
+        todo = [s for s in self.session.sets if self.needs_rescore(s)]
+        if not todo or self.source is None:
+            return None
+        extra = self.session.extra
+        references = FrameReferences.from_dict(extra.get("frame_references"))
+        if references is None or len(todo) == len(self.session.sets):
+            todo, references = list(self.session.sets), None
+        target = TargetSpec.from_stored(extra.get("target")) or TargetSpec()
+        return RescoreRequest(self.session.sync, tuple(todo), target, references)
+
+    def apply_rescored(self, result: RescoreResult) -> list[int]:
+        """Take re-scored sets; returns the ids taken (then tells listeners and saves).
+
+        A result for another sync than the current one is stale and dropped whole; sets
+        removed meanwhile are skipped. Decisions stay as they are now. When the playhead
+        is at the current set it moves to the set's new chosen time.
+        """
+        if result.sync != self.session.sync:
+            return []
+        current = self.current_set
+        at_current = current is not None and self.playhead_ns == set_time_ns(current)
+        all_details = self._frame_details()
+        taken = []
+        for new in result.sets:
+            index = next((i for i, s in enumerate(self.session.sets) if s.id == new.id), -1)
+            if index < 0:
+                continue
+            old = self.session.sets[index]
+            if old.trigger != new.trigger or old.t_ns != new.t_ns:
+                continue  # another set with a re-used id
+            self.session.sets[index] = replace(old, frames=new.frames)
+            if str(new.id) in result.details:
+                all_details[str(new.id)] = result.details[str(new.id)]
+            taken.append(new.id)
+        if result.references is not None:
+            self.session.extra["frame_references"] = result.references.to_dict()
+        if not taken:
+            return []
+        self._emit("rescored", taken)
+        if at_current and self.current_set is not None:
+            self.set_playhead(set_time_ns(self.current_set))
+        self._save()
+        return taken
+
+    def _frame_details(self) -> dict:
+        """The session's per-set frame details (made empty when it has none)."""
+        details = self.session.extra.get("frame_details")
+        if not isinstance(details, dict):
+            details = self.session.extra["frame_details"] = {}
+        return details
+
+    def _nearest_set(self, frame_set: FrameSet) -> FrameSet:
+        """``frame_set`` at its trigger's time under the current sync, with nearest frames."""
+        t_ns = int(self.session.sync.to_session(frame_set.trigger.t_s))
+        frames = tuple(nearest_choice(name, st, t_ns, self._periods[name])
+                       for name, st in self._stamps.items())
+        return replace(frame_set, t_ns=t_ns, frames=frames or frame_set.frames)
 
     def _save(self) -> None:
         if self._autosave is not None:

@@ -1,0 +1,148 @@
+"""After an offset edit or an added set: nearest frames at once, re-scored sets when ready."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from review_models import open_model
+from truth_sessions import truth_triggers
+
+from speechcal_core.frames.analysis import analyse_frames
+from speechcal_core.frames.nearest import nearest_index
+from speechcal_core.review.model import ReviewModel, set_time_ns
+from speechcal_core.session.store import load_session
+from speechcal_core.target import TargetSpec
+
+SHIFT_NS = -300_000_000  # far enough that the nearest frames are not the still ones
+
+
+def _rescore(model: ReviewModel) -> list[int]:
+    request = model.rescore_request()
+    assert request is not None
+    return model.apply_rescored(request.run(model.source))
+
+
+def _figures(model: ReviewModel, set_id: int) -> bool:
+    frames = model.session.set_by_id(set_id).frames
+    return all(f.sharpness is not None and f.corners is not None for f in frames)
+
+
+def test_offset_edit_shows_nearest_frames_then_rescoring_brings_the_pipelines_choice(
+    searched_session_file: Path, tiny_synth: tuple[Path, dict],
+) -> None:
+    saves: list = []
+    model = open_model(searched_session_file, saves, note=lambda s: s.sync.offset_ns)
+    ids = [s.id for s in model.session.sets]
+    assert model.rescore_ids() == [] and model.rescore_request() is None
+    model.go_to_set(1)
+    model.accept()
+    model.nudge_offset(SHIFT_NS)
+
+    # at once: every set at its new time with the frames nearest it, without figures
+    assert model.rescore_ids() == ids
+    for s in model.session.sets:
+        for f in s.frames:
+            assert f.index == nearest_index(model.source.stamps(f.stream), s.t_ns)
+            assert f.sharpness is None and f.corners is None
+    assert all(t.corners == () for t in model.tiles())  # no corners of other frames
+
+    events: list = []
+    model.connect("rescored", events.append)
+    request = model.rescore_request()
+    assert request.references is None and [s.id for s in request.sets] == ids
+    assert _rescore(model) == ids
+    assert events == [ids] and model.rescore_ids() == []
+
+    _folder, truth = tiny_synth
+    pipeline = analyse_frames(model.source, model.session.sync, truth_triggers(truth),
+                              TargetSpec())
+    assert [s.frames for s in model.session.sets] == [s.frames for s in pipeline.sets]
+    assert any(f.index != nearest_index(model.source.stamps(f.stream), s.t_ns)
+               for s in model.session.sets for f in s.frames)  # still frames, not nearest
+    assert all(_figures(model, i) for i in ids)
+    assert model.session.sets[1].decision == "accepted" and model.current == 1
+    assert model.playhead_ns == set_time_ns(model.current_set)
+    assert all(t.chosen for t in model.tiles())
+    assert any(t.corners for t in model.tiles())
+    saved = load_session(searched_session_file)
+    assert saved.sets == model.session.sets and len(saves) == 3  # accept, nudge, re-scored
+    assert saved.extra["frame_references"] == pipeline.extra["frame_references"]
+
+
+def test_results_for_an_older_offset_are_dropped(searched_session_file: Path) -> None:
+    model = open_model(searched_session_file)
+    model.nudge_offset(SHIFT_NS)
+    stale = model.rescore_request().run(model.source)
+    model.offset_plus_ms()
+    shown = list(model.session.sets)
+    assert model.apply_rescored(stale) == []
+    assert model.session.sets == shown and len(model.rescore_ids()) == len(shown)
+    assert _rescore(model) == [s.id for s in shown]
+    assert model.rescore_ids() == []
+
+
+def test_an_added_set_is_rescored_alone_and_keeps_its_figures_through_undo_and_redo(
+    searched_session_file: Path,
+) -> None:
+    model = open_model(searched_session_file)
+    others = list(model.session.sets)
+    a, b = (set_time_ns(s) for s in others[1:3])
+    model.set_playhead((a + b) // 2)
+    model.add_set()
+    new = model.current_set
+    assert model.rescore_ids() == [new.id] and not _figures(model, new.id)
+    request = model.rescore_request()
+    assert [s.id for s in request.sets] == [new.id] and request.references is not None
+    assert _rescore(model) == [new.id]
+    assert _figures(model, new.id)
+    assert [s for s in model.session.sets if s.id != new.id] == others
+    details = model.session.extra["frame_details"][str(new.id)]
+    assert details["method"] == "best-still"
+    assert model.playhead_ns == set_time_ns(model.current_set)
+
+    rescored = model.current_set
+    model.undo()
+    assert rescored not in model.session.sets
+    model.redo()
+    assert model.current_set == rescored and model.rescore_ids() == []
+    assert model.session.extra["frame_details"][str(new.id)] == details
+
+
+def test_a_set_removed_meanwhile_is_skipped_and_comes_back_to_be_rescored(
+    searched_session_file: Path,
+) -> None:
+    model = open_model(searched_session_file)
+    model.go_to_set(2)
+    kept = model.current_set
+    model.remove_set()  # scored at the old offset ...
+    model.nudge_offset(SHIFT_NS)  # ... which then changes
+    model.go_to_set(0)
+    gone = model.current_set
+    model.remove_set()  # removed while waiting for re-scoring
+    result = model.rescore_request().run(model.source)
+    assert gone.id not in model.apply_rescored(result)
+    assert model.rescore_ids() == []
+    model.undo()
+    assert model.session.sets[0].id == gone.id and model.rescore_ids() == [gone.id]
+    model.undo()  # back at the new offset's time, with nearest frames, to be re-scored
+    back = model.session.set_by_id(kept.id)
+    assert back.t_ns == kept.t_ns + SHIFT_NS and not _figures(model, kept.id)
+    assert str(kept.id) not in model.session.extra["frame_details"]
+    assert model.rescore_ids() == [gone.id, kept.id]
+    assert sorted(_rescore(model)) == sorted([gone.id, kept.id])
+    assert all(_figures(model, s.id) for s in model.session.sets)
+
+
+def test_a_session_made_without_the_search_is_rescored_whole_after_an_edit(
+    truth_session_file: Path,
+) -> None:
+    model = open_model(truth_session_file)
+    assert model.rescore_request() is None  # opening changes nothing
+    a, b = (set_time_ns(s) for s in model.session.sets[:2])
+    model.set_playhead((a + b) // 2)
+    model.add_set()
+    request = model.rescore_request()  # no references to score one set against
+    assert len(request.sets) == len(model.session.sets) and request.references is None
+    model.apply_rescored(request.run(model.source))
+    assert all(_figures(model, s.id) for s in model.session.sets)
+    assert "frame_references" in load_session(truth_session_file).extra
