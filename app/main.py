@@ -59,7 +59,8 @@ def wait_until_settled(window, app, timeout_s: float = 60.0) -> bool:
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
         app.processEvents()
-        if window.task is None and (window.loader is None or window.loader.idle()):
+        if window.task is None and not window.rescorer.busy() and \
+                (window.loader is None or window.loader.idle()):
             for _ in range(5):
                 app.processEvents()
                 time.sleep(0.02)

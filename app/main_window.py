@@ -26,6 +26,7 @@ from PySide6.QtWidgets import (
 from app.export_action import ExportAction
 from app.frame_grid import FrameGrid
 from app.frame_loader import FrameLoader
+from app.rescore_action import RescoreAction
 from app.set_table import SetTable
 from app.style import DECISION_SYMBOLS
 from app.tasks import BackgroundTask, start
@@ -65,6 +66,7 @@ class ReviewWindow(QMainWindow):
         self.stack.addWidget(self.review_page)
         self._build_status_line()
         self.exporter = ExportAction(self)
+        self.rescorer = RescoreAction(self)
         self._build_actions()
         self.setAcceptDrops(True)
         self._save_clock = QTimer(self)
@@ -225,7 +227,7 @@ class ReviewWindow(QMainWindow):
         self.waveform.set_sets(model.session.sets)
         self.waveform.show_all(start_ns, end_ns)
         self.waveform.playhead_moved.connect(model.set_playhead)
-        self.table.set_sets(model.session.sets, start_ns)
+        self.table.set_sets(model.session.sets, start_ns, self._rescore_marks())
         self.table.set_chosen.connect(model.go_to_set)
 
     # -- opening ------------------------------------------------------------------------
@@ -301,6 +303,7 @@ class ReviewWindow(QMainWindow):
         if self.task is not None:
             self.task.cancel()
         self.exporter.cancel()
+        self.rescorer.cancel()
 
     def _show_busy(self, text: str) -> None:
         self.status_text.setText(text)
@@ -327,6 +330,7 @@ class ReviewWindow(QMainWindow):
         self.task = None
         if self.loader is not None:
             self.loader.shutdown()
+        self.rescorer.reset()  # what runs belongs to the previous session's model
         self.inputs = inputs
         self.model = ReviewModel(inputs.session, inputs.source, autosave=self._autosave)
         self.loader = FrameLoader(inputs.source, parent=self)
@@ -336,8 +340,11 @@ class ReviewWindow(QMainWindow):
         self.model.connect("playhead", lambda _t: self._refresh_playhead())
         self.model.connect("current_set", self.table.select_row)
         self.model.connect("decision", self._on_decision)
+        self.model.connect("sets", self.rescorer.schedule)
+        self.model.connect("sync", self.rescorer.schedule)
         self.model.connect("sets", self._on_sets)
         self.model.connect("sync", self._on_sync)
+        self.model.connect("rescored", self._on_rescored)
         self.model.connect("filter", lambda _name: self._apply_filter())
         title = " + ".join(Path(p).name for p in [*inputs.session.recording,
                                                    inputs.session.audio or ""] if p)
@@ -354,6 +361,7 @@ class ReviewWindow(QMainWindow):
             self.model.go_to_set(0)
         else:
             self._refresh_playhead()
+        self.rescorer.schedule()  # sets left unscored when the window last closed
 
     # -- model -> view ------------------------------------------------------------------
     def run_action(self, action: str) -> None:
@@ -424,7 +432,7 @@ class ReviewWindow(QMainWindow):
         """A set was added or removed: list, markers and counts show the new sets."""
         model = self.model
         assert model is not None
-        self.table.set_sets(model.session.sets, model.time_range_ns()[0])
+        self.table.set_sets(model.session.sets, model.time_range_ns()[0], self._rescore_marks())
         self._apply_filter()
         self.waveform.set_sets(model.session.sets)
         self._update_counts()
@@ -434,9 +442,30 @@ class ReviewWindow(QMainWindow):
         assert model is not None
         self.waveform.set_sync(sync)
         self.waveform.set_sets(model.session.sets)
-        self.table.set_sets(model.session.sets, model.time_range_ns()[0])
+        self.table.set_sets(model.session.sets, model.time_range_ns()[0], self._rescore_marks())
         self._apply_filter()
         self._update_sync_line()
+
+    def _on_rescored(self, set_ids: list[int]) -> None:
+        """Re-scored sets: their rows get figures, the tiles their chosen frames."""
+        self.refresh_rescore_marks()
+        self._refresh_playhead()
+
+    def _rescore_marks(self) -> set[int]:
+        """Ids of the sets whose figures re-scoring will bring (shown as … in the list)."""
+        if self.model is None or self.rescorer.held:
+            return set()
+        return set(self.model.rescore_ids())
+
+    def refresh_rescore_marks(self) -> None:
+        """Rewrite the list's rows (figures, or … while a set waits for re-scoring)."""
+        model = self.model
+        if model is None:
+            return
+        marks = self._rescore_marks()
+        for row, s in enumerate(model.session.sets):
+            self.table.update_row(row, s, s.id in marks)
+        self._apply_filter()
 
     def _apply_filter(self) -> None:
         """Show the rows the model's filter passes; its button checked, a count if hiding."""
@@ -534,6 +563,7 @@ class ReviewWindow(QMainWindow):
         if self.task is not None:
             self.task.cancel()
         self.exporter.cancel()
+        self.rescorer.shutdown()
         if self.loader is not None:
             self.loader.shutdown()
         if self.inputs is not None:

@@ -32,6 +32,9 @@ COLUMNS = (
 HEADERS = tuple(h for h, _tip in COLUMNS)
 SHARP, CORNERS, SKEW, FRAMES, DECISION = 3, 4, 5, 6, 7
 MISSING = "–"  # a figure no camera has
+PENDING = "…"  # a figure the re-scoring of the set (after an offset edit) will bring
+PENDING_TIP = ("re-scoring: the frames nearest the trigger are shown until the best still "
+               "frames are chosen and measured")
 
 
 def column(name: str) -> int:
@@ -62,26 +65,29 @@ class SetTable(QTableWidget):
         self._updating = False
         self.itemSelectionChanged.connect(self._selection_changed)
 
-    def set_sets(self, sets: list[FrameSet], origin_ns: int) -> None:
+    def set_sets(self, sets: list[FrameSet], origin_ns: int,
+                 pending: frozenset[int] | set[int] = frozenset()) -> None:
+        """One row per set; sets whose ids are in ``pending`` are being re-scored."""
         self._updating = True
         self._origin_ns = origin_ns
         self.setRowCount(len(sets))
         for row, s in enumerate(sets):
-            self.update_row(row, s)
+            self.update_row(row, s, s.id in pending)
         self._updating = False
 
-    def update_row(self, row: int, s: FrameSet) -> None:
+    def update_row(self, row: int, s: FrameSet, pending: bool = False) -> None:
         rel = (s.t_ns - self._origin_ns) / 1e9
         q = summarize(s)
-        sharp = MISSING if q.worst_sharpness is None else f"{q.worst_sharpness:.2f}"
-        corners = MISSING if q.fewest_corners is None else str(q.fewest_corners)
+        missing = PENDING if pending else MISSING
+        sharp = missing if q.worst_sharpness is None else f"{q.worst_sharpness:.2f}"
+        corners = missing if q.fewest_corners is None else str(q.fewest_corners)
         values = (str(s.id), f"{int(rel // 60):02d}:{rel % 60:05.2f}", s.trigger.word,
                   sharp, corners, f"{s.skew_ns / 1e6:.1f}",
                   f"{q.frames_found}/{q.frames_total}",
                   f"{DECISION_SYMBOLS[s.decision]} {s.decision}")
         warned = {SHARP: q.sharpness_warned, CORNERS: q.corners_warned,
                   SKEW: q.skew_warned, FRAMES: q.frames_warned}
-        details = camera_lines(s)
+        details = f"{PENDING_TIP}\n{camera_lines(s)}" if pending else camera_lines(s)
         for col, value in enumerate(values):
             item = QTableWidgetItem(f"{WARNING_SYMBOL} {value}" if warned.get(col) else value)
             if SHARP <= col <= FRAMES:

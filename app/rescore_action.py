@@ -1,0 +1,141 @@
+"""The window's re-scoring: the best-still search for sets an offset edit or an add left
+with nearest frames, on a worker thread, applied on the UI thread.
+
+What needs it and how results are taken is :class:`~speechcal_core.review.model.ReviewModel`'s
+business; this only schedules, reports and cancels.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from PySide6.QtCore import QObject, QTimer
+
+from app.tasks import BackgroundTask, start
+
+if TYPE_CHECKING:
+    from app.main_window import ReviewWindow
+    from speechcal_core.review.model import ReviewModel
+    from speechcal_core.review.rescore import RescoreRequest, RescoreResult
+
+#: wait this long after the last edit before starting (held-down offset keys repeat)
+DELAY_MS = 250
+
+
+class RescoreAction(QObject):
+    """Runs one re-scoring at a time for a :class:`ReviewWindow`; a newer offset cancels it."""
+
+    def __init__(self, window: ReviewWindow) -> None:
+        super().__init__(window)
+        self.window = window
+        self.task: BackgroundTask | None = None
+        self.request: RescoreRequest | None = None
+        self._model: ReviewModel | None = None  # the model the running task works for
+        #: the operator cancelled (or it failed): nothing starts until the next edit
+        self.held = False
+        self.last_error = ""
+        self.timer = QTimer(self)
+        self.timer.setSingleShot(True)
+        self.timer.setInterval(DELAY_MS)
+        self.timer.timeout.connect(self.start_if_needed)
+
+    def busy(self) -> bool:
+        """True while re-scoring runs or is about to start."""
+        return self.task is not None or self.timer.isActive()
+
+    def schedule(self, *_args: object) -> None:
+        """An edit happened: (re)start the countdown to re-scoring what needs it."""
+        self.held = False
+        if self.window.model is not None:
+            self.timer.start()
+
+    def start_if_needed(self) -> None:
+        """Start re-scoring now if the model has sets that need it; a running task for an
+        older offset is cancelled (the next one starts when it has stopped)."""
+        model, inputs = self.window.model, self.window.inputs
+        if model is None or inputs is None or self.held:
+            return
+        if self.task is not None:
+            if self._model is not model or \
+                    (self.request is not None and self.request.sync != model.session.sync):
+                self.task.cancel()
+            return
+        request = model.rescore_request()
+        if request is None:
+            return
+        source = inputs.source
+        self.request, self._model = request, model
+        self.last_error = ""
+        self.task = BackgroundTask(lambda report: request.run(source, report))
+        self.task.signals.progress.connect(self._progress)
+        self.task.signals.finished.connect(self._finished)
+        self.task.signals.failed.connect(self._failed)
+        self.window.refresh_rescore_marks()
+        if self._owns_status_line():
+            self.window._show_busy(request.text)
+        start(self.task)
+
+    def reset(self) -> None:
+        """Another session opens: whatever runs belongs to the previous one."""
+        self.timer.stop()
+        self.held = False
+        if self.task is not None:
+            self.task.cancel()
+
+    def cancel(self) -> None:
+        """The operator's cancel: stop, and keep the nearest frames until the next edit."""
+        self.timer.stop()
+        if self.task is not None:
+            self.held = True
+            self.task.cancel()
+
+    def shutdown(self, wait_s: float = 5.0) -> None:
+        """Stop for good (the window closes): cancel and wait for the worker to let go."""
+        self.timer.stop()
+        self.held = True
+        task = self.task
+        if task is not None:
+            task.cancel()
+            task.done.wait(wait_s)
+
+    # -- results ------------------------------------------------------------------------
+    def _owns_status_line(self) -> bool:
+        """The status line is free (no export or loading is reporting there)."""
+        return self.window.exporter.task is None and self.window.task is None
+
+    def _progress(self, text: str, fraction: float) -> None:
+        if self._owns_status_line():
+            self.window._on_progress(text, fraction)
+
+    def _ended(self) -> ReviewModel | None:
+        """Forget the task; returns its model if it is still the window's."""
+        model, self._model = self._model, None
+        self.task, self.request = None, None
+        if self._owns_status_line():
+            self.window.progress.hide()
+            self.window.cancel_button.hide()
+        return model if model is self.window.model else None
+
+    def _finished(self, result: RescoreResult) -> None:
+        model = self._ended()
+        taken = model.apply_rescored(result) if model is not None else []
+        if taken and self._owns_status_line():
+            n = len(taken)
+            self.window.status_text.setText(
+                f"re-scored {n} frame set{'' if n == 1 else 's'}: best still frames chosen")
+        self.window.refresh_rescore_marks()
+        self.start_if_needed()  # anything that needs it since (an added set, a new offset)
+
+    def _failed(self, message: str) -> None:
+        self._ended()
+        self.window.refresh_rescore_marks()
+        if message != "cancelled":
+            self.last_error = message
+            self.held = True  # not again until the next edit
+            self.window.status_text.setText(f"re-scoring failed: {message}; the sets keep "
+                                            "their nearest frames")
+        elif self.held:
+            self.window.status_text.setText("re-scoring cancelled: the sets keep their "
+                                            "nearest frames until the next offset edit")
+        else:
+            self.start_if_needed()  # cancelled for a newer offset

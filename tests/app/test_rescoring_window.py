@@ -1,0 +1,90 @@
+"""The window after an offset edit: nearest frames at once, figures again off the UI thread."""
+
+from __future__ import annotations
+
+import threading
+from pathlib import Path
+
+import pytest
+from PySide6.QtCore import Qt
+
+from app.set_table import MISSING, PENDING, column
+from speechcal_core.review.rescore import RescoreRequest
+from speechcal_core.session.store import load_session
+
+
+def figures(window) -> list[str]:
+    return [window.table.item(r, column("worst sharp")).text()
+            for r in range(window.table.rowCount())]
+
+
+@pytest.fixture
+def gate(monkeypatch: pytest.MonkeyPatch) -> threading.Event:
+    """Re-scoring waits on the worker thread until the test sets this event."""
+    event = threading.Event()
+    run = RescoreRequest.run
+
+    def gated(self, source, progress=None):
+        progress(self.text, 0.0)
+        event.wait(30)
+        return run(self, source, progress)
+
+    monkeypatch.setattr(RescoreRequest, "run", gated)
+    return event
+
+
+def test_offset_nudge_rescores_in_the_background_and_the_list_gets_figures_again(
+    qtbot, open_window, searched_session_file: Path, gate: threading.Event
+) -> None:
+    window = open_window(searched_session_file)
+    model = window.model
+    assert all(PENDING not in f and MISSING not in f for f in figures(window))
+    qtbot.keyClick(window, Qt.Key.Key_BraceRight)  # audio one frame later
+    qtbot.keyClick(window, Qt.Key.Key_BraceRight)
+    # at once: nearest frames, figures to come, no warnings or corners of other frames
+    assert set(figures(window)) == {PENDING}
+    assert all(not t.flags and not t.corners for t in model.tiles())
+    qtbot.waitUntil(lambda: window.rescorer.task is not None, timeout=5_000)
+    # the UI thread goes on while the worker is busy
+    assert window.status_text.text() == f"re-scoring {len(model.session.sets)} frame sets…"
+    assert window.progress.isVisible() and window.cancel_button.isVisible()
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    assert model.current == 1
+    gate.set()
+    qtbot.waitUntil(lambda: PENDING not in "".join(figures(window)), timeout=30_000)
+
+    assert model.rescore_ids() == [] and not window.rescorer.busy()
+    assert all(MISSING not in f for f in figures(window))
+    assert window.status_text.text().startswith("re-scored")
+    assert not window.progress.isVisible()
+    assert all(t.chosen for t in model.tiles()) and any(t.corners for t in model.tiles())
+    saved = load_session(searched_session_file)
+    assert saved.sync.offset_ns == model.session.sync.offset_ns
+    assert all(f.sharpness is not None for s in saved.sets for f in s.frames)
+
+
+def test_an_added_set_gets_figures_and_cancel_keeps_nearest_frames(
+    qtbot, open_window, searched_session_file: Path, gate: threading.Event
+) -> None:
+    window = open_window(searched_session_file)
+    model = window.model
+    a, b = (s.t_ns for s in model.session.sets[1:3])
+    model.set_playhead((a + b) // 2)
+    qtbot.keyClick(window, Qt.Key.Key_T)
+    row = model.current
+    assert figures(window)[row] == PENDING
+    gate.set()
+    qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
+    assert figures(window)[row] not in (PENDING, MISSING)
+
+    gate.clear()
+    qtbot.keyClick(window, Qt.Key.Key_BracketLeft)
+    qtbot.waitUntil(lambda: window.rescorer.task is not None, timeout=5_000)
+    qtbot.mouseClick(window.cancel_button, Qt.MouseButton.LeftButton)
+    gate.set()
+    qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
+    assert "cancelled" in window.status_text.text()
+    assert set(figures(window)) == {MISSING}  # nothing is coming until the next edit
+    assert model.rescore_ids() == [s.id for s in model.session.sets]
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # the next edit re-scores again
+    qtbot.waitUntil(lambda: model.rescore_ids() == [], timeout=30_000)
