@@ -376,6 +376,9 @@ class ReviewWindow(QMainWindow):
         if self._playing:
             self.waveform.follow(model.playhead_ns)
         current = model.set_at_playhead()
+        chosen = "chosen frame"
+        if model.current_set is not None and model.needs_rescore(model.current_set):
+            chosen = "nearest frame" if self.rescorer.held else "nearest frame, re-scoring…"
         wanted = []
         self._pending_tiles = set()
         for tile in model.tiles():
@@ -388,8 +391,7 @@ class ReviewWindow(QMainWindow):
                 continue
             widget.set_state(decision, ", ".join(tile.flags))
             widget.corners = tile.corners
-            widget.caption = ("chosen frame" if tile.chosen
-                              else f"{tile.offset_ns / 1e6:+.1f} ms")
+            widget.caption = chosen if tile.chosen else f"{tile.offset_ns / 1e6:+.1f} ms"
             wanted.append((tile.stream, tile.index))
             self._pending_tiles.add(tile.stream)
         self.loader.request(wanted)

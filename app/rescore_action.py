@@ -129,6 +129,7 @@ class RescoreAction(QObject):
     def _failed(self, message: str) -> None:
         self._ended()
         self.window.refresh_rescore_marks()
+        self.window._refresh_playhead()  # tile captions: re-scoring or not
         if message != "cancelled":
             self.last_error = message
             self.held = True  # not again until the next edit

@@ -44,6 +44,7 @@ def test_offset_nudge_rescores_in_the_background_and_the_list_gets_figures_again
     # at once: nearest frames, figures to come, no warnings or corners of other frames
     assert set(figures(window)) == {PENDING}
     assert all(not t.flags and not t.corners for t in model.tiles())
+    assert {t.caption for t in window.grid.tiles.values()} == {"nearest frame, re-scoring…"}
     qtbot.waitUntil(lambda: window.rescorer.task is not None, timeout=5_000)
     # the UI thread goes on while the worker is busy
     assert window.status_text.text() == f"re-scoring {len(model.session.sets)} frame sets…"
@@ -58,6 +59,7 @@ def test_offset_nudge_rescores_in_the_background_and_the_list_gets_figures_again
     assert window.status_text.text().startswith("re-scored")
     assert not window.progress.isVisible()
     assert all(t.chosen for t in model.tiles()) and any(t.corners for t in model.tiles())
+    assert {t.caption for t in window.grid.tiles.values()} == {"chosen frame"}
     saved = load_session(searched_session_file)
     assert saved.sync.offset_ns == model.session.sync.offset_ns
     assert all(f.sharpness is not None for s in saved.sets for f in s.frames)
