@@ -173,7 +173,8 @@ class ReviewWindow(QMainWindow):
         edits = QHBoxLayout()
         self.add_button = self._action_button(
             "[T] add set at playhead", "add_set",
-            "a trigger the detection missed: a set of the frames nearest the playhead")
+            "a trigger the detection missed: a set at the playhead (its best still "
+            "frames follow)")
         self.remove_button = self._action_button(
             "[Del] remove set", "remove_set",
             "a false trigger: remove the current set (undo brings it back)")
