@@ -72,14 +72,18 @@ class Tier:
 #: from the clearest spans down; the last tier takes everything else
 TIERS: tuple[Tier, ...] = (
     Tier(18.0, confusable_log10=-10.0),
-    Tier(-math.inf),
+    #: a dearer filler in noisier spans: the recogniser's triggers there are the templates
+    #: that find the rest, and a voice it misses entirely is lost (tuning seeds 101-112,
+    #: 5 dB: a quiet female voice had no trigger found in two sessions at (-3, -11))
+    Tier(-math.inf, phone_log10=(-5.0, -13.0)),
 )
 #: similarity search adds words only in spans heard less clearly than the clearest tier
 EXPAND_BELOW_DB = TIERS[0].min_level_db
 #: ... and where something stands out of the noise at all (not in a span's quiet padding)
 EXPAND_MIN_DB = 4.0
-#: similarity expansion: accepted cost relative to the triggers' mutual cost, at 0 and 1
-SIMILARITY_FACTOR = (1.25, 1.45)
+#: similarity expansion: accepted cost relative to the triggers' mutual cost, at 0 and 1,
+#: for a span heard as clearly as the triggers (quieter spans get more: LEVEL_SLOPE)
+SIMILARITY_FACTOR = (1.0, 1.2)
 #: a found trigger in a clearly heard span whose closest other found trigger costs more
 #: than this times their median closest cost is dropped (``confirm_and_expand``'s
 #: ``verify``): near-homophones the recogniser took for the trigger rarely sound like the

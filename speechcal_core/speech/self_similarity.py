@@ -32,25 +32,32 @@ VERIFY_MIN_SEEDS = 4  # fewer seeds give no reliable median: all are kept
 #: 5 and 10 dB gained 2-3 points of recall at about the same precision (1-2 points more
 #: precision at the old limit)
 NOISE_FLOOR = 3.0
+#: a span heard less clearly than the seeds costs more even when it is the same word: the
+#: limit grows by this fraction of the seeds' mutual cost per dB the span's level lies
+#: below the seeds' median level (and shrinks for louder spans), within MAX_LEVEL_GAP_DB
+LEVEL_SLOPE = 0.05
+MAX_LEVEL_GAP_DB = 10.0
 
 
 def expand_by_similarity(samples: np.ndarray, rate: int, seeds: list[Word],
                          activity: VoiceActivity, blocked: list[Word],
-                         factor: float = COST_FACTOR, rounds: int = ROUNDS) -> list[Word]:
+                         factor: float = COST_FACTOR, rounds: int = ROUNDS,
+                         level_slope: float = 0.0) -> list[Word]:
     """New trigger instances similar to ``seeds``; nothing overlapping seeds or ``blocked``.
 
     The acceptance limit comes from the seeds alone; instances found in one round serve
     as further templates in the next. Every seed is kept as a template (no verification).
     """
     return confirm_and_expand(samples, rate, seeds, activity, blocked, factor, rounds,
-                              verify=None)[1]
+                              verify=None, level_slope=level_slope)[1]
 
 
 def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
                        activity: VoiceActivity, blocked: list[Word],
                        factor: float = COST_FACTOR, rounds: int = ROUNDS,
                        verify: float | None = VERIFY_FACTOR, noise_floor: float = NOISE_FLOOR,
-                       checked: Sequence[bool] | None = None
+                       checked: Sequence[bool] | None = None,
+                       level_slope: float | None = None,
                        ) -> tuple[list[Word], list[Word]]:
     """The seeds that sound like the other seeds, and new instances similar to those.
 
@@ -60,6 +67,9 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     other triggers, while the real ones have close siblings. All comparisons are DTW
     costs over the same features, so unlike recogniser scores they compare across spans.
     ``checked`` (one flag per seed) limits the check to some seeds; the others are kept.
+    A new instance is accepted below ``factor`` times the kept seeds' median closest cost,
+    plus ``level_slope`` times that cost per dB it is heard less clearly than the seeds
+    (``level_slope``, default LEVEL_SLOPE).
     """
     if len(seeds) < MIN_SEEDS or not activity.segments:
         return list(seeds), []
@@ -104,7 +114,9 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     for k in keep:
         if matches[k] is not None:
             best.merge(*matches[k])  # type: ignore[misc]
-    limit = factor * float(np.median(mutual))
+    slope = LEVEL_SLOPE if level_slope is None else level_slope
+    limit = _Limit(float(np.median(mutual)), factor, slope, activity,
+                   float(np.median([activity.level_db(w.start_s, w.end_s) for w in kept])))
     taken = [(w.start_s, w.end_s) for w in [*kept, *blocked]]
     out: list[Word] = []
     for _ in range(rounds):
@@ -115,6 +127,26 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
         for w in new:
             best.add(full, seq, w)
     return kept, sorted(out, key=lambda w: w.start_s)
+
+
+class _Limit:
+    """The accepted cost for a span: the seeds' mutual cost times a factor that grows as
+    the span is heard less clearly than the seeds."""
+
+    def __init__(self, mutual: float, factor: float, slope: float, activity: VoiceActivity,
+                 seed_level_db: float) -> None:
+        self.mutual, self.factor, self.slope = mutual, factor, slope
+        self.activity, self.seed_level_db = activity, seed_level_db
+        #: no span's limit exceeds this: costs above it end the search
+        self.highest = mutual * (factor + abs(slope) * MAX_LEVEL_GAP_DB)
+
+    def at(self, start_s: float, end_s: float) -> float:
+        """The accepted cost for the span from ``start_s`` to ``end_s``."""
+        if self.slope == 0.0:
+            return self.mutual * self.factor
+        gap = self.seed_level_db - self.activity.level_db(start_s, end_s)
+        gap = min(MAX_LEVEL_GAP_DB, max(-MAX_LEVEL_GAP_DB, gap))
+        return self.mutual * (self.factor + self.slope * gap)
 
 
 class _BestMatch:
@@ -142,13 +174,13 @@ class _BestMatch:
         self.length[better] = length
 
 
-def _pick(best: _BestMatch, idx: np.ndarray, limit: float, taken: list[tuple[float, float]],
+def _pick(best: _BestMatch, idx: np.ndarray, limit: _Limit, taken: list[tuple[float, float]],
           samples: np.ndarray, rate: int, activity: VoiceActivity, word: str) -> list[Word]:
-    """Non-overlapping matches below ``limit``, best first; ``taken`` grows with them."""
+    """Non-overlapping matches below their limit, best first; ``taken`` grows with them."""
     out = []
     for j in np.argsort(best.cost):
         c = float(best.cost[j])
-        if c >= limit:
+        if c >= limit.highest:
             break
         s_frame, e_frame = int(idx[best.start[j]]), int(idx[j]) + 1
         if not 0 < e_frame - s_frame <= MAX_STRETCH * best.length[j]:
@@ -156,7 +188,9 @@ def _pick(best: _BestMatch, idx: np.ndarray, limit: float, taken: list[tuple[flo
         ts, te = s_frame * HOP_S, e_frame * HOP_S
         if any(ts < b and te > a for a, b in taken):
             continue
-        taken.append((ts, te))
+        taken.append((ts, te))  # the best match of a span decides it, accepted or not
+        if c >= limit.at(ts, te):
+            continue
         rs, re_ = refine_bounds(samples, rate, ts, te, activity.floor_at((ts + te) / 2))
         out.append(Word(word, rs, re_, max(0.0, 1.0 - c), "pocketsphinx+similarity"))
     return out

@@ -34,14 +34,15 @@ def clip(name: str) -> np.ndarray:
     return x
 
 
-def make_scene(path: Path, items: list[tuple[str, str]], *, gap_s: float = 0.9,
-               snr_db: float = 25.0, seed: int = 0) -> Scene:
-    """Clips ``(text, clip name)`` one after another with ``gap_s`` between, in pink-ish noise."""
+def make_scene(path: Path, items: list[tuple[str, str]] | list[tuple[str, str, float]], *,
+               gap_s: float = 0.9, snr_db: float = 25.0, seed: int = 0) -> Scene:
+    """Clips ``(text, clip name[, gain dB])`` one after another with ``gap_s`` between, in
+    pink-ish noise; ``snr_db`` holds for clips at gain 0."""
     rng = np.random.default_rng(seed)
     parts, placed, t = [np.zeros(int(0.8 * RATE), np.float32)], [], 0.8
-    for text, name in items:
+    for text, name, *gain in items:
         x = clip(name)
-        x = x * (0.1 / (np.sqrt(np.mean(x**2)) + 1e-9))
+        x = x * (0.1 / (np.sqrt(np.mean(x**2)) + 1e-9)) * 10 ** ((gain[0] if gain else 0.0) / 20)
         placed.append((text, t, t + x.size / RATE))
         parts += [x.astype(np.float32), np.zeros(int(gap_s * RATE), np.float32)]
         t += x.size / RATE + gap_s

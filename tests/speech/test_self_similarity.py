@@ -78,3 +78,24 @@ def test_noise_floored_features_bring_noisy_and_clean_instances_closer() -> None
         return float(np.mean(1.0 - np.sum(unit_rows(a) * unit_rows(b), axis=1)))
 
     assert distance(3.0) < distance(0.0)
+
+
+def test_a_quieter_instance_may_cost_more_than_the_seeds_cost_each_other(
+        tmp_path: Path) -> None:
+    items = [("capture", "rms/capture_1"), ("okay", "rms/okay_1"),
+             ("capture", "rms/capture_2"), ("picture", "rms/picture_1"),
+             ("capture", "rms/capture_1"), ("hold on", "rms/hold_on_1"),
+             ("capture", "rms/capture_2", -8.0), ("rapture", "rms/rapture_1")]
+    scene = make_scene(tmp_path / "quiet.wav", items, snr_db=12.0, seed=4)
+    spans = scene.spans("capture")
+    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in spans[:3]]
+    activity = voice_activity(scene.samples, 16000)
+
+    def found(level_slope: float) -> list[float]:
+        extra = expand_by_similarity(scene.samples, 16000, seeds, activity, blocked=[],
+                                     factor=1.0, level_slope=level_slope)
+        return [w.t for w in extra]
+
+    assert found(0.0) == []  # 8 dB quieter: noise makes it cost more than the limit
+    quiet = (spans[3][0] + spans[3][1]) / 2
+    assert [round(t - quiet, 1) for t in found(0.05)] == [0.0]  # not rapture nor picture
