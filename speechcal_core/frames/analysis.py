@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import hashlib
+import json
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -28,8 +30,9 @@ class FrameAnalysis:
 
     ``extra`` holds ``"frame_details"`` (per set: chosen and nearest frames, stillness,
     corners), ``"frame_references"`` (per camera: what sharpness and stillness were judged
-    against, for re-scoring sets later) and ``"coverage"`` (per camera); ``calibration`` is
-    DESIGN.md §3's entry.
+    against, for re-scoring sets later), ``"coverage"`` (per camera) and
+    ``"checks_basis"`` (what coverage and calibration were computed over, see
+    :func:`checks_basis`); ``calibration`` is DESIGN.md §3's entry.
     """
 
     sets: list[FrameSet]
@@ -62,14 +65,55 @@ def analyse_frames(
     out = FrameAnalysis(result.sets, extra, detections=result.detections)
     if target is None:
         return out
-    obj = target.object_points()
-    views = views_from_sets(result.sets, result.detections, obj)
-    cov = {}
-    for stream, size in result.image_sizes.items():
-        dets = [result.detections[(v.set_id, stream)] for v in views.get(stream, [])]
-        if dets:
-            cov[stream] = coverage(dets, obj, size).to_dict()
-            out.coverage_images[stream] = coverage_image(dets, size)
-    out.extra["coverage"] = cov
-    out.calibration = check_cameras(views, result.image_sizes, models, report, wide_only)
+    checks = frame_checks(result.sets, result.detections, result.image_sizes, target,
+                          models, wide_only, report)
+    out.extra["coverage"] = checks.coverage
+    out.extra["checks_basis"] = checks_basis(result.sets)
+    out.calibration = checks.calibration
+    out.coverage_images = checks.coverage_images
     return out
+
+
+@dataclass
+class FrameChecks:
+    """Coverage (per camera, JSON-ready, and as images) and the calibration check."""
+
+    coverage: dict[str, Any]
+    calibration: dict[str, Any]
+    coverage_images: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+def frame_checks(
+    sets: Iterable[FrameSet],
+    detections: Mapping[tuple[int, str], Detection],
+    sizes: Mapping[str, tuple[int, int]],
+    target: Target,
+    models: Sequence[str] = MODELS,
+    wide_only: bool = True,
+    progress: Progress | None = None,
+) -> FrameChecks:
+    """Coverage and calibration check per camera over the sets not rejected.
+
+    ``detections`` are the target corners per (set id, stream), ``sizes`` each stream's
+    image (width, height); as :func:`analyse_frames` computes them, also for a session
+    whose frames or decisions changed in review.
+    """
+    obj = target.object_points()
+    views = views_from_sets(sets, detections, obj)
+    out = FrameChecks({}, {})
+    for stream, size in sizes.items():
+        dets = [detections[(v.set_id, stream)] for v in views.get(stream, [])]
+        if dets:
+            out.coverage[stream] = coverage(dets, obj, size).to_dict()
+            out.coverage_images[stream] = coverage_image(dets, size)
+    out.calibration = check_cameras(views, sizes, models, progress, wide_only)
+    return out
+
+
+def checks_basis(sets: Iterable[FrameSet]) -> str:
+    """A digest of what coverage and the calibration check depend on: the chosen frames
+    of every set not rejected. Equal digests, equal checks (for one target)."""
+    kept = [[s.id, [[f.stream, f.index, f.stamp_ns] for f in s.frames]]
+            for s in sets if s.decision != "rejected"]
+    text = json.dumps(kept, separators=(",", ":"))
+    return hashlib.sha1(text.encode(), usedforsecurity=False).hexdigest()

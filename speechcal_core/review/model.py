@@ -6,7 +6,8 @@ action is a named method here, so tests drive the review without a window.
 Offset edits and added sets show the frames nearest each trigger at once; the best-still
 search runs elsewhere (it takes about 0.1 s per set): :meth:`ReviewModel.rescore_request`
 says what to re-score, :meth:`ReviewModel.apply_rescored` takes the results unless they
-are stale.
+are stale. Coverage and the calibration check follow the chosen frames and decisions the
+same way (:meth:`ReviewModel.checks_request`, :meth:`ReviewModel.apply_checks`).
 """
 
 from __future__ import annotations
@@ -18,18 +19,32 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
-from speechcal_core.frames.sets import FrameReferences
-from speechcal_core.review.rescore import RescoreRequest, RescoreResult
+from speechcal_core.review.checks import (
+    ChecksRequest,
+    ChecksResult,
+    apply_checks,
+    checks_due,
+    checks_request,
+    stream_sizes,
+)
+from speechcal_core.review.rescore import (
+    RescoreRequest,
+    RescoreResult,
+    apply_rescore,
+    export_waits_for,
+    needs_rescore,
+    rescore_ids,
+    rescore_request,
+)
 from speechcal_core.review.summary import FILTERS, shown_indices
 from speechcal_core.session.model import FrameSet, Session, Trigger
 from speechcal_core.sync.model import SyncModel
-from speechcal_core.target import TargetSpec
 
 if TYPE_CHECKING:
     from speechcal_core.sources.base import FrameSource
 
 EVENTS = ("playhead", "current_set", "decision", "sets", "sync", "saved", "filter",
-          "rescored")
+          "rescored", "checks")
 
 #: ``Trigger.source`` of a trigger the operator added in review (kept in the session file)
 OPERATOR_SOURCE = "manual"
@@ -415,41 +430,23 @@ class ReviewModel:
 
     # -- re-scoring -----------------------------------------------------------------------
     def needs_rescore(self, frame_set: FrameSet) -> bool:
-        """Whether a set shows nearest frames that the best-still search should replace.
-
-        True for sets without frame details (added, or moved by an offset edit) once the
-        session keeps details, and for details measured at another offset.
-        """
-        all_details = self.session.extra.get("frame_details")
-        if not isinstance(all_details, dict):
-            return False  # a session made without the search, and not edited since
-        details = all_details.get(str(frame_set.id))
-        if not isinstance(details, dict):
-            return True
-        measured_at = details.get("trigger_ns")
-        return measured_at is not None and \
-            measured_at != int(self.session.sync.to_session(frame_set.trigger.t_s))
+        """Whether a set shows nearest frames that the best-still search should replace
+        (see :func:`speechcal_core.review.rescore.needs_rescore`)."""
+        return needs_rescore(self.session, frame_set)
 
     def rescore_ids(self) -> list[int]:
         """Ids of the sets that need re-scoring (see :meth:`needs_rescore`), in order."""
-        return [s.id for s in self.session.sets if self.needs_rescore(s)]
+        return rescore_ids(self.session)
+
+    def export_waits_for(self, include_undecided: bool = False) -> list[int]:
+        """Ids of the sets an export would hold that still wait for re-scoring (an export
+        started now would write their nearest frames, not the best still ones)."""
+        return export_waits_for(self.session, include_undecided=include_undecided)
 
     def rescore_request(self) -> RescoreRequest | None:
-        """What to re-score now (None: nothing, or no recording to read).
-
-        Just the sets that need it when the session knows what its figures are judged
-        against (``"frame_references"``); otherwise, and when every set needs it (after
-        an offset edit), all sets, measured as ``speechcal process`` measures them.
-        """
-        todo = [s for s in self.session.sets if self.needs_rescore(s)]
-        if not todo or self.source is None:
-            return None
-        extra = self.session.extra
-        references = FrameReferences.from_dict(extra.get("frame_references"))
-        if references is None or len(todo) == len(self.session.sets):
-            todo, references = list(self.session.sets), None
-        target = TargetSpec.from_stored(extra.get("target")) or TargetSpec()
-        return RescoreRequest(self.session.sync, tuple(todo), target, references)
+        """What to re-score now (None: nothing, or no recording to read); see
+        :func:`speechcal_core.review.rescore.rescore_request`."""
+        return rescore_request(self.session) if self.source is not None else None
 
     def apply_rescored(self, result: RescoreResult) -> list[int]:
         """Take re-scored sets; returns the ids taken (then tells listeners and saves).
@@ -458,25 +455,9 @@ class ReviewModel:
         removed meanwhile are skipped. Decisions stay as they are now. When the playhead
         is at the current set it moves to the set's new chosen time.
         """
-        if result.sync != self.session.sync:
-            return []
         current = self.current_set
         at_current = current is not None and self.playhead_ns == set_time_ns(current)
-        all_details = self._frame_details()
-        taken = []
-        for new in result.sets:
-            index = next((i for i, s in enumerate(self.session.sets) if s.id == new.id), -1)
-            if index < 0:
-                continue
-            old = self.session.sets[index]
-            if old.trigger != new.trigger or old.t_ns != new.t_ns:
-                continue  # another set with a re-used id
-            self.session.sets[index] = replace(old, frames=new.frames)
-            if str(new.id) in result.details:
-                all_details[str(new.id)] = result.details[str(new.id)]
-            taken.append(new.id)
-        if result.references is not None:
-            self.session.extra["frame_references"] = result.references.to_dict()
+        taken = apply_rescore(self.session, result)
         if not taken:
             return []
         self._emit("rescored", taken)
@@ -484,6 +465,27 @@ class ReviewModel:
             self.set_playhead(set_time_ns(self.current_set))
         self._save()
         return taken
+
+    # -- coverage and calibration check -------------------------------------------------
+    def checks_due(self) -> bool:
+        """Whether coverage and the calibration check are for other frames or decisions
+        than the session has now (they follow once re-scoring has landed)."""
+        return checks_due(self.session)
+
+    def checks_request(self) -> ChecksRequest | None:
+        """What to compute them from now (None: not due, or no recording to size images)."""
+        if self.source is None:
+            return None
+        return checks_request(self.session, stream_sizes(self.source))
+
+    def apply_checks(self, result: ChecksResult) -> bool:
+        """Take recomputed checks unless frames or decisions changed meanwhile (then
+        False: they are due again); tells listeners and saves."""
+        if not apply_checks(self.session, result):
+            return False
+        self._emit("checks")
+        self._save()
+        return True
 
     def _frame_details(self) -> dict:
         """The session's per-set frame details (made empty when it has none)."""

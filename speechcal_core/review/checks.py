@@ -1,0 +1,143 @@
+"""Coverage and the calibration check, kept up to date with the frames and decisions of a review.
+
+``speechcal process`` stores both with a digest of what they were computed over
+(``"checks_basis"``, :func:`~speechcal_core.frames.analysis.checks_basis`). Once
+re-scoring has chosen other frames, or a set was rejected, taken back, added or removed,
+they are due again (:func:`checks_due`). A :class:`ChecksRequest` holds a snapshot of
+what they need, so they can be recomputed on any thread; :func:`apply_checks` takes the
+result unless the session changed meanwhile.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from speechcal_core.calibration.check import MIN_POINTS, MIN_VIEWS
+from speechcal_core.calibration.collect import detections_from_details
+from speechcal_core.frames.analysis import checks_basis, frame_checks
+from speechcal_core.review.rescore import rescore_ids
+from speechcal_core.session.model import FrameSet, Session
+from speechcal_core.target import TargetSpec
+
+if TYPE_CHECKING:
+    from speechcal_core.frames.detect import Detection
+    from speechcal_core.sources.base import FrameSource
+
+Progress = Callable[[str, float], None]
+
+
+@dataclass(frozen=True)
+class ChecksResult:
+    """Coverage and calibration check computed over the sets whose digest is ``basis``."""
+
+    basis: str
+    calibration: dict[str, Any]
+    coverage: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class ChecksRequest:
+    """What the checks need, copied out of the session: review goes on meanwhile."""
+
+    basis: str
+    sets: tuple[FrameSet, ...]
+    detections: Mapping[tuple[int, str], Detection]
+    sizes: Mapping[str, tuple[int, int]]
+    target: TargetSpec
+
+    def run(self, progress: Progress | None = None) -> ChecksResult:
+        """Coverage and calibration fits per camera (tens of milliseconds for the demo)."""
+        checks = frame_checks(self.sets, self.detections, self.sizes, self.target,
+                              progress=progress)
+        return ChecksResult(self.basis, checks.calibration, checks.coverage)
+
+
+def stream_sizes(source: FrameSource) -> dict[str, tuple[int, int]]:
+    """Each stream's image (width, height), as the checks need them."""
+    return {s.name: (s.width, s.height) for s in source.streams if s.width > 0 and s.height > 0}
+
+
+def checks_due(session: Session) -> bool:
+    """Whether coverage and the calibration check should be computed again now.
+
+    True when they were computed over other frames or decisions than the session has
+    (or it does not say over which), for a session that keeps target corners; never while
+    sets still wait for re-scoring (their nearest frames are about to be replaced).
+    """
+    if not isinstance(session.extra.get("frame_details"), dict):
+        return False  # no corners to check with
+    if session.extra.get("checks_basis") == checks_basis(session.sets):
+        return False
+    return not rescore_ids(session)
+
+
+def checks_request(session: Session, sizes: Mapping[str, tuple[int, int]]) -> ChecksRequest | None:
+    """A snapshot to compute the checks from, or None when they are not due."""
+    if not checks_due(session):
+        return None
+    details = session.extra["frame_details"]
+    target = TargetSpec.from_stored(session.extra.get("target")) or TargetSpec()
+    return ChecksRequest(checks_basis(session.sets), tuple(session.sets),
+                         detections_from_details(details), dict(sizes), target)
+
+
+def apply_checks(session: Session, result: ChecksResult) -> bool:
+    """Store the checks in the session unless its frames or decisions changed since the
+    request was made (then False: they are due again)."""
+    if result.basis != checks_basis(session.sets):
+        return False
+    session.calibration = result.calibration
+    session.extra["coverage"] = result.coverage
+    session.extra["checks_basis"] = result.basis
+    return True
+
+
+def recheck_due(session: Session, sizes: Mapping[str, tuple[int, int]],
+                progress: Progress | None = None) -> bool:
+    """Compute the checks in this thread if they are due; True if they were."""
+    request = checks_request(session, sizes)
+    return request is not None and apply_checks(session, request.run(progress))
+
+
+@dataclass(frozen=True)
+class CheckSummary:
+    """What the window says about the checks: one line, one line per camera, a warning."""
+
+    line: str
+    cameras: tuple[str, ...]
+    warning: bool  # a camera has no fit
+
+
+def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | None:
+    """The checks in words (None for a session without target corners).
+
+    While they are not for the session's frames and decisions they are "updating".
+    """
+    if not isinstance(session.extra.get("frame_details"), dict):
+        return None
+    if session.extra.get("checks_basis") != checks_basis(session.sets):
+        return CheckSummary("calibration check: updating…", (), False)
+    kept = sum(1 for s in session.sets if s.decision != "rejected")
+    fits = session.calibration or {}
+    cover = session.extra.get("coverage") or {}
+    lines = []
+    for name in streams:
+        entry, cov = fits.get(name), cover.get(name) or {}
+        progress = cov.get("progress") or {}
+        spread = " ".join(f"{k} {v:.0%}" for k, v in progress.items())
+        spread = f"; coverage {spread}" if spread else ""
+        if isinstance(entry, dict):
+            lines.append(f"{name}: {entry.get('model')} RMS {entry.get('rms_px', 0):.2f} px "
+                         f"over {len(entry.get('views') or [])} views{spread}")
+        else:
+            lines.append(f"{name}: no model fits its {cov.get('views', 0)} views of the "
+                         f"target (at least {MIN_VIEWS} with {MIN_POINTS} corners or more are "
+                         f"needed){spread}")
+    rms = [e["rms_px"] for e in fits.values() if isinstance(e, dict) and "rms_px" in e]
+    line = (f"calibration check over {kept} set{'' if kept == 1 else 's'} not rejected: "
+            f"{len(rms)} of {len(streams)} cameras fit")
+    if rms:
+        line += f", RMS ≤ {max(rms):.2f} px"
+    return CheckSummary(line, tuple(lines), len(rms) < len(streams))

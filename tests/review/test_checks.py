@@ -1,0 +1,110 @@
+"""Coverage and the calibration check follow the frames re-scoring chose and the decisions."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from review_models import open_model
+from truth_sessions import truth_triggers
+
+from speechcal_core.frames.analysis import analyse_frames
+from speechcal_core.review.checks import check_summary
+from speechcal_core.review.model import ReviewModel
+from speechcal_core.session.store import load_session
+from speechcal_core.target import TargetSpec
+
+SHIFT_NS = -1_000_000_000  # far enough that re-scoring picks other still frames
+
+
+def _rescore(model: ReviewModel) -> None:
+    model.apply_rescored(model.rescore_request().run(model.source))
+
+
+def _recheck(model: ReviewModel) -> bool:
+    request = model.checks_request()
+    assert request is not None
+    return model.apply_checks(request.run())
+
+
+def test_after_an_offset_edit_the_checks_wait_for_rescoring_then_match_the_pipeline(
+    searched_session_file: Path, tiny_synth: tuple[Path, dict],
+) -> None:
+    model = open_model(searched_session_file)
+    assert not model.checks_due()  # as process left them
+    before = model.session.extra["coverage"]
+    model.nudge_offset(SHIFT_NS)
+    # nearest frames for now: nothing to check them on, and the window says so
+    assert not model.checks_due() and model.checks_request() is None
+    summary = check_summary(model.session, model.streams)
+    assert summary.line == "calibration check: updating…"
+    _rescore(model)
+    assert model.checks_due()
+    events: list = []
+    model.connect("checks", lambda: events.append(True))
+    assert _recheck(model) and events == [True] and not model.checks_due()
+
+    _folder, truth = tiny_synth
+    pipeline = analyse_frames(model.source, model.session.sync, truth_triggers(truth),
+                              TargetSpec())
+    coverage = model.session.extra["coverage"]
+    assert coverage != before
+    assert set(coverage) == set(pipeline.extra["coverage"])
+    for stream, want in pipeline.extra["coverage"].items():
+        assert coverage[stream]["views"] == want["views"]
+        assert coverage[stream]["progress"] == pytest.approx(want["progress"], abs=2e-3)
+    calibration = model.session.calibration
+    assert set(calibration) == set(pipeline.calibration)
+    for stream, want in pipeline.calibration.items():
+        assert calibration[stream]["model"] == want["model"]
+        assert calibration[stream]["rms_px"] == pytest.approx(want["rms_px"], abs=0.01)
+    saved = load_session(searched_session_file)
+    assert saved.calibration == calibration and saved.extra["coverage"] == coverage
+    summary = check_summary(model.session, model.streams)
+    assert summary.line.startswith(f"calibration check over {len(model.session.sets)} sets")
+    assert len(summary.cameras) == len(model.streams)
+
+
+def test_a_rejected_set_leaves_the_checks_and_a_stale_result_is_refused(
+    searched_session_file: Path,
+) -> None:
+    model = open_model(searched_session_file)
+    first = model.current_set.id
+    model.reject()
+    assert model.checks_due()
+    request = model.checks_request()
+    model.accept()  # changed meanwhile: that result is for other decisions
+    assert not model.apply_checks(request.run())
+    assert not model.checks_due()  # back to what the checks were computed over
+    seen = {stream for stream, entry in model.session.extra["frame_details"][str(first)][
+        "frames"].items() if entry.get("points")}
+    before = {k: v["views"] for k, v in model.session.extra["coverage"].items()}
+    model.reject()
+    assert _recheck(model)
+    after = {k: v["views"] for k, v in model.session.extra["coverage"].items()}
+    assert seen and {k: before[k] - (k in seen) for k in before} == \
+        {k: after.get(k, 0) for k in before}
+
+
+def test_a_session_without_target_corners_has_no_checks_to_keep(truth_session_file: Path) -> None:
+    model = open_model(truth_session_file)
+    model.reject()
+    assert not model.checks_due() and model.checks_request() is None
+    assert check_summary(model.session, model.streams) is None
+
+
+def test_export_waits_for_the_sets_it_holds_that_show_nearest_frames(
+    searched_session_file: Path,
+) -> None:
+    model = open_model(searched_session_file)
+    ids = [s.id for s in model.session.sets]
+    model.go_to_set(0)
+    model.accept()
+    model.go_to_set(1)
+    model.reject()
+    assert model.export_waits_for() == []
+    model.nudge_offset(SHIFT_NS)
+    assert model.export_waits_for() == [ids[0]]
+    assert model.export_waits_for(include_undecided=True) == [ids[0], *ids[2:]]
+    _rescore(model)
+    assert model.export_waits_for(include_undecided=True) == []
