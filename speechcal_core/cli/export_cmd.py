@@ -34,18 +34,23 @@ def run(args: argparse.Namespace) -> int:
     from speechcal_core.target import TargetSpec
 
     target = TargetSpec.from_kalibr_yaml(args.target) if args.target else None
-    last = [-1]
+    last: list = [-1, ""]
 
     def report(text: str, fraction: float) -> None:
         pct = int(fraction * 100)
-        if pct // 10 != last[0] // 10 or not text.startswith(("writing ", "reading ")):
-            last[0] = pct
+        if pct // 10 != last[0] // 10 or \
+                (text != last[1] and not text.startswith(("writing ", "reading "))):
+            last[:] = [pct, text]
             progress(f"[{pct:3d}%] {text}")
 
     result = export_session_file(
         args.session, args.format, args.out, force=args.force,
         include_undecided=args.include_undecided, target=target, progress=report,
     )
+    if result.rescored:
+        n = result.rescored
+        progress(f"re-scored {n} frame set{'' if n == 1 else 's'} (best still frames, saved "
+                 f"to {args.session})")
     for line in result.skipped:
         progress(f"left out: {line}")
     if result.target == "default":

@@ -3,11 +3,16 @@
 Everything is written into a hidden sibling of the output folder that is renamed into
 place only when complete (``fsutil.staged_directory``): a failed or cancelled export
 leaves nothing behind, and an existing folder is replaced only with ``force``.
+
+Only best still frames are exported: sets that a review left with their nearest frames
+(re-scoring after an offset edit or an added set had not finished) are re-scored first
+by :func:`export_session_file`, and refused by :func:`export_frame_sets` (the review
+window waits for its re-scoring instead).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -38,6 +43,9 @@ class ExportResult:
     files: int
     skipped: list[str] = field(default_factory=list)
     target: str = ""  # where target.yaml came from (kalibr only): given | session | default
+    #: sets re-scored (and saved to the session file) before exporting, see
+    #: :func:`export_session_file`
+    rescored: int = 0
 
     def to_dict(self) -> dict[str, Any]:
         doc: dict[str, Any] = {"out": str(self.out), "format": self.format, "sets": self.sets,
@@ -45,6 +53,8 @@ class ExportResult:
                                "skipped": self.skipped}
         if self.target:
             doc["target"] = self.target
+        if self.rescored:
+            doc["rescored"] = self.rescored
         return doc
 
 
@@ -126,9 +136,26 @@ def export_frame_sets(
     out = Path(out).absolute()
     sets = _preflight(session, fmt, out, force=force, include_undecided=include_undecided,
                       session_path=session_path)
+    _refuse_waiting(session, include_undecided, session_path)
     return _export(session, source, sets, fmt, out, force=force,
                    include_undecided=include_undecided, target=target,
                    session_path=session_path, progress=progress)
+
+
+def _refuse_waiting(session: Session, include_undecided: bool,
+                    session_path: str | Path | None) -> None:
+    """``ExportError`` when sets to export still show nearest frames, not best still ones."""
+    from speechcal_core.review.rescore import export_waits_for
+
+    waiting = export_waits_for(session, include_undecided=include_undecided)
+    if waiting:
+        where = str(session_path) if session_path else "the session"
+        n = len(waiting)
+        raise ExportError(
+            f"{where}: {n} frame set{'' if n == 1 else 's'} to export still show the frames "
+            "nearest the trigger (re-scoring after an offset edit or an added set has not "
+            "finished); re-score them first (speechcal export SESSION.json does)"
+        )
 
 
 def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: str, out: Path,
@@ -191,7 +218,50 @@ def export_session_file(
     report = progress or _noop
     report("opening the recording", 0.0)
     with open_recording(session.recording) as source:
-        return _export(session, source, sets, fmt, out, force=force,
-                       include_undecided=include_undecided, target=target,
-                       session_path=session_path, progress=progress)
+        rescored = _rescore_waiting(session, source, session_path, include_undecided, report)
+        if rescored:
+            sets = select_sets(session, include_undecided=include_undecided,
+                               where=str(session_path))
+            report = _scaled(report, RESCORE_SHARE)
+        result = _export(session, source, sets, fmt, out, force=force,
+                         include_undecided=include_undecided, target=target,
+                         session_path=session_path, progress=report)
+    return replace(result, rescored=rescored)
 
+
+#: share of the progress of ``speechcal export`` that re-scoring takes when it is needed
+RESCORE_SHARE = 0.4
+
+
+def _scaled(report: Progress, start: float, span: float | None = None) -> Progress:
+    span = 1.0 - start if span is None else span
+    return lambda text, f: report(text, start + span * f)
+
+
+def _rescore_waiting(session: Session, source: FrameSource, session_path: Path,
+                     include_undecided: bool, report: Progress) -> int:
+    """Re-score the sets a closed review left with nearest frames, if any is to be
+    exported, then the checks over them, and save the session file; returns how many.
+
+    What the review window does when the session is opened again, done here so the
+    export holds best still frames and the session file says which ones.
+    """
+    from speechcal_core.review.checks import recheck_due, stream_sizes
+    from speechcal_core.review.rescore import export_waits_for, rescore_waiting
+    from speechcal_core.session.store import SessionFileError, save_session
+
+    waiting = export_waits_for(session, include_undecided=include_undecided)
+    if not waiting:
+        return 0
+    report(f"{session_path.name}: {len(waiting)} of the frame sets to export still show the "
+           "frames nearest the trigger (the review closed before re-scoring them); "
+           "choosing their best still frames first", 0.0)
+    rescored = rescore_waiting(session, source,
+                               _scaled(report, 0.0, RESCORE_SHARE * 0.95))
+    report("checking the calibration over the re-scored sets", RESCORE_SHARE * 0.95)
+    recheck_due(session, stream_sizes(source))
+    try:
+        save_session(session, session_path)
+    except SessionFileError as exc:  # the export is right all the same
+        report(f"{exc}; the session file keeps the nearest frames", RESCORE_SHARE)
+    return len(rescored)
