@@ -1,6 +1,9 @@
 """The window's export: dialog, replace confirmation, and the export on a worker thread.
 
-All export logic is in :mod:`speechcal_core.export`; this only asks and reports.
+All export logic is in :mod:`speechcal_core.export`; this only asks and reports (job
+``"export"`` of the status line). Sets still waiting for re-scoring show their nearest
+frames, not the best still ones: an export that would hold any of them waits until
+re-scoring has chosen their frames (starting it if it was cancelled), then runs.
 """
 
 from __future__ import annotations
@@ -18,6 +21,8 @@ from app.tasks import BackgroundTask, start
 if TYPE_CHECKING:
     from app.main_window import ReviewWindow
     from speechcal_core.export import ExportResult
+    from speechcal_core.session.model import Session
+    from speechcal_core.sources.base import FrameSource
 
 
 class ExportAction(QObject):
@@ -29,19 +34,27 @@ class ExportAction(QObject):
         self.dialog: ExportDialog | None = None
         self.replace_box: QMessageBox | None = None
         self.task: BackgroundTask | None = None
+        #: (format, folder, force, include undecided) of an export waiting for re-scoring
+        self.pending: tuple[str, Path, bool, bool] | None = None
+        self.source: FrameSource | None = None  # the recording the running export reads
         self.last_result: ExportResult | None = None
         self.last_error = ""
+
+    def busy(self) -> bool:
+        """True while an export runs or waits for re-scoring."""
+        return self.task is not None or self.pending is not None
 
     # -- asking -------------------------------------------------------------------------
     def choose(self) -> None:
         """Open the export dialog (non-blocking); accepting it starts the export."""
         w = self.window
-        if w.model is None or w.inputs is None or self.task is not None:
+        if w.model is None or w.inputs is None or self.busy():
             return
         path = w.inputs.session_path
         base = Path(path).parent if path else Path(w.model.session.recording[0]).parent
         stem = Path(path).name.split(".")[0] if path else "export"
-        self.dialog = ExportDialog(w, base, stem, w.model.session.counts())
+        self.dialog = ExportDialog(w, base, stem, w.model.session.counts(),
+                                   waiting=lambda include: len(w.model.export_waits_for(include)))
         self.dialog.accepted.connect(self._dialog_accepted)
         self.dialog.open()
 
@@ -70,7 +83,7 @@ class ExportAction(QObject):
             if button is replace_button:
                 self._run(fmt, out, True, include_undecided)
             else:
-                self.window.status_text.setText(f"Export not written: {out} already exists")
+                self.window.status.end("export", f"Export not written: {out} already exists")
 
         box.buttonClicked.connect(answered)
         self.replace_box = box
@@ -78,53 +91,114 @@ class ExportAction(QObject):
 
     # -- running ------------------------------------------------------------------------
     def _run(self, fmt: str, out: Path, force: bool, include_undecided: bool) -> None:
+        self.last_error = ""
+        self.last_result = None
+        self.pending = (fmt, out, force, include_undecided)
+        self._set_enabled(False)
+        self._go()
+
+    def _go(self) -> None:
+        """Start the pending export, or wait while sets it holds wait for re-scoring."""
         from speechcal_core.export import export_frame_sets
 
         w = self.window
-        assert w.model is not None and w.inputs is not None
-        session = w.model.session
-        snapshot = replace(session, sets=list(session.sets))  # review may go on meanwhile
+        assert self.pending is not None and w.model is not None and w.inputs is not None
+        fmt, out, force, include_undecided = self.pending
+        waiting = w.model.export_waits_for(include_undecided)
+        if waiting:
+            if not w.rescorer.busy():
+                w.rescorer.start_now()  # also after the operator cancelled it
+            if not w.rescorer.busy():
+                self._drop_pending("Export not written: frame sets still show their nearest "
+                                   "frames and cannot be re-scored")
+                return
+            n = len(waiting)
+            w.status.begin("export", f"export to {out} waits for {n} frame "
+                                     f"set{'' if n == 1 else 's'} to be re-scored")
+            return
+        self.pending = None
+        snapshot = _snapshot(w.model.session)
         source, session_path = w.inputs.source, w.inputs.session_path
-        self.last_error = ""
-        self.last_result = None
+        self.source = source
         self.task = BackgroundTask(lambda report: export_frame_sets(
             snapshot, source, fmt, out, force=force, include_undecided=include_undecided,
             session_path=session_path, progress=report))
-        self.task.signals.progress.connect(w._on_progress)
+        self.task.signals.progress.connect(
+            lambda text, f: w.status.report("export", f"exporting: {text}", f))
         self.task.signals.finished.connect(self._finished)
         self.task.signals.failed.connect(self._failed)
-        w._show_busy(f"exporting to {out}…")
-        self._set_enabled(False)
+        w.status.begin("export", f"exporting to {out}…")
         start(self.task)
 
+    def rescoring_stopped(self) -> None:
+        """Re-scoring ended (finished, failed, cancelled or restarted for a newer edit):
+        a waiting export starts, keeps waiting, or is dropped with the reason."""
+        if self.pending is None:
+            return
+        rescorer = self.window.rescorer
+        if rescorer.held:
+            why = f"re-scoring failed: {rescorer.last_error}" if rescorer.last_error \
+                else "re-scoring was cancelled"
+            self._drop_pending(f"Export not written: {why}")
+        else:
+            self._go()  # runs now, or waits on (re-scoring restarted for a newer edit)
+
+    def reset(self, why: str) -> None:
+        """Another session opens: a waiting export is dropped (a running one finishes)."""
+        if self.pending is not None:
+            self._drop_pending(f"Export not written: {why}")
+
     def cancel(self) -> None:
+        if self.pending is not None:
+            self._drop_pending("Export cancelled; nothing was written")
         if self.task is not None:
             self.task.cancel()
 
+    def shutdown(self, wait_s: float = 10.0) -> None:
+        """Stop for good (the window closes): cancel and wait for the worker to let go of
+        the recording."""
+        task = self.task
+        self.cancel()
+        if task is not None:
+            task.done.wait(wait_s)
+
+    def _drop_pending(self, message: str) -> None:
+        self.pending = None
+        self.last_error = message
+        self._set_enabled(True)
+        self.window.status.end("export", message)
+
     def _set_enabled(self, enabled: bool) -> None:
+        enabled = enabled and self.window.model is not None
         self.window.export_button.setEnabled(enabled)
         self.window.export_action.setEnabled(enabled)
 
-    def _done(self) -> None:
-        self.task = None
+    def _done(self, message: str) -> None:
+        self.task, self.source = None, None
         self._set_enabled(True)
-        self.window.progress.hide()
-        self.window.cancel_button.hide()
+        self.window.status.end("export", message)
+        self.window.release_retired()
 
     def _finished(self, result: ExportResult) -> None:
-        self._done()
         self.last_result = result
         left = f", {len(result.skipped)} frames left out (see manifest)" if result.skipped else ""
-        self.window.status_text.setText(
-            f"Exported {result.sets} frame sets ({result.frames} frames) as {result.format} "
-            f"to {result.out}{left}")
+        self._done(f"Exported {result.sets} frame sets ({result.frames} frames) as "
+                   f"{result.format} to {result.out}{left}")
 
     def _failed(self, message: str) -> None:
-        self._done()
         self.last_error = message
         if message == "cancelled":
-            self.window.status_text.setText("Export cancelled; nothing was written")
+            self._done("Export cancelled; nothing was written")
             return
-        self.window.status_text.setText(f"Export failed: {message}")
+        self._done(f"Export failed: {message}")
         if not self.window.property("headless"):
             QMessageBox.warning(self.window, "SpeechCal", message)
+
+
+def _snapshot(session: Session) -> Session:
+    """What the export reads on its worker thread while the review goes on: the sets and
+    the extras as they are now (an offset edit meanwhile drops frame details in place)."""
+    extra = dict(session.extra)
+    if isinstance(extra.get("frame_details"), dict):
+        extra["frame_details"] = dict(extra["frame_details"])
+    return replace(session, sets=list(session.sets), extra=extra)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from PySide6.QtWidgets import (
@@ -32,8 +33,11 @@ class ExportDialog(QDialog):
     """Asks for format and folder; ``choice()`` after it was accepted."""
 
     def __init__(self, parent: QWidget | None, base_folder: Path, stem: str,
-                 counts: dict[str, int]) -> None:
+                 counts: dict[str, int],
+                 waiting: Callable[[bool], int] | None = None) -> None:
         super().__init__(parent)
+        #: how many of the sets to export (undecided too or not) wait for re-scoring
+        self.waiting = waiting or (lambda _include: 0)
         self.setWindowTitle("Export frame sets")
         self.setMinimumWidth(560)
         self.base_folder = base_folder
@@ -106,6 +110,11 @@ class ExportDialog(QDialog):
             n += self.counts.get("undecided", 0)
         out = Path(self.path_edit.text())
         note = "  (the folder exists: you will be asked to replace it)" if out.exists() else ""
+        later = self.waiting(self.undecided_box.isChecked())
+        if later:
+            note += (f"\n{later} of them still show{'s' if later == 1 else ''} the frames nearest "
+                     "the trigger: the export starts once re-scoring has chosen their best "
+                     "still frames")
         self.summary.setText(f"{n} frame sets will be written to a new folder{note}")
         ok = self.buttons.button(QDialogButtonBox.StandardButton.Ok)
         ok.setEnabled(n > 0 and bool(self.path_edit.text().strip()))

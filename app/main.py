@@ -60,7 +60,7 @@ def wait_until_settled(window, app, timeout_s: float = 60.0) -> bool:
     while time.monotonic() < deadline:
         app.processEvents()
         if window.task is None and not window.rescorer.busy() and \
-                (window.loader is None or window.loader.idle()):
+                not window.checker.busy() and (window.loader is None or window.loader.idle()):
             for _ in range(5):
                 app.processEvents()
                 time.sleep(0.02)

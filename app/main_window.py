@@ -16,6 +16,7 @@ from PySide6.QtWidgets import (
     QMessageBox,
     QProgressBar,
     QPushButton,
+    QSizePolicy,
     QSplitter,
     QStackedWidget,
     QToolButton,
@@ -23,14 +24,17 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.checks_action import ChecksAction
 from app.export_action import ExportAction
 from app.frame_grid import FrameGrid
 from app.frame_loader import FrameLoader
 from app.rescore_action import RescoreAction
 from app.set_table import SetTable
-from app.style import DECISION_SYMBOLS
+from app.status_line import StatusLine
+from app.style import DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
 from app.tasks import BackgroundTask, start
 from app.waveform import WaveformView
+from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
 from speechcal_core.review.summary import FILTERS
@@ -58,6 +62,8 @@ class ReviewWindow(QMainWindow):
         self.load_error = ""
         self._pending_tiles: set[str] = set()
         self._playing = False
+        #: previously opened sessions, closed once no export or re-scoring reads them
+        self._retired: list[ReviewInputs] = []
 
         self.stack = QStackedWidget()
         self.setCentralWidget(self.stack)
@@ -67,6 +73,7 @@ class ReviewWindow(QMainWindow):
         self._build_status_line()
         self.exporter = ExportAction(self)
         self.rescorer = RescoreAction(self)
+        self.checker = ChecksAction(self)
         self._build_actions()
         self.setAcceptDrops(True)
         self._save_clock = QTimer(self)
@@ -100,6 +107,8 @@ class ReviewWindow(QMainWindow):
     def _build_status_line(self) -> None:
         bar = self.statusBar()
         self.status_text = QLabel("")
+        # long job texts are cut (the tooltip has them whole), never widen the window
+        self.status_text.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.progress = QProgressBar()
         self.progress.setMaximumWidth(220)
         self.progress.setRange(0, 1000)
@@ -112,6 +121,7 @@ class ReviewWindow(QMainWindow):
         bar.addPermanentWidget(self.progress)
         bar.addPermanentWidget(self.cancel_button)
         bar.addPermanentWidget(self.saved_label)
+        self.status = StatusLine(self.status_text, self.progress, self.cancel_button)
 
     def _build_actions(self) -> None:
         menu = self.menuBar().addMenu("&File")
@@ -183,6 +193,9 @@ class ReviewWindow(QMainWindow):
         right_layout.addLayout(edits)
         self.counts_label = QLabel("")
         right_layout.addWidget(self.counts_label)
+        self.check_label = QLabel("")
+        self.check_label.setWordWrap(True)
+        right_layout.addWidget(self.check_label)
         top.addWidget(right)
         top.setStretchFactor(0, 3)
         top.setStretchFactor(1, 1)
@@ -248,10 +261,11 @@ class ReviewWindow(QMainWindow):
     def _start(self, work, text: str) -> None:
         self.load_error = ""
         self.task = BackgroundTask(work)
-        self.task.signals.progress.connect(self._on_progress)
+        self.task.signals.progress.connect(
+            lambda t, f: self.status.report("open", t, f))
         self.task.signals.finished.connect(self._on_loaded)
         self.task.signals.failed.connect(self._on_failed)
-        self._show_busy(text)
+        self.status.begin("open", text)
         start(self.task)
 
     def open_demo(self) -> None:
@@ -306,32 +320,22 @@ class ReviewWindow(QMainWindow):
         self.exporter.cancel()
         self.rescorer.cancel()
 
-    def _show_busy(self, text: str) -> None:
-        self.status_text.setText(text)
-        self.progress.setValue(0)
-        self.progress.show()
-        self.cancel_button.show()
-
-    def _on_progress(self, text: str, fraction: float) -> None:
-        self.status_text.setText(text)
-        self.progress.setValue(int(fraction * 1000))
-
     def _on_failed(self, message: str) -> None:
-        self.progress.hide()
-        self.cancel_button.hide()
         self.task = None
         self.load_error = message
-        self.status_text.setText(f"Could not open: {message}")
+        self.status.end("open", f"Could not open: {message}")
         if not self.property("headless"):
             QMessageBox.warning(self, "SpeechCal", message)
 
     def _on_loaded(self, inputs: ReviewInputs) -> None:
-        self.progress.hide()
-        self.cancel_button.hide()
+        self.status.end("open")
         self.task = None
         if self.loader is not None:
             self.loader.shutdown()
         self.rescorer.reset()  # what runs belongs to the previous session's model
+        self.checker.reset()
+        if self.inputs is not None:
+            self._retired.append(self.inputs)
         self.inputs = inputs
         self.model = ReviewModel(inputs.session, inputs.source, autosave=self._autosave)
         self.loader = FrameLoader(inputs.source, parent=self)
@@ -347,6 +351,9 @@ class ReviewWindow(QMainWindow):
         self.model.connect("sync", self._on_sync)
         self.model.connect("rescored", self._on_rescored)
         self.model.connect("filter", lambda _name: self._apply_filter())
+        for event in ("rescored", "decision", "sets", "sync"):
+            self.model.connect(event, self.checker.schedule)
+        self.model.connect("checks", self._update_check_line)
         title = " + ".join(Path(p).name for p in [*inputs.session.recording,
                                                    inputs.session.audio or ""] if p)
         self.setWindowTitle(f"SpeechCal — {title}")
@@ -354,8 +361,9 @@ class ReviewWindow(QMainWindow):
         self.export_button.setEnabled(True)
         self.export_action.setEnabled(True)
         n = len(inputs.session.sets)
-        self.status_text.setText(f"{len(self.model.streams)} cameras, {n} frame sets"
-                                 + (f" · {inputs.note}" if inputs.note else ""))
+        self.status.say(f"{len(self.model.streams)} cameras, {n} frame sets"
+                        + (f" · {inputs.note}" if inputs.note else ""))
+        self.exporter.reset("another session was opened before it could start")
         self._update_sync_line()
         self._update_counts()
         if n:
@@ -363,6 +371,8 @@ class ReviewWindow(QMainWindow):
         else:
             self._refresh_playhead()
         self.rescorer.schedule()  # sets left unscored when the window last closed
+        self.checker.schedule()  # checks left stale then
+        self.release_retired()
 
     # -- model -> view ------------------------------------------------------------------
     def run_action(self, action: str) -> None:
@@ -448,11 +458,13 @@ class ReviewWindow(QMainWindow):
         self.table.set_sets(model.session.sets, model.time_range_ns()[0], self._rescore_marks())
         self._apply_filter()
         self._update_sync_line()
+        self._update_check_line()
 
     def _on_rescored(self, set_ids: list[int]) -> None:
         """Re-scored sets: their rows get figures, the tiles their chosen frames."""
         self.refresh_rescore_marks()
         self._refresh_playhead()
+        self._update_check_line()
 
     def _rescore_marks(self) -> set[int]:
         """Ids of the sets whose figures re-scoring will bring (shown as … in the list)."""
@@ -488,6 +500,31 @@ class ReviewWindow(QMainWindow):
         c = self.model.session.counts()
         self.counts_label.setText(f"✔ {c['accepted']} accepted   ✘ {c['rejected']} rejected   "
                                   f"? {c['undecided']} undecided")
+        self._update_check_line()
+
+    def _update_check_line(self) -> None:
+        """Coverage and calibration check over the sets not rejected (or "updating…")."""
+        if self.model is None:
+            return
+        summary = check_summary(self.model.session, self.model.streams)
+        self.check_label.setVisible(summary is not None)
+        if summary is None:
+            return
+        text = summary.line
+        if self.checker.last_error and summary.line.endswith("updating…"):
+            text = f"calibration check failed: {self.checker.last_error}"
+        warn = summary.warning
+        self.check_label.setText(f"{WARNING_SYMBOL} {text}" if warn else text)
+        self.check_label.setStyleSheet(f"color: {WARNING_COLOUR.name()}" if warn else "")
+        self.check_label.setToolTip("\n".join(summary.cameras))
+
+    def release_retired(self) -> None:
+        """Close the recordings of sessions opened before, once nothing reads them."""
+        busy = {id(self.exporter.source), id(self.rescorer.source)}
+        for inputs in list(self._retired):
+            if id(inputs.source) not in busy:
+                self._retired.remove(inputs)
+                inputs.close()
 
     def _update_sync_line(self) -> None:
         if self.model is None or self.inputs is None:
@@ -559,16 +596,19 @@ class ReviewWindow(QMainWindow):
         elif rest and audio:
             self.open(recording=rest, audio=audio[0])
         else:
-            self.status_text.setText("Drop a recording together with its audio file, "
-                                     "or a session file")
+            self.status.say("Drop a recording together with its audio file, or a session file")
 
     def closeEvent(self, event) -> None:
         if self.task is not None:
             self.task.cancel()
-        self.exporter.cancel()
+        self.exporter.shutdown()
         self.rescorer.shutdown()
+        self.checker.shutdown()
         if self.loader is not None:
             self.loader.shutdown()
         if self.inputs is not None:
             self.inputs.close()
+        for inputs in self._retired:
+            inputs.close()
+        self._retired.clear()
         super().closeEvent(event)

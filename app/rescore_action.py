@@ -2,7 +2,8 @@
 with nearest frames, on a worker thread, applied on the UI thread.
 
 What needs it and how results are taken is :class:`~speechcal_core.review.model.ReviewModel`'s
-business; this only schedules, reports and cancels.
+business; this only schedules, reports (job ``"rescore"`` of the status line) and cancels,
+and tells the window's export, which waits for it, when it stops.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ if TYPE_CHECKING:
     from app.main_window import ReviewWindow
     from speechcal_core.review.model import ReviewModel
     from speechcal_core.review.rescore import RescoreRequest, RescoreResult
+    from speechcal_core.sources.base import FrameSource
 
 #: wait this long after the last edit before starting (held-down offset keys repeat)
 DELAY_MS = 250
@@ -31,6 +33,7 @@ class RescoreAction(QObject):
         self.task: BackgroundTask | None = None
         self.request: RescoreRequest | None = None
         self._model: ReviewModel | None = None  # the model the running task works for
+        self.source: FrameSource | None = None  # the recording the running task reads
         #: the operator cancelled (or it failed): nothing starts until the next edit
         self.held = False
         self.last_error = ""
@@ -49,6 +52,13 @@ class RescoreAction(QObject):
         if self.window.model is not None:
             self.timer.start()
 
+    def start_now(self) -> None:
+        """Re-score what needs it without waiting for more edits, even after a cancel
+        (an export waits for it)."""
+        self.held = False
+        self.timer.stop()
+        self.start_if_needed()
+
     def start_if_needed(self) -> None:
         """Start re-scoring now if the model has sets that need it; a running task for an
         older offset is cancelled (the next one starts when it has stopped)."""
@@ -64,15 +74,15 @@ class RescoreAction(QObject):
         if request is None:
             return
         source = inputs.source
-        self.request, self._model = request, model
+        self.request, self._model, self.source = request, model, source
         self.last_error = ""
         self.task = BackgroundTask(lambda report: request.run(source, report))
-        self.task.signals.progress.connect(self._progress)
+        self.task.signals.progress.connect(
+            lambda text, f: self.window.status.report("rescore", text, f))
         self.task.signals.finished.connect(self._finished)
         self.task.signals.failed.connect(self._failed)
         self.window.refresh_rescore_marks()
-        if self._owns_status_line():
-            self.window._show_busy(request.text)
+        self.window.status.begin("rescore", request.text)
         start(self.task)
 
     def reset(self) -> None:
@@ -99,44 +109,34 @@ class RescoreAction(QObject):
             task.done.wait(wait_s)
 
     # -- results ------------------------------------------------------------------------
-    def _owns_status_line(self) -> bool:
-        """The status line is free (no export or loading is reporting there)."""
-        return self.window.exporter.task is None and self.window.task is None
-
-    def _progress(self, text: str, fraction: float) -> None:
-        if self._owns_status_line():
-            self.window._on_progress(text, fraction)
-
-    def _ended(self) -> ReviewModel | None:
-        """Forget the task; returns its model if it is still the window's."""
-        model, self._model = self._model, None
-        self.task, self.request = None, None
-        if self._owns_status_line():
-            self.window.progress.hide()
-            self.window.cancel_button.hide()
-        return model if model is self.window.model else None
+    def _ended(self, message: str = "") -> None:
+        """Forget the task; ``message`` says on the status line how it went."""
+        self.task, self.request, self.source, self._model = None, None, None, None
+        self.window.status.end("rescore", message)
+        self.window.release_retired()
 
     def _finished(self, result: RescoreResult) -> None:
-        model = self._ended()
+        model = self._model if self._model is self.window.model else None
         taken = model.apply_rescored(result) if model is not None else []
-        if taken and self._owns_status_line():
-            n = len(taken)
-            self.window.status_text.setText(
-                f"re-scored {n} frame set{'' if n == 1 else 's'}: best still frames chosen")
+        n = len(taken)
+        self._ended(f"re-scored {n} frame set{'' if n == 1 else 's'}: best still frames "
+                    "chosen" if taken else "")
         self.window.refresh_rescore_marks()
         self.start_if_needed()  # anything that needs it since (an added set, a new offset)
+        self.window.exporter.rescoring_stopped()
 
     def _failed(self, message: str) -> None:
-        self._ended()
-        self.window.refresh_rescore_marks()
-        self.window._refresh_playhead()  # tile captions: re-scoring or not
         if message != "cancelled":
             self.last_error = message
             self.held = True  # not again until the next edit
-            self.window.status_text.setText(f"re-scoring failed: {message}; the sets keep "
-                                            "their nearest frames")
+            self._ended(f"re-scoring failed: {message}; the sets keep their nearest frames")
         elif self.held:
-            self.window.status_text.setText("re-scoring cancelled: the sets keep their "
-                                            "nearest frames until the next offset edit")
+            self._ended("re-scoring cancelled: the sets keep their nearest frames until the "
+                        "next offset edit")
         else:
+            self._ended()
+        self.window.refresh_rescore_marks()
+        self.window._refresh_playhead()  # tile captions: re-scoring or not
+        if not self.held:
             self.start_if_needed()  # cancelled for a newer offset
+        self.window.exporter.rescoring_stopped()

@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
+from PySide6.QtCore import QThreadPool
 
+import speechcal_core.export
 from app.main_window import ReviewWindow
+from speechcal_core.review.rescore import RescoreRequest
 
 
 @pytest.fixture
@@ -31,3 +35,39 @@ def open_window(qtbot) -> Callable[[Path], ReviewWindow]:
 @pytest.fixture
 def window(open_window, truth_session_file: Path) -> ReviewWindow:
     return open_window(truth_session_file)
+
+
+@pytest.fixture
+def gate(monkeypatch: pytest.MonkeyPatch) -> threading.Event:
+    """Re-scoring waits on the worker thread until the test sets this event."""
+    event = threading.Event()
+    run = RescoreRequest.run
+
+    def gated(self, source, progress=None):
+        progress(self.text, 0.0)
+        event.wait(30)
+        return run(self, source, progress)
+
+    monkeypatch.setattr(RescoreRequest, "run", gated)
+    return event
+
+
+@pytest.fixture
+def export_gate(monkeypatch: pytest.MonkeyPatch) -> Iterator[threading.Event]:
+    """The window's export waits on its worker thread until the test sets this event
+    (with threads enough for re-scoring to run beside it on a small machine)."""
+    event = threading.Event()
+    export = speechcal_core.export.export_frame_sets
+
+    def gated(*args, progress, **kwargs):
+        progress("writing", 0.25)
+        event.wait(30)
+        return export(*args, progress=progress, **kwargs)
+
+    monkeypatch.setattr(speechcal_core.export, "export_frame_sets", gated)
+    pool = QThreadPool.globalInstance()
+    threads = pool.maxThreadCount()
+    pool.setMaxThreadCount(max(threads, 4))
+    yield event
+    event.set()
+    pool.setMaxThreadCount(threads)

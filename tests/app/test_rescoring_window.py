@@ -5,32 +5,15 @@ from __future__ import annotations
 import threading
 from pathlib import Path
 
-import pytest
 from PySide6.QtCore import Qt
 
 from app.set_table import MISSING, PENDING, column
-from speechcal_core.review.rescore import RescoreRequest
 from speechcal_core.session.store import load_session
 
 
 def figures(window) -> list[str]:
     return [window.table.item(r, column("worst sharp")).text()
             for r in range(window.table.rowCount())]
-
-
-@pytest.fixture
-def gate(monkeypatch: pytest.MonkeyPatch) -> threading.Event:
-    """Re-scoring waits on the worker thread until the test sets this event."""
-    event = threading.Event()
-    run = RescoreRequest.run
-
-    def gated(self, source, progress=None):
-        progress(self.text, 0.0)
-        event.wait(30)
-        return run(self, source, progress)
-
-    monkeypatch.setattr(RescoreRequest, "run", gated)
-    return event
 
 
 def test_offset_nudge_rescores_in_the_background_and_the_list_gets_figures_again(
