@@ -14,7 +14,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
         description="Write the accepted frame sets of a session: kalibr (cam0/<t_ns>.png... "
                     "+ target.yaml), folders (one folder per camera topic), rosbag1 "
                     "(OUT/calibration.bag) or rosbag2 (OUT/calibration/), each with "
-                    "manifest.json and manifest.csv.")
+                    "manifest.json and manifest.csv. Sets the review left waiting for "
+                    "re-scoring (after an offset edit) get their best still frames first, "
+                    "saved to the session file.")
     p.add_argument("session", metavar="SESSION.json")
     p.add_argument("--format", required=True, choices=("kalibr", "folders", "rosbag1", "rosbag2"))
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (must not exist)")

@@ -113,11 +113,14 @@ class CheckSummary:
 def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | None:
     """The checks in words (None for a session without target corners).
 
-    While they are not for the session's frames and decisions they are "updating".
+    While they are not for the session's frames and decisions they are "updating", or
+    wait for re-scoring while sets show nearest frames.
     """
     if not isinstance(session.extra.get("frame_details"), dict):
         return None
     if session.extra.get("checks_basis") != checks_basis(session.sets):
+        if rescore_ids(session):
+            return CheckSummary("calibration check: after re-scoring", (), False)
         return CheckSummary("calibration check: updating…", (), False)
     kept = sum(1 for s in session.sets if s.decision != "rejected")
     fits = session.calibration or {}

@@ -37,9 +37,10 @@ def test_after_an_offset_edit_the_checks_wait_for_rescoring_then_match_the_pipel
     # nearest frames for now: nothing to check them on, and the window says so
     assert not model.checks_due() and model.checks_request() is None
     summary = check_summary(model.session, model.streams)
-    assert summary.line == "calibration check: updating…"
+    assert summary.line == "calibration check: after re-scoring"
     _rescore(model)
     assert model.checks_due()
+    assert check_summary(model.session, model.streams).line == "calibration check: updating…"
     events: list = []
     model.connect("checks", lambda: events.append(True))
     assert _recheck(model) and events == [True] and not model.checks_due()
