@@ -3,7 +3,8 @@
 An operator repeats the trigger word in one voice, so the instances the recogniser is
 sure of serve as templates (query by example without a mark): spans that match a template
 about as well as the templates match each other are triggers too. This recovers words the
-recogniser loses in noise, where a same-speaker comparison still holds.
+recogniser loses in noise, where a same-speaker comparison still holds. Noise raises
+the cost of a true match, so a span heard less clearly than the templates may cost more.
 """
 
 from __future__ import annotations
