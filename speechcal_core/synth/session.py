@@ -56,6 +56,8 @@ def build_truth(
             "end_s": trig["end_s"],
             "session_ns": sync.to_session(mid),
             "hold": [hold.start_ns, hold.end_ns],
+            "voice": trig["voice"],  # who says it (tests of same-speaker searches)
+            "clip": trig["clip"],
         })
     options = asdict(timeline.options)
     return {
