@@ -11,6 +11,8 @@ import pytest
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
 TINY = dict(cameras=3, fisheye=1, duration=14.0, width=256, height=192, seed=21, claps=1)
+#: noisy speech (5 dB SNR), 12 triggers in four voices, five of them in the voice "rms"
+NOISY = dict(cameras=1, duration=40.0, width=160, height=120, seed=3, snr_db=5.0, claps=1)
 
 
 @pytest.fixture(scope="session")
@@ -55,3 +57,34 @@ def searched_session_file(_searched_session, tmp_path: Path) -> Path:
     path = tmp_path / "searched.json"
     save_session(_searched_session, path)
     return path
+
+
+@pytest.fixture(scope="session")
+def noisy_synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
+    """A 40 s, 1-camera synthetic session at 5 dB SNR (folder, truth), made once per run."""
+    from speechcal_core.synth.options import SynthOptions
+    from speechcal_core.synth.session import generate_session
+
+    out = tmp_path_factory.mktemp("noisy") / "session"
+    generate_session(out, SynthOptions(**NOISY))
+    return out, json.loads((out / "truth.json").read_text())
+
+
+@pytest.fixture
+def missed_voice_file(noisy_synth: tuple[Path, dict], tmp_path: Path) -> tuple[Path, list]:
+    """A session file over the noisy session with sets for every true trigger but those
+    of its most frequent voice (as when the recogniser never recognised that voice),
+    and those missed triggers (truth entries, in time order)."""
+    from collections import Counter
+
+    from truth_sessions import truth_session
+
+    from speechcal_core.session.store import save_session
+
+    folder, truth = noisy_synth
+    voice = Counter(t["voice"] for t in truth["triggers"]).most_common(1)[0][0]
+    heard = [t for t in truth["triggers"] if t["voice"] != voice]
+    session = truth_session(folder, {**truth, "triggers": heard})
+    path = tmp_path / "missed.json"
+    save_session(session, path)
+    return path, [t for t in truth["triggers"] if t["voice"] == voice]

@@ -7,7 +7,9 @@ Offset edits and added sets show the frames nearest each trigger at once; the be
 search runs elsewhere (it takes about 0.1 s per set): :meth:`ReviewModel.rescore_request`
 says what to re-score, :meth:`ReviewModel.apply_rescored` takes the results unless they
 are stale. Coverage and the calibration check follow the chosen frames and decisions the
-same way (:meth:`ReviewModel.checks_request`, :meth:`ReviewModel.apply_checks`).
+same way (:meth:`ReviewModel.checks_request`, :meth:`ReviewModel.apply_checks`), and
+"find more like this" searches the audio elsewhere too (:meth:`ReviewModel.similar_request`,
+:meth:`ReviewModel.apply_similar`).
 """
 
 from __future__ import annotations
@@ -36,6 +38,12 @@ from speechcal_core.review.rescore import (
     rescore_ids,
     rescore_request,
 )
+from speechcal_core.review.similar import (
+    SIMILAR_SOURCE,
+    SimilarRequest,
+    SimilarResult,
+    similar_request,
+)
 from speechcal_core.review.summary import FILTERS, shown_indices
 from speechcal_core.session.model import FrameSet, Session, Trigger
 from speechcal_core.sync.model import SyncModel
@@ -44,7 +52,7 @@ if TYPE_CHECKING:
     from speechcal_core.sources.base import FrameSource
 
 EVENTS = ("playhead", "current_set", "decision", "sets", "sync", "saved", "filter",
-          "rescored", "checks")
+          "rescored", "checks", "similar")
 
 #: ``Trigger.source`` of a trigger the operator added in review (kept in the session file)
 OPERATOR_SOURCE = "manual"
@@ -67,6 +75,7 @@ KEY_BINDINGS: dict[str, str] = {
     "F": "next_filter",
     "T": "add_set",
     "Delete": "remove_set",
+    "S": "find_similar",
     "[": "offset_minus_ms",
     "]": "offset_plus_ms",
     "{": "offset_minus_frame",
@@ -111,7 +120,9 @@ class ReviewModel:
         self._autosave = autosave
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
         # undo/redo entries: ("decision", set id, decision to restore),
-        # ("add", set id) and ("remove", set, its index, its frame details or None)
+        # ("add", set id) and ("remove", set, its index, its frame details or None),
+        # ("add_many", set ids) and ("remove_many", [(set, index, details)...]) for the
+        # sets one search added
         self._undo: list[tuple] = []
         self._redo: list[tuple] = []
         self._stamps = (
@@ -121,6 +132,10 @@ class ReviewModel:
         self.current = 0 if session.sets else -1
         #: which sets the list shows and J/K/Home/End step through (one of FILTERS)
         self.filter = "all"
+        #: what "find more like this" (S) should search for, set by :meth:`find_similar`
+        #: for the window to run; with the reason when there is nothing to search
+        self.similar_wanted: SimilarRequest | None = None
+        self.similar_refused = ""
         self.playhead_ns = set_time_ns(session.sets[0]) if session.sets else self._first_stamp()
 
     # -- events -------------------------------------------------------------------------
@@ -331,6 +346,10 @@ class ReviewModel:
             frame_set = self.session.sets[index]  # as it is now (re-scored, decided)
             details = self._drop_set(index)
             return ("remove", frame_set, index, details)
+        if kind == "add_many":
+            return ("remove_many", self._drop_sets(entry[1]))
+        if kind == "remove_many":
+            return ("add_many", self._insert_sets(entry[1]))
         _kind, frame_set, index, details = entry
         self._insert_set(frame_set, index, details)
         return ("add", frame_set.id)
@@ -359,22 +378,79 @@ class ReviewModel:
         if near is not None:
             self.go_to_set(self._index_of(near.id))
             return
-        sync = self.session.sync
-        t_s = float(sync.to_audio(self.playhead_ns))
+        t_s = float(self.session.sync.to_audio(self.playhead_ns))
         word = self.session.triggers_word[0] if self.session.triggers_word else "capture"
-        frames = tuple(nearest_choice(name, st, self.playhead_ns, self._periods[name])
-                       for name, st in self._stamps.items())
-        new = FrameSet(
-            id=max((s.id for s in self.session.sets), default=0) + 1,
-            t_ns=int(sync.to_session(t_s)),
-            trigger=Trigger(word, t_s, t_s, 1.0, OPERATOR_SOURCE),
-            frames=frames,
-        )
+        new = self._new_set(Trigger(word, t_s, t_s, 1.0, OPERATOR_SOURCE), self.playhead_ns)
         index = sum(1 for s in self.session.sets if s.t_ns <= new.t_ns)
         self._frame_details()  # from now on, sets without details are re-scored
         self._undo.append(("add", new.id))
         self._redo.clear()
         self._insert_set(new, index, None)
+
+    def _new_set(self, trigger: Trigger, at_ns: int | None = None,
+                 set_id: int | None = None) -> FrameSet:
+        """An undecided set for ``trigger`` with every camera's frame nearest ``at_ns``
+        (default: the trigger's time), to be re-scored like a detected trigger's."""
+        t_ns = int(self.session.sync.to_session(trigger.t_s))
+        at = t_ns if at_ns is None else at_ns
+        frames = tuple(nearest_choice(name, st, at, self._periods[name])
+                       for name, st in self._stamps.items())
+        if set_id is None:
+            set_id = max((s.id for s in self.session.sets), default=0) + 1
+        return FrameSet(id=set_id, t_ns=t_ns, trigger=trigger, frames=frames)
+
+    # -- find more like this ------------------------------------------------------------
+    def find_similar(self) -> None:
+        """Ask for a search of the audio for more words like the current set's (key S).
+
+        The search runs elsewhere (it reads the audio file): this only says what to
+        search for in :attr:`similar_wanted` (or why not in :attr:`similar_refused`) and
+        tells ``"similar"`` listeners; :meth:`apply_similar` takes the words found.
+        """
+        current = self.current_set
+        self.similar_wanted, self.similar_refused = None, ""
+        if current is None:
+            self.similar_refused = ("no frame set to search from: put the playhead on a "
+                                    "trigger word, add a set there (T), then press S")
+        elif not self.session.audio:
+            self.similar_refused = "this session has no audio file to search"
+        else:
+            self.similar_wanted = self.similar_request()
+        self._emit("similar", self.similar_wanted)
+
+    def similar_request(self, set_id: int | None = None) -> SimilarRequest | None:
+        """What to search for to find more like set ``set_id`` (default: the current set)."""
+        frame_set = (self.current_set if set_id is None
+                     else next((s for s in self.session.sets if s.id == set_id), None))
+        return similar_request(self.session, frame_set) if frame_set is not None else None
+
+    def apply_similar(self, result: SimilarResult) -> list[int]:
+        """Add a set for every word found that no set covers; returns their ids.
+
+        Each new set is undecided, its trigger's ``source`` :data:`SIMILAR_SOURCE`, with
+        the frames nearest its time until re-scored (as :meth:`add_set` does). A word
+        within :data:`ADD_MIN_GAP_NS` of a set (one added or found meanwhile too) is
+        skipped. All of them are one undo step; the current set stays current.
+        """
+        next_id = max((s.id for s in self.session.sets), default=0) + 1
+        times = [set_time_ns(s) for s in self.session.sets] + \
+            [s.t_ns for s in self.session.sets]
+        added: list[tuple[FrameSet, int, object]] = []
+        for word in result.words:
+            trigger = Trigger(word.word, word.start_s, word.end_s, word.score, SIMILAR_SOURCE)
+            new = self._new_set(trigger, set_id=next_id)
+            if any(abs(new.t_ns - t) < ADD_MIN_GAP_NS for t in times):
+                continue
+            times.append(new.t_ns)
+            added.append((new, -1, None))
+            next_id += 1
+        if not added:
+            return []
+        self._frame_details()  # from now on, sets without details are re-scored
+        ids = self._insert_sets(added)
+        self._undo.append(("add_many", ids))
+        self._redo.clear()
+        return ids
 
     def remove_set(self) -> None:
         """Remove the current frame set (a false trigger); undo brings it back."""
@@ -407,6 +483,55 @@ class ReviewModel:
         self._emit("sets")
         self.go_to_set(index)
         self._save()
+
+    def _insert_sets(self, items: list[tuple[FrameSet, int, object]]) -> list[int]:
+        """Put several sets in at once (index -1: in time order), with their details;
+        the current set stays current. One event, one save; returns their ids."""
+        current = self.current_set
+        all_details = self._frame_details()
+        for frame_set, index, details in sorted(items, key=lambda item: item[1]):
+            if frame_set.t_ns != int(self.session.sync.to_session(frame_set.trigger.t_s)):
+                frame_set, details = self._nearest_set(frame_set), None
+            if index < 0 or index > len(self.session.sets):
+                index = sum(1 for s in self.session.sets if s.t_ns <= frame_set.t_ns)
+            self.session.sets.insert(index, frame_set)
+            if details is None:
+                all_details.pop(str(frame_set.id), None)
+            else:
+                all_details[str(frame_set.id)] = details
+        self._emit("sets")
+        self._reselect(current)
+        self._save()
+        return [item[0].id for item in items]
+
+    def _drop_sets(self, set_ids: list[int]) -> list[tuple[FrameSet, int, object]]:
+        """Take several sets out at once; returns (set, index, details) for undo, each
+        index as it was with the others still in. One event, one save."""
+        current = self.current_set
+        all_details = self._frame_details()
+        wanted = set(set_ids)
+        out = [(s, i, all_details.pop(str(s.id), None))
+               for i, s in enumerate(self.session.sets) if s.id in wanted]
+        self.session.sets[:] = [s for s in self.session.sets if s.id not in wanted]
+        self._emit("sets")
+        self._reselect(current if current is not None and current.id not in wanted else None,
+                       min((i for _s, i, _d in out), default=0))
+        self._save()
+        return out
+
+    def _reselect(self, frame_set: FrameSet | None, fallback: int = 0) -> None:
+        """Keep ``frame_set`` current after the list changed (else the set at
+        ``fallback``, or none), and tell listeners where it now is."""
+        if not self.session.sets:
+            self.current = -1
+            self._emit("current_set", self.current)
+            self._emit("playhead", self.playhead_ns)
+            return
+        if frame_set is not None and any(s.id == frame_set.id for s in self.session.sets):
+            self.current = self._index_of(frame_set.id)
+            self._emit("current_set", self.current)
+            return
+        self.go_to_set(min(fallback, len(self.session.sets) - 1))
 
     def _drop_set(self, index: int) -> object:
         """Take the set at ``index`` out; the next one (or the last) becomes current.
