@@ -10,13 +10,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from PySide6.QtCore import QObject, QTimer
-
-from app.tasks import BackgroundTask, start
+from app.background_action import BackgroundAction
 
 if TYPE_CHECKING:
     from app.main_window import ReviewWindow
-    from speechcal_core.review.model import ReviewModel
     from speechcal_core.review.rescore import RescoreRequest, RescoreResult
     from speechcal_core.sources.base import FrameSource
 
@@ -24,33 +21,20 @@ if TYPE_CHECKING:
 DELAY_MS = 250
 
 
-class RescoreAction(QObject):
+class RescoreAction(BackgroundAction):
     """Runs one re-scoring at a time for a :class:`ReviewWindow`; a newer offset cancels it."""
 
     def __init__(self, window: ReviewWindow) -> None:
-        super().__init__(window)
-        self.window = window
-        self.task: BackgroundTask | None = None
+        super().__init__(window, DELAY_MS)
         self.request: RescoreRequest | None = None
-        self._model: ReviewModel | None = None  # the model the running task works for
         self.source: FrameSource | None = None  # the recording the running task reads
         #: the operator cancelled (or it failed): nothing starts until the next edit
         self.held = False
-        self.last_error = ""
-        self.timer = QTimer(self)
-        self.timer.setSingleShot(True)
-        self.timer.setInterval(DELAY_MS)
-        self.timer.timeout.connect(self.start_if_needed)
-
-    def busy(self) -> bool:
-        """True while re-scoring runs or is about to start."""
-        return self.task is not None or self.timer.isActive()
 
     def schedule(self, *_args: object) -> None:
         """An edit happened: (re)start the countdown to re-scoring what needs it."""
         self.held = False
-        if self.window.model is not None:
-            self.timer.start()
+        super().schedule()
 
     def start_now(self) -> None:
         """Re-score what needs it without waiting for more edits, even after a cancel
@@ -74,16 +58,12 @@ class RescoreAction(QObject):
         if request is None:
             return
         source = inputs.source
-        self.request, self._model, self.source = request, model, source
+        self.request, self.source = request, source
         self.last_error = ""
-        self.task = BackgroundTask(lambda report: request.run(source, report))
-        self.task.signals.progress.connect(
-            lambda text, f: self.window.status.report("rescore", text, f))
-        self.task.signals.finished.connect(self._finished)
-        self.task.signals.failed.connect(self._failed)
+        self.launch(model, lambda report: request.run(source, report),
+                    lambda text, f: self.window.status.report("rescore", text, f))
         self.window.refresh_rescore_marks()
         self.window.status.begin("rescore", request.text)
-        start(self.task)
 
     def reset(self) -> None:
         """Another session opens: whatever runs belongs to the previous one."""
@@ -99,24 +79,19 @@ class RescoreAction(QObject):
             self.held = True
             self.task.cancel()
 
-    def shutdown(self, wait_s: float = 5.0) -> None:
-        """Stop for good (the window closes): cancel and wait for the worker to let go."""
-        self.timer.stop()
+    def _stopping(self) -> None:
         self.held = True
-        task = self.task
-        if task is not None:
-            task.cancel()
-            task.done.wait(wait_s)
 
     # -- results ------------------------------------------------------------------------
     def _ended(self, message: str = "") -> None:
         """Forget the task; ``message`` says on the status line how it went."""
-        self.task, self.request, self.source, self._model = None, None, None, None
+        self.take_model()
+        self.request, self.source = None, None
         self.window.status.end("rescore", message)
         self.window.release_retired()
 
     def _finished(self, result: RescoreResult) -> None:
-        model = self._model if self._model is self.window.model else None
+        model = self.take_model()
         taken = model.apply_rescored(result) if model is not None else []
         n = len(taken)
         self._ended(f"re-scored {n} frame set{'' if n == 1 else 's'}: best still frames "
