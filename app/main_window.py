@@ -30,6 +30,7 @@ from app.frame_grid import FrameGrid
 from app.frame_loader import FrameLoader
 from app.rescore_action import RescoreAction
 from app.set_table import SetTable
+from app.similar_action import SimilarAction
 from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
 from app.tasks import BackgroundTask, start
@@ -74,6 +75,7 @@ class ReviewWindow(QMainWindow):
         self.exporter = ExportAction(self)
         self.rescorer = RescoreAction(self)
         self.checker = ChecksAction(self)
+        self.similar = SimilarAction(self)
         self._build_actions()
         self.setAcceptDrops(True)
         self._save_clock = QTimer(self)
@@ -188,7 +190,13 @@ class ReviewWindow(QMainWindow):
         self.remove_button = self._action_button(
             "[Del] remove set", "remove_set",
             "a false trigger: remove the current set (undo brings it back)")
+        self.similar_button = self._action_button(
+            "[S] find more like this", "find_similar",
+            "search the audio for words that sound like the current set's trigger word "
+            "(one you added with T, or any set) and add each one no set covers as an "
+            "undecided set; undo removes them all")
         edits.addWidget(self.add_button)
+        edits.addWidget(self.similar_button)
         edits.addWidget(self.remove_button)
         right_layout.addLayout(edits)
         self.counts_label = QLabel("")
@@ -219,7 +227,8 @@ class ReviewWindow(QMainWindow):
         ):
             sync_row.addWidget(self._action_button(label, action, tip))
         self.help_line = QLabel(
-            "Space play · ←/→ frame · J/K set · F filter · A/R/U decide · T add · Del remove · "
+            "Space play · ←/→ frame · J/K set · F filter · A/R/U decide · T add · "
+            "S more like this · Del remove · "
             "[ ] { } audio ±1 ms / ±1 frame · drag the clap handle · "
             "double-click a camera to enlarge, Esc back · "
             "waveform: wheel zooms, click moves the playhead")
@@ -319,6 +328,7 @@ class ReviewWindow(QMainWindow):
             self.task.cancel()
         self.exporter.cancel()
         self.rescorer.cancel()
+        self.similar.cancel()
 
     def _on_failed(self, message: str) -> None:
         self.task = None
@@ -334,6 +344,7 @@ class ReviewWindow(QMainWindow):
             self.loader.shutdown()
         self.rescorer.reset()  # what runs belongs to the previous session's model
         self.checker.reset()
+        self.similar.reset()
         if self.inputs is not None:
             self._retired.append(self.inputs)
         self.inputs = inputs
@@ -354,6 +365,7 @@ class ReviewWindow(QMainWindow):
         for event in ("rescored", "decision", "sets", "sync"):
             self.model.connect(event, self.checker.schedule)
         self.model.connect("checks", self._update_check_line)
+        self.model.connect("similar", self.similar.ask)
         title = " + ".join(Path(p).name for p in [*inputs.session.recording,
                                                    inputs.session.audio or ""] if p)
         self.setWindowTitle(f"SpeechCal — {title}")
@@ -604,6 +616,7 @@ class ReviewWindow(QMainWindow):
         self.exporter.shutdown()
         self.rescorer.shutdown()
         self.checker.shutdown()
+        self.similar.shutdown()
         if self.loader is not None:
             self.loader.shutdown()
         if self.inputs is not None:

@@ -46,3 +46,12 @@ def searched_session(folder: Path, truth: dict) -> Session:
     return Session([recording], str(folder / truth["audio"]), truth_sync(truth),
                    analysis.sets, calibration=analysis.calibration,
                    extra={**analysis.extra, "target": asdict(target)})
+
+
+def quiet_time_s(truth: dict, gap_s: float = 2.5) -> float:
+    """An audio time in the middle of the first stretch of ``gap_s`` or more in which
+    nobody speaks (between two spoken words of the truth, triggers or not)."""
+    from itertools import pairwise
+
+    spoken = sorted((p["start_s"], p["end_s"]) for p in truth["triggers"] + truth["distractors"])
+    return next((a + b) / 2 for (_s0, a), (b, _e1) in pairwise(spoken) if b - a > gap_s)

@@ -3,9 +3,8 @@ sound like it; they become undecided sets, one undo step, autosaved."""
 
 from __future__ import annotations
 
-from itertools import pairwise
-
 from review_models import open_model
+from truth_sessions import quiet_time_s
 
 from speechcal_core.review.model import ADD_MIN_GAP_NS, set_time_ns
 from speechcal_core.review.similar import SIMILAR_SOURCE, SessionAudio, result_message
@@ -90,12 +89,8 @@ def test_undo_removes_every_set_one_search_added(missed_voice_file):
 
 def test_no_speech_near_the_set_says_so_and_adds_nothing(missed_voice_file, noisy_synth):
     path, _missed = missed_voice_file
-    truth = noisy_synth[1]
-    spoken = sorted((p["start_s"], p["end_s"]) for p in truth["triggers"] + truth["distractors"])
-    gap = next((a + b) / 2 for (_s0, a), (b, _e1) in pairwise(spoken)
-               if b - a > 2.5)  # a quiet stretch between two spoken words
     model = open_model(path)
-    model.set_playhead(int(model.session.sync.to_session(gap)))
+    model.set_playhead(int(model.session.sync.to_session(quiet_time_s(noisy_synth[1]))))
     model.add_set()
     result = _search(model, SessionAudio(model.session.audio))
     assert result.bounds is None

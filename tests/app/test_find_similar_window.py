@@ -1,0 +1,46 @@
+"""Find more like this in the window: T on a missed trigger, then S, and the rows of the
+other triggers of that voice appear, undecided, found off the UI thread."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt
+from truth_sessions import quiet_time_s
+
+from speechcal_core.review.similar import SIMILAR_SOURCE
+
+
+def test_s_on_an_added_set_adds_rows_for_words_like_it(qtbot, open_window,
+                                                      missed_voice_file) -> None:
+    path, missed = missed_voice_file
+    window = open_window(path)
+    model = window.model
+    model.set_playhead(missed[0]["session_ns"])
+    qtbot.keyClick(window, Qt.Key.Key_T)
+    marked = model.current_set
+    rows = window.table.rowCount()
+    qtbot.keyClick(window, Qt.Key.Key_S)
+    assert window.status.running("similar")
+    assert window.status_text.text().startswith(f"finding more like set {marked.id}")
+    qtbot.waitUntil(lambda: window.table.rowCount() > rows, timeout=30_000)
+
+    new = [s for s in model.session.sets if s.trigger.source == SIMILAR_SOURCE]
+    assert len(new) == window.table.rowCount() - rows >= 2
+    assert all(s.decision == "undecided" for s in new)
+    assert model.current_set == marked
+    assert f"found {len(new)} more like set {marked.id}" in window.status_text.text()
+    assert not window.similar.busy()
+    qtbot.keyClick(window, Qt.Key.Key_U)  # one undo takes them all back
+    assert window.table.rowCount() == rows
+
+
+def test_s_without_speech_near_the_set_says_so(qtbot, open_window, missed_voice_file,
+                                               noisy_synth) -> None:
+    window = open_window(missed_voice_file[0])
+    model = window.model
+    model.set_playhead(int(model.session.sync.to_session(quiet_time_s(noisy_synth[1]))))
+    qtbot.keyClick(window, Qt.Key.Key_T)
+    rows = window.table.rowCount()
+    qtbot.keyClick(window, Qt.Key.Key_S)
+    qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
+    assert "no speech near" in window.status_text.text()
+    assert window.table.rowCount() == rows
