@@ -59,7 +59,7 @@ def wait_until_settled(window, app, timeout_s: float = 60.0) -> bool:
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
         app.processEvents()
-        if window.task is None and not window.rescorer.busy() and \
+        if window.task is None and not window.rescorer.busy() and not window.similar.busy() and \
                 not window.checker.busy() and (window.loader is None or window.loader.idle()):
             for _ in range(5):
                 app.processEvents()

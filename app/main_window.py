@@ -227,8 +227,8 @@ class ReviewWindow(QMainWindow):
         ):
             sync_row.addWidget(self._action_button(label, action, tip))
         self.help_line = QLabel(
-            "Space play · ←/→ frame · J/K set · F filter · A/R/U decide · T add · "
-            "S more like this · Del remove · "
+            "Space play · ←/→ frame · J/K set · F filter · A/R/U decide · T add · Del remove · "
+            "S more like this · "
             "[ ] { } audio ±1 ms / ±1 frame · drag the clap handle · "
             "double-click a camera to enlarge, Esc back · "
             "waveform: wheel zooms, click moves the playhead")

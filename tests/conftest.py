@@ -18,11 +18,16 @@ NOISY = dict(cameras=1, duration=40.0, width=160, height=120, seed=3, snr_db=5.0
 @pytest.fixture(scope="session")
 def tiny_synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
     """A 14 s, 3-camera synthetic session (folder, truth) made once per test run."""
+    return _synth(tmp_path_factory, "tiny", TINY)
+
+
+def _synth(factory: pytest.TempPathFactory, name: str, options: dict) -> tuple[Path, dict]:
+    """A synthetic session made with ``options`` in a fresh folder: (folder, truth)."""
     from speechcal_core.synth.options import SynthOptions
     from speechcal_core.synth.session import generate_session
 
-    out = tmp_path_factory.mktemp("tiny") / "session"
-    generate_session(out, SynthOptions(**TINY))
+    out = factory.mktemp(name) / "session"
+    generate_session(out, SynthOptions(**options))
     return out, json.loads((out / "truth.json").read_text())
 
 
@@ -62,12 +67,7 @@ def searched_session_file(_searched_session, tmp_path: Path) -> Path:
 @pytest.fixture(scope="session")
 def noisy_synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
     """A 40 s, 1-camera synthetic session at 5 dB SNR (folder, truth), made once per run."""
-    from speechcal_core.synth.options import SynthOptions
-    from speechcal_core.synth.session import generate_session
-
-    out = tmp_path_factory.mktemp("noisy") / "session"
-    generate_session(out, SynthOptions(**NOISY))
-    return out, json.loads((out / "truth.json").read_text())
+    return _synth(tmp_path_factory, "noisy", NOISY)
 
 
 @pytest.fixture
