@@ -18,7 +18,8 @@ from pathlib import Path
 from speechcal_core.errors import UsageError
 from speechcal_core.session.model import FrameSet, Session
 from speechcal_core.speech.backend import Word
-from speechcal_core.speech.more_like import MIN_WORD_S, RATE, SpeechIndex, find_more_like, word_near
+from speechcal_core.speech.more_like import MIN_WORD_S, RATE, find_more_like, word_near
+from speechcal_core.speech.speech_index import SpeechIndex
 
 Progress = Callable[[str, float], None]
 

@@ -18,17 +18,17 @@ same-voice triggers the recogniser missed were found, with 19 false hits in all.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from speechcal_core.speech.backend import Word
-from speechcal_core.speech.features import HOP_S, mfcc
-from speechcal_core.speech.query_by_example import subsequence_dtw, unit_rows
-from speechcal_core.speech.self_similarity import MAX_STRETCH, NOISE_FLOOR
+from speechcal_core.speech.features import HOP_S
+from speechcal_core.speech.query_by_example import subsequence_dtw
+from speechcal_core.speech.self_similarity import MAX_STRETCH
+from speechcal_core.speech.speech_index import SpeechIndex
 from speechcal_core.speech.timing import refine_bounds
-from speechcal_core.speech.vad import VoiceActivity, voice_activity
+from speechcal_core.speech.vad import VoiceActivity
 
 RATE = 16000
 #: a frame belongs to a word this far above the noise floor (band energy, smoothed)
@@ -84,41 +84,6 @@ def word_near(activity: VoiceActivity, t_s: float) -> tuple[float, float] | None
     return float(start), float(end)
 
 
-@dataclass(frozen=True)
-class SpeechIndex:
-    """A recording prepared for searches: samples, voice activity and normalised features
-    of its voice-active frames (made once per opened session, then reused)."""
-
-    samples: np.ndarray
-    rate: int
-    activity: VoiceActivity
-    frames: np.ndarray  # indices (10 ms frames) of the voice-active frames
-    seq: np.ndarray  # their unit-length features, one row per entry of ``frames``
-    full: np.ndarray  # the same rows at their frame index, zeros elsewhere
-
-    @classmethod
-    def build(cls, samples: np.ndarray, rate: int) -> SpeechIndex:
-        """Voice activity and features of ``samples`` (a 200 s file: about 0.3 s)."""
-        activity = voice_activity(samples, rate)
-        feats = mfcc(samples, rate, noise_floor=NOISE_FLOOR)
-        mask = np.zeros(feats.shape[0], dtype=bool)
-        for s0, s1 in activity.segments:
-            mask[int(s0 / HOP_S):int(np.ceil(s1 / HOP_S))] = True
-        frames = np.flatnonzero(mask)
-        if frames.size:
-            sel = feats[frames]
-            seq = unit_rows((sel - sel.mean(axis=0)) / (sel.std(axis=0) + 1e-6))
-        else:
-            seq = np.zeros((0, feats.shape[1]), dtype=np.float32)
-        full = np.zeros((feats.shape[0], seq.shape[1]), dtype=np.float32)
-        full[frames] = seq
-        return cls(samples, rate, activity, frames, seq, full)
-
-    @property
-    def duration_s(self) -> float:
-        return self.samples.size / self.rate
-
-
 def find_more_like(index: SpeechIndex, start_s: float, end_s: float, word: str,
                    blocked: Sequence[tuple[float, float]] = (),
                    source: str = "similar") -> list[Word]:
@@ -127,7 +92,7 @@ def find_more_like(index: SpeechIndex, start_s: float, end_s: float, word: str,
     Nothing overlapping the example itself or a span of ``blocked`` (the triggers the
     session already has) is returned; each hit's bounds move to its word's energy.
     """
-    template = index.full[int(start_s / HOP_S):int(end_s / HOP_S)]
+    template = index.span(start_s, end_s)
     if template.shape[0] < MIN_TEMPLATE_FRAMES or index.seq.shape[0] == 0:
         return []
     cost, first = subsequence_dtw(template, index.seq)

@@ -14,8 +14,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from speechcal_core.speech.backend import Word
-from speechcal_core.speech.features import HOP_S, mfcc
-from speechcal_core.speech.query_by_example import subsequence_dtw, unit_rows
+from speechcal_core.speech.features import HOP_S
+from speechcal_core.speech.query_by_example import subsequence_dtw
+from speechcal_core.speech.speech_index import NOISE_FLOOR, SpeechIndex
 from speechcal_core.speech.timing import refine_bounds
 from speechcal_core.speech.vad import VoiceActivity
 
@@ -28,11 +29,6 @@ ROUNDS = 1  # searches; >1 makes found instances templates too (little gain, mor
 #: seeds whose closest sibling costs more than this times the median closest cost are dropped
 VERIFY_FACTOR = 1.7  # the backend sets its own (SEED_CHECK there)
 VERIFY_MIN_SEEDS = 4  # fewer seeds give no reliable median: all are kept
-#: mel noise floor added before the log (see ``features.mfcc``): noisy near-homophones
-#: look less like the triggers. With the backend's wider limit, tuning seeds 101-112 at
-#: 5 and 10 dB gained 2-3 points of recall at about the same precision (1-2 points more
-#: precision at the old limit)
-NOISE_FLOOR = 3.0
 #: a span heard less clearly than the seeds costs more even when it is the same word: the
 #: limit grows by this fraction of the seeds' mutual cost per dB the span's level lies
 #: below the seeds' median level (and shrinks for louder spans), within MAX_LEVEL_GAP_DB
@@ -74,17 +70,10 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     """
     if len(seeds) < MIN_SEEDS or not activity.segments:
         return list(seeds), []
-    feats = mfcc(samples, rate, noise_floor=noise_floor)
-    mask = np.zeros(feats.shape[0], dtype=bool)
-    for s0, s1 in activity.segments:
-        mask[int(s0 / HOP_S):int(np.ceil(s1 / HOP_S))] = True
-    idx = np.flatnonzero(mask)
+    index = SpeechIndex.build(samples, rate, activity, noise_floor)
+    idx, seq, full = index.frames, index.seq, index.full
     if idx.size == 0:
         return list(seeds), []
-    sel = feats[idx]
-    seq = unit_rows((sel - sel.mean(axis=0)) / (sel.std(axis=0) + 1e-6))
-    full = np.zeros((feats.shape[0], seq.shape[1]), dtype=np.float32)
-    full[idx] = seq
     ends = np.searchsorted(idx, [int(s.end_s / HOP_S) for s in seeds])
     pair = np.full((len(seeds), len(seeds)), np.inf)
     matches: list[tuple[np.ndarray, np.ndarray, int] | None] = []
