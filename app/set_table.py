@@ -11,14 +11,15 @@ from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QTableWidget, QTab
 
 from app.style import DECISION_COLOURS, DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
 from speechcal_core.frames.sets import BLURRED_BELOW, MIN_CORNERS
-from speechcal_core.review.summary import camera_lines, summarize
+from speechcal_core.review.summary import camera_lines, summarize, trigger_line, word_text
 from speechcal_core.session.model import FrameSet
 
 #: (header, header tooltip) per column
 COLUMNS = (
     ("#", "the set's number (as on the waveform markers)"),
     ("time", "the set's time from the first frame (min:s)"),
-    ("word", "the trigger word heard"),
+    ("word", "the trigger word heard; \"added\": added by hand (T), \"similar\": found "
+             "like another set (S)"),
     ("worst\nsharp", "the least sharp of the set's chosen frames. Each camera's sharpness is "
                      "relative to its sharp frames in this session: 1.00 is as sharp as "
                      f"they usually are; below {BLURRED_BELOW:.2f} a frame is flagged "
@@ -81,13 +82,15 @@ class SetTable(QTableWidget):
         missing = PENDING if pending else MISSING
         sharp = missing if q.worst_sharpness is None else f"{q.worst_sharpness:.2f}"
         corners = missing if q.fewest_corners is None else str(q.fewest_corners)
-        values = (str(s.id), f"{int(rel // 60):02d}:{rel % 60:05.2f}", s.trigger.word,
+        values = (str(s.id), f"{int(rel // 60):02d}:{rel % 60:05.2f}", word_text(s),
                   sharp, corners, f"{s.skew_ns / 1e6:.1f}",
                   f"{q.frames_found}/{q.frames_total}",
                   f"{DECISION_SYMBOLS[s.decision]} {s.decision}")
         warned = {SHARP: q.sharpness_warned, CORNERS: q.corners_warned,
                   SKEW: q.skew_warned, FRAMES: q.frames_warned}
-        details = f"{PENDING_TIP}\n{camera_lines(s)}" if pending else camera_lines(s)
+        details = f"{trigger_line(s)}\n{camera_lines(s)}"
+        if pending:
+            details = f"{PENDING_TIP}\n{details}"
         for col, value in enumerate(values):
             item = QTableWidgetItem(f"{WARNING_SYMBOL} {value}" if warned.get(col) else value)
             if SHARP <= col <= FRAMES:

@@ -26,6 +26,25 @@ CORNER_FLAGS = ("no-target",)
 SKEW_FLAGS = ("skew",)
 
 
+#: how the list marks a trigger the detector did not report, by ``Trigger.source``: added
+#: by hand (``T``) or found like another set (``S``)
+SOURCE_MARKS = {"manual": "added", "similar": "similar"}
+
+
+def word_text(frame_set: FrameSet) -> str:
+    """The set's trigger word, marked when the operator added or searched for it."""
+    mark = SOURCE_MARKS.get(frame_set.trigger.source)
+    return f"{frame_set.trigger.word} · {mark}" if mark else frame_set.trigger.word
+
+
+def trigger_line(frame_set: FrameSet) -> str:
+    """Where the trigger came from and where it lies in the audio, for a tooltip."""
+    t = frame_set.trigger
+    where = (f"at {t.start_s:.2f} s" if t.end_s <= t.start_s
+             else f"{t.start_s:.2f}-{t.end_s:.2f} s")
+    return f"trigger {t.word!r} ({t.source}), {where} in the audio"
+
+
 def passes(frame_set: FrameSet, filter_name: str) -> bool:
     """Whether ``filter_name`` (one of :data:`FILTERS`) shows ``frame_set``."""
     if filter_name not in FILTERS:

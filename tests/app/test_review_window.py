@@ -139,6 +139,7 @@ def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
     assert len(window.waveform._markers) == 2 * (rows + 1)  # region + label per set
     assert window.table.selectedIndexes()[0].row() == 1 == model.current
     assert window.table.item(1, 0).text() == str(model.current_set.id)
+    assert window.table.item(1, column("word")).text().endswith(" · added")
     assert len(load_session(truth_session_file).sets) == rows + 1
     assert "T add · Del remove" in window.help_line.text()
     qtbot.keyClick(window, Qt.Key.Key_Delete)

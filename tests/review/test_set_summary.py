@@ -183,3 +183,20 @@ def test_with_no_set_shown_steps_do_nothing() -> None:
     empty.next_set()
     empty.last_set()
     assert empty.current == -1 and empty.shown() == []
+
+
+def test_the_word_column_marks_triggers_the_operator_added_or_searched_for() -> None:
+    from speechcal_core.review.model import OPERATOR_SOURCE
+    from speechcal_core.review.similar import SIMILAR_SOURCE
+    from speechcal_core.review.summary import SOURCE_MARKS, trigger_line, word_text
+
+    assert set(SOURCE_MARKS) == {OPERATOR_SOURCE, SIMILAR_SOURCE}
+    heard = frame_set(1)
+    added = FrameSet(2, 6 * S, Trigger("capture", 6.0, 6.0, 1.0, OPERATOR_SOURCE),
+                     heard.frames)
+    found = FrameSet(3, 9 * S, Trigger("capture", 9.0, 9.4, 0.7, SIMILAR_SOURCE),
+                     heard.frames)
+    assert [word_text(s) for s in (heard, added, found)] == [
+        "capture", "capture · added", "capture · similar"]
+    assert trigger_line(added) == "trigger 'capture' (manual), at 6.00 s in the audio"
+    assert trigger_line(found) == "trigger 'capture' (similar), 9.00-9.40 s in the audio"
