@@ -184,7 +184,9 @@ def _build(
         if references is not None and s.name in references.sharpness:
             refs[s.name] = references.sharpness[s.name]
             continue
-        vals = [v[0] for (_n, name), v in measured.items() if name == s.name and v[0] > 0]
+        # only frames measured on the target: a whole frame's sharpness says little of it
+        vals = [v[0] for (_n, name), v in measured.items()
+                if name == s.name and v[0] > 0 and (v[1] is not None or target is None)]
         refs[s.name] = float(np.percentile(vals, 90)) if vals else 0.0
     result.references = FrameReferences(floors, refs)
     # free-running cameras cannot always do better than the two longest half periods
@@ -277,6 +279,8 @@ def _frame_choice(stream: str, idx: int, stamp: int, sharp: float, ref: float,
     sharp_norm = None
     if sharp < 0:
         flags.append("bad-frame")
+    elif want_target and det is None:
+        pass  # no target region to judge: "no-target" below says what is wrong
     elif ref > 0:
         sharp_norm = round(sharp / ref, 3)
         if sharp_norm < BLURRED_BELOW:

@@ -96,3 +96,23 @@ def test_nearest_only_mode_picks_the_nearest_stamps() -> None:
     (frame,) = result.sets[0].frames
     assert frame.index == 13 and frame.stamp_ns == stamps[13]
     assert result.details["1"]["method"] == "nearest"
+
+
+def test_a_frame_without_the_target_is_not_judged_blurred_against_frames_with_it() -> None:
+    target = TargetSpec()
+    k = np.array([[400.0, 0, 240], [0, 400, 180], [0, 0, 1]])
+    rvec, tvec = facing_pose(target, 0.8, (0.2, 0.1), (0.04, 0.0))
+    board = render_view(target, k, rvec, tvec, (480, 360), noise=0)
+    rng = np.random.default_rng(1)
+    wall = np.clip(128 + rng.normal(0, 6, board.shape), 0, 255).astype(np.uint8)
+    stamps = np.arange(150, dtype=np.int64) * (NS // 30) + 10 * NS
+    frames = [wall if 30 <= i < 120 else board for i in range(150)]  # no board in 1-4 s
+    source = ArraySource({"/cam": (stamps, frames)})
+    triggers = [Trigger("capture", t - 0.1, t + 0.1) for t in (0.5, 2.5, 4.5)]
+    result = build_frame_sets(source, SyncModel(10 * NS), triggers, target,
+                              FrameSetOptions(extend_s=0.2))
+    seen, empty, again = (fs.frames[0] for fs in result.sets)
+    assert "no-target" in empty.flags and "blurred" not in empty.flags
+    assert empty.sharpness is None
+    for f in (seen, again):
+        assert f.flags == () and f.sharpness is not None and f.sharpness > 0.5
