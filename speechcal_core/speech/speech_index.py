@@ -3,7 +3,8 @@ features of its voice-active frames, computed once and shared by every search.""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Protocol
 
 import numpy as np
 
@@ -18,12 +19,23 @@ from speechcal_core.speech.vad import VoiceActivity, voice_activity
 NOISE_FLOOR = 3.0
 
 
+class Samples(Protocol):
+    """What the searches read of the samples: the length and short slices ``x[a:b]``
+    (a numpy array, or :class:`~speechcal_core.audio.file_samples.FileSamples` reading
+    them back from the file)."""
+
+    @property
+    def size(self) -> int: ...
+
+    def __getitem__(self, key: slice) -> np.ndarray: ...
+
+
 @dataclass(frozen=True)
 class SpeechIndex:
     """Samples, voice activity and features of the voice-active frames, each row scaled
     to unit length after normalising over those frames (cosine distance in the DTW)."""
 
-    samples: np.ndarray
+    samples: Samples
     rate: int
     activity: VoiceActivity
     frames: np.ndarray  # indices (10 ms frames) of the voice-active frames
@@ -49,6 +61,14 @@ class SpeechIndex:
         full = np.zeros((feats.shape[0], seq.shape[1]), dtype=np.float32)
         full[frames] = seq
         return cls(samples, rate, activity, frames, seq, full)
+
+    def with_samples(self, samples: Samples) -> SpeechIndex:
+        """This index reading its samples from ``samples`` (same length and values), e.g.
+        from the file instead of an array of the whole recording."""
+        if samples.size != self.samples.size:
+            raise ValueError(f"{samples.size} samples given for an index of "
+                             f"{self.samples.size}")
+        return replace(self, samples=samples)
 
     @property
     def duration_s(self) -> float:

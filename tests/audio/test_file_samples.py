@@ -1,0 +1,55 @@
+"""Stretches of an audio file read back from the file equal the loaded (resampled) array."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import soundfile as sf
+
+from speechcal_core.audio import load_audio
+from speechcal_core.audio.file_samples import FileSamples
+from speechcal_core.review.similar import SessionAudio
+
+
+def _write(path: Path, rate: int, seconds: float, channels: int, **kw) -> Path:
+    rng = np.random.default_rng(7)
+    n = int(rate * seconds)
+    t = np.arange(n) / rate
+    tone = 0.3 * np.sin(2 * np.pi * 440.0 * t) * (np.sin(2 * np.pi * 0.7 * t) > 0)
+    data = (tone[:, None] + 0.05 * rng.standard_normal((n, channels))).astype(np.float32)
+    with sf.SoundFile(str(path), "w", samplerate=rate, channels=channels, **kw) as f:
+        for i in range(0, n, 4096):  # DESIGN §5: write Ogg in blocks
+            f.write(data[i:i + 4096])
+    return path
+
+
+@pytest.mark.parametrize(("name", "rate", "channels", "kw"), [
+    ("a.ogg", 48000, 2, {"format": "OGG", "subtype": "VORBIS"}),  # seeks need a pre-roll
+    ("a.wav", 44100, 1, {}),
+    ("a.flac", 16000, 1, {}),  # no resampling
+])
+def test_stretches_read_back_equal_the_loaded_samples(tmp_path: Path, name: str, rate: int,
+                                                     channels: int, kw: dict) -> None:
+    p = _write(tmp_path / name, rate, 26.0, channels, **kw)  # > one resampling block
+    native = load_audio(p)
+    whole = native.resampled(16000).samples
+    reader = FileSamples(p, 16000, rate_in=native.rate, size_in=native.samples.size)
+    assert reader.size == len(reader) == whole.size
+    rng = np.random.default_rng(1)
+    spans = [(0, 300), (whole.size - 500, whole.size), (whole.size - 10, whole.size + 99),
+             (5, 5)]
+    spans += [(a, a + int(rng.integers(1, 12000)))
+              for a in rng.integers(0, whole.size - 12000, 40).tolist()]
+    for a, b in spans:
+        np.testing.assert_array_equal(reader[a:b], whole[a:b], err_msg=f"{name} {a}:{b}")
+
+
+def test_search_index_keeps_no_samples_array(tmp_path: Path) -> None:
+    p = _write(tmp_path / "a.wav", 48000, 30.0, 1)
+    index = SessionAudio(p).index()
+    assert isinstance(index.samples, FileSamples)  # read back around each hit
+    assert index.samples.size == 30 * 16000
+    held = index.full.nbytes + index.seq.nbytes + index.frames.nbytes
+    assert held < 30 * 16000 * 4 / 2  # features: well under the samples' 1.9 MB
