@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import threading
 from collections import OrderedDict
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
@@ -17,6 +19,7 @@ if TYPE_CHECKING:
 class _Signals(QObject):
     loaded = Signal(int, str, int, QImage)  # generation, stream, index, image
     failed = Signal(int, str, int, str)
+    stopped = Signal()
 
 
 class _DecodeJob(QRunnable):
@@ -25,8 +28,14 @@ class _DecodeJob(QRunnable):
         self.loader, self.generation, self.stream, self.index = loader, generation, stream, index
 
     def run(self) -> None:
-        if self.generation != self.loader.generation:
-            return  # the playhead moved on before this job started
+        if not self.loader._begin_decode(self.generation):
+            return  # the playhead moved on before this job started, or the loader stopped
+        try:
+            self._decode()
+        finally:
+            self.loader._end_decode()
+
+    def _decode(self) -> None:
         try:
             frame = self.loader.source.frame(self.stream, self.index)
             if frame is None:
@@ -43,6 +52,8 @@ class FrameLoader(QObject):
 
     loaded = Signal(str, int, QImage)
     failed = Signal(str, int, str)
+    #: after :meth:`shutdown`, the last running decode has let go of the source
+    stopped = Signal()
 
     def __init__(self, source: FrameSource, cache_size: int = 256,
                  parent: QObject | None = None) -> None:
@@ -53,10 +64,15 @@ class FrameLoader(QObject):
         self.signals = _Signals()
         self.signals.loaded.connect(self._on_loaded)
         self.signals.failed.connect(self._on_failed)
+        self.signals.stopped.connect(self.stopped)
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(2)
         self._cache: OrderedDict[tuple[str, int], QImage] = OrderedDict()
         self._cache_size = cache_size
+        self._lock = threading.Lock()  # guards the three below (worker threads read them)
+        self._reading = 0  # decodes reading the source right now
+        self._stopped = False
+        self._after_stop: list[Callable[[], None]] = []
 
     def request(self, wanted: list[tuple[str, int]]) -> None:
         """Load these (stream, index) frames; cached ones are delivered at once."""
@@ -89,7 +105,38 @@ class FrameLoader(QObject):
         """True when no requested frame is still being decoded."""
         return self.pending == 0
 
-    def shutdown(self) -> None:
-        self.generation += 1
+    def reading(self) -> bool:
+        """True while a decode reads the source (after :meth:`shutdown` too)."""
+        with self._lock:
+            return self._reading > 0
+
+    def shutdown(self, then: Callable[[], None] | None = None) -> None:
+        """Stop for good without waiting: no new decode starts, and ``then()`` (e.g. closing
+        the recording) runs once no decode reads the source any more: at once when none
+        does, else on the worker thread as the last one ends (then :attr:`stopped`)."""
         self.pool.clear()
-        self.pool.waitForDone(2000)
+        with self._lock:
+            self._stopped = True
+            self.generation += 1
+            if self._reading and then is not None:
+                self._after_stop.append(then)
+                then = None
+        if then is not None:
+            then()
+
+    def _begin_decode(self, generation: int) -> bool:
+        with self._lock:
+            if self._stopped or generation != self.generation:
+                return False
+            self._reading += 1
+            return True
+
+    def _end_decode(self) -> None:
+        with self._lock:
+            self._reading -= 1
+            last = self._stopped and self._reading == 0
+            after, self._after_stop = (self._after_stop, []) if last else ([], self._after_stop)
+        for fn in after:
+            fn()
+        if last:  # through the Python-owned ``signals``: this loader may be deleted by now
+            self.signals.stopped.emit()

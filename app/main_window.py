@@ -63,8 +63,10 @@ class ReviewWindow(QMainWindow):
         self.load_error = ""
         self._pending_tiles: set[str] = set()
         self._playing = False
-        #: previously opened sessions, closed once no export or re-scoring reads them
+        #: previously opened sessions, closed once no export, re-scoring or decode reads them
         self._retired: list[ReviewInputs] = []
+        #: frame loaders of those sessions, until their last decode ends
+        self._old_loaders: list[FrameLoader] = []
 
         self.stack = QStackedWidget()
         self.setCentralWidget(self.stack)
@@ -342,6 +344,9 @@ class ReviewWindow(QMainWindow):
         self.task = None
         if self.loader is not None:
             self.loader.shutdown()
+            if self.loader.reading():  # its recording stays open until the decode ends
+                self._old_loaders.append(self.loader)
+                self.loader.stopped.connect(self.release_retired)
         self.rescorer.reset()  # what runs belongs to the previous session's model
         self.checker.reset()
         self.similar.reset()
@@ -532,7 +537,9 @@ class ReviewWindow(QMainWindow):
 
     def release_retired(self) -> None:
         """Close the recordings of sessions opened before, once nothing reads them."""
+        self._old_loaders = [lo for lo in self._old_loaders if lo.reading()]
         busy = {id(self.exporter.source), id(self.rescorer.source)}
+        busy |= {id(lo.source) for lo in self._old_loaders}
         for inputs in list(self._retired):
             if id(inputs.source) not in busy:
                 self._retired.remove(inputs)
@@ -617,11 +624,17 @@ class ReviewWindow(QMainWindow):
         self.rescorer.shutdown()
         self.checker.shutdown()
         self.similar.shutdown()
+        # a recording closes once no frame decode reads it (at once, or as the decode
+        # still running ends: the window does not wait for it)
+        loaders = {id(lo.source): lo for lo in self._old_loaders}
         if self.loader is not None:
-            self.loader.shutdown()
-        if self.inputs is not None:
-            self.inputs.close()
-        for inputs in self._retired:
-            inputs.close()
+            loaders[id(self.loader.source)] = self.loader
+        for inputs in [*([self.inputs] if self.inputs is not None else []), *self._retired]:
+            loader = loaders.get(id(inputs.source))
+            if loader is not None:
+                loader.shutdown(then=inputs.close)
+            else:
+                inputs.close()
         self._retired.clear()
+        self._old_loaders.clear()
         super().closeEvent(event)
