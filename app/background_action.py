@@ -51,7 +51,7 @@ class BackgroundAction(QObject):
         """Run ``work(report)`` on a worker thread for ``model``; its result goes to
         ``_finished``, a failure or cancel to ``_failed``."""
         self._model = model
-        self.task = BackgroundTask(work)
+        self.task = BackgroundTask(work, owner=self)
         if progress is not None:
             self.task.signals.progress.connect(progress)
         self.task.signals.finished.connect(self._finished)

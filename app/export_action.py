@@ -122,7 +122,7 @@ class ExportAction(QObject):
         self.source = source
         self.task = BackgroundTask(lambda report: export_frame_sets(
             snapshot, source, fmt, out, force=force, include_undecided=include_undecided,
-            session_path=session_path, progress=report))
+            session_path=session_path, progress=report), owner=self)
         self.task.signals.progress.connect(
             lambda text, f: w.status.report("export", f"exporting: {text}", f))
         self.task.signals.finished.connect(self._finished)

@@ -271,7 +271,7 @@ class ReviewWindow(QMainWindow):
 
     def _start(self, work, text: str) -> None:
         self.load_error = ""
-        self.task = BackgroundTask(work)
+        self.task = BackgroundTask(work, owner=self)
         self.task.signals.progress.connect(
             lambda t, f: self.status.report("open", t, f))
         self.task.signals.finished.connect(self._on_loaded)

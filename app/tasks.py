@@ -7,6 +7,7 @@ import traceback
 from collections.abc import Callable
 from typing import Any
 
+import shiboken6
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 
 
@@ -21,35 +22,84 @@ class TaskSignals(QObject):
 
 
 class BackgroundTask(QRunnable):
-    """Calls ``fn(report)`` off the UI thread; ``report(text, fraction)`` raises if cancelled."""
+    """Calls ``fn(report)`` off the UI thread; ``report(text, fraction)`` raises if cancelled.
 
-    def __init__(self, fn: Callable[[Callable[[str, float], None]], Any]) -> None:
+    Receivers connect to :attr:`signals`, emitted on the UI thread. With an ``owner`` (the
+    window or action the result is for), nothing is delivered once the owner is gone and
+    the task is cancelled when it is destroyed: a window closed and deleted while its work
+    runs gets no late progress or result (its widgets no longer exist).
+    """
+
+    def __init__(self, fn: Callable[[Callable[[str, float], None]], Any],
+                 owner: QObject | None = None) -> None:
         super().__init__()
         self.fn = fn
-        self.signals = TaskSignals()
+        self.signals = TaskSignals()  # delivered on the UI thread, while the owner lives
+        # what the worker emits: Python-owned, so it outlives any window, and relayed to
+        # ``signals`` on the thread ``signals`` lives in
+        self._worker = TaskSignals()
+        self._worker.progress.connect(self._relay_progress)
+        self._worker.finished.connect(self._relay_finished)
+        self._worker.failed.connect(self._relay_failed)
         self._cancel = threading.Event()
         self.done = threading.Event()
+        self._owner = owner
+        if owner is not None:
+            owner.destroyed.connect(self.cancel)
 
-    def cancel(self) -> None:
+    def cancel(self, *_args: object) -> None:
         self._cancel.set()
+
+    def _deliver(self) -> bool:
+        """Whether the receivers may still hear of this task (UI thread)."""
+        return self._owner is None or shiboken6.isValid(self._owner)
+
+    def _relay_progress(self, text: str, fraction: float) -> None:
+        if self._deliver() and not self._cancel.is_set():
+            self.signals.progress.emit(text, fraction)
+
+    def _relay_finished(self, result: object) -> None:
+        deliver = self._deliver()
+        self._release()
+        if deliver:
+            self.signals.finished.emit(result)
+
+    def _relay_failed(self, message: str) -> None:
+        deliver = self._deliver()
+        self._release()
+        if deliver:
+            self.signals.failed.emit(message)
+
+    def _release(self) -> None:
+        """The last word is in: drop the connections that keep this task (and what its
+        function holds, e.g. a recording) referenced."""
+        self.fn = None  # type: ignore[assignment]
+        for signal, slot in ((self._worker.progress, self._relay_progress),
+                             (self._worker.finished, self._relay_finished),
+                             (self._worker.failed, self._relay_failed)):
+            signal.disconnect(slot)
+        if self._owner is not None:
+            if shiboken6.isValid(self._owner):
+                self._owner.destroyed.disconnect(self.cancel)
+            self._owner = None
 
     def _report(self, text: str, fraction: float) -> None:
         if self._cancel.is_set():
             raise Cancelled()
-        self.signals.progress.emit(text, float(fraction))
+        self._worker.progress.emit(text, float(fraction))
 
     def run(self) -> None:
         try:
             result = self.fn(self._report)
         except Cancelled:
-            self.signals.failed.emit("cancelled")
+            self._worker.failed.emit("cancelled")
         except Exception as exc:  # shown to the operator, never swallowed
             message = str(exc) or type(exc).__name__
             if not getattr(exc, "__module__", "").startswith("speechcal_core"):
                 traceback.print_exc()
-            self.signals.failed.emit(message)
+            self._worker.failed.emit(message)
         else:
-            self.signals.finished.emit(result)
+            self._worker.finished.emit(result)
         finally:
             self.done.set()
 

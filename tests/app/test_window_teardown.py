@@ -3,7 +3,46 @@ is logged or raised; a recording closes only once no frame decode reads it."""
 
 from __future__ import annotations
 
+import gc
 import threading
+
+import pytest
+from PySide6.QtCore import QCoreApplication, QEvent, QThreadPool
+
+import app.main_window
+from app.main_window import ReviewWindow
+
+
+def test_window_destroyed_while_opening_gets_nothing_and_logs_nothing(
+        qtbot, truth_session_file, monkeypatch: pytest.MonkeyPatch, capfd) -> None:
+    release = threading.Event()
+    load = app.main_window.load_for_review
+
+    def gated(**kw):
+        kw["progress"]("held", 0.1)
+        release.wait(30)
+        kw["progress"]("going on", 0.5)
+        return load(**kw)
+
+    monkeypatch.setattr(app.main_window, "load_for_review", gated)
+    win = ReviewWindow()
+    win.setProperty("headless", True)
+    win.open(session_path=str(truth_session_file))
+    task, label = win.task, win.status.text
+    qtbot.waitUntil(lambda: "held" in label.text(), timeout=10_000)
+    win.deleteLater()
+    QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
+    del win
+    gc.collect()
+    with qtbot.captureExceptions() as raised:
+        release.set()
+        assert task.done.wait(30)
+        QThreadPool.globalInstance().waitForDone(10_000)
+        for _ in range(5):
+            QCoreApplication.processEvents()
+    assert raised == []
+    err = capfd.readouterr().err
+    assert "deleted" not in err and "Traceback" not in err, err
 
 
 class _SlowSource:
