@@ -46,11 +46,16 @@ def test_chosen_frames_lie_inside_holds_even_when_the_word_ends_before_the_hold(
     assert nearest_outside > 0  # the baseline picks moving frames for the early words
 
 
-def test_background_blinking_and_spinning_does_not_count_as_motion() -> None:
-    target = TargetSpec()
+def _board_in_view(target: TargetSpec) -> np.ndarray:
+    """A 480x360 grey view of the board, facing the camera, filling much of the frame."""
     k = np.array([[400.0, 0, 240], [0, 400, 180], [0, 0, 1]])
     rvec, tvec = facing_pose(target, 0.8, (0.2, 0.1), (0.04, 0.0))
-    board = render_view(target, k, rvec, tvec, (480, 360), noise=0)
+    return render_view(target, k, rvec, tvec, (480, 360), noise=0)
+
+
+def test_background_blinking_and_spinning_does_not_count_as_motion() -> None:
+    target = TargetSpec()
+    board = _board_in_view(target)
     rng = np.random.default_rng(0)
     stamps = np.arange(60, dtype=np.int64) * (NS // 30) + 10 * NS
     frames = []
@@ -100,9 +105,7 @@ def test_nearest_only_mode_picks_the_nearest_stamps() -> None:
 
 def test_a_frame_without_the_target_is_not_judged_blurred_against_frames_with_it() -> None:
     target = TargetSpec()
-    k = np.array([[400.0, 0, 240], [0, 400, 180], [0, 0, 1]])
-    rvec, tvec = facing_pose(target, 0.8, (0.2, 0.1), (0.04, 0.0))
-    board = render_view(target, k, rvec, tvec, (480, 360), noise=0)
+    board = _board_in_view(target)
     rng = np.random.default_rng(1)
     wall = np.clip(128 + rng.normal(0, 6, board.shape), 0, 255).astype(np.uint8)
     stamps = np.arange(150, dtype=np.int64) * (NS // 30) + 10 * NS
