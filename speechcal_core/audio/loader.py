@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -52,27 +53,10 @@ def load_audio(path: str | Path, *, rate: int | None = None,
     Raises :class:`AudioError` for a missing, unreadable or empty file.
     """
     p = Path(path)
-    if not p.exists():
-        raise AudioError(f"{p}: audio file not found; check the path given with --audio")
-    if p.is_dir():
-        raise AudioError(f"{p}: is a folder, not an audio file; give the audio file itself")
-    if p.stat().st_size == 0:
-        raise AudioError(f"{p}: the file is empty (0 bytes); record or copy the audio again")
     if rate is not None and rate <= 0:
         raise AudioError(f"{p}: cannot resample to {rate} Hz; give a positive rate")
-    try:
-        f = sf.SoundFile(str(p))
-    except (sf.LibsndfileError, RuntimeError, TypeError) as exc:
-        raise AudioError(
-            f"{p}: not a readable audio file ({_short(exc)}); convert it to {SUPPORTED}"
-        ) from exc
-    with f:
+    with open_audio(p, channel) as f:
         channels, rate_in = int(f.channels), int(f.samplerate)
-        if channel is not None and not 0 <= channel < channels:
-            raise AudioError(
-                f"{p}: has {channels} channel(s), channel {channel} asked; "
-                f"pick 0..{channels - 1} or leave the channel unset to mix"
-            )
         mono = _read_mono(f, p, channel)
     if mono.size == 0:
         raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
@@ -82,35 +66,79 @@ def load_audio(path: str | Path, *, rate: int | None = None,
     return audio.resampled(int(rate)) if rate is not None else audio
 
 
+def open_audio(path: str | Path, channel: int | None = None) -> sf.SoundFile:
+    """The opened file, after the checks :func:`load_audio` makes (:class:`AudioError`)."""
+    p = Path(path)
+    if not p.exists():
+        raise AudioError(f"{p}: audio file not found; check the path given with --audio")
+    if p.is_dir():
+        raise AudioError(f"{p}: is a folder, not an audio file; give the audio file itself")
+    if p.stat().st_size == 0:
+        raise AudioError(f"{p}: the file is empty (0 bytes); record or copy the audio again")
+    try:
+        f = sf.SoundFile(str(p))
+    except (sf.LibsndfileError, RuntimeError, TypeError) as exc:
+        raise AudioError(
+            f"{p}: not a readable audio file ({_short(exc)}); convert it to {SUPPORTED}"
+        ) from exc
+    channels = int(f.channels)
+    if channel is not None and not 0 <= channel < channels:
+        f.close()
+        raise AudioError(
+            f"{p}: has {channels} channel(s), channel {channel} asked; "
+            f"pick 0..{channels - 1} or leave the channel unset to mix"
+        )
+    return f
+
+
+def mono_blocks(f: sf.SoundFile, path: str | Path,
+                channel: int | None = None) -> Iterator[np.ndarray]:
+    """The file decoded in blocks of :data:`BLOCK_FRAMES` (only the last one shorter), each
+    mixed (or picked) to mono float32 as :func:`load_audio` does; NaN and inf left as read.
+
+    The yielded array is reused for the next block: copy what you keep. A file that
+    stops decoding part way ends there (a truncated file keeps what decoded).
+    """
+    p = Path(path)
+    buf = np.empty((BLOCK_FRAMES, f.channels), dtype=np.float32)
+    mono = np.empty(BLOCK_FRAMES, dtype=np.float32)
+    n = 0
+    while True:
+        try:
+            got = f.read(BLOCK_FRAMES, dtype="float32", always_2d=True, out=buf)
+        except (sf.LibsndfileError, RuntimeError) as exc:
+            if n == 0:
+                raise AudioError(
+                    f"{p}: could not decode the audio ({_short(exc)}); "
+                    f"convert it to {SUPPORTED}"
+                ) from exc
+            return  # a truncated file: keep what decoded
+        k = got.shape[0]
+        if k == 0:
+            return
+        if channel is not None:
+            mono[:k] = got[:, channel]
+        elif f.channels == 1:
+            mono[:k] = got[:, 0]
+        else:
+            np.mean(got, axis=1, out=mono[:k])
+        n += k
+        yield mono[:k]
+        if k < BLOCK_FRAMES:
+            return
+
+
 def _read_mono(f: sf.SoundFile, p: Path, channel: int | None) -> np.ndarray:
     """Decode block by block into one preallocated mono array."""
     expected = int(f.frames) if f.frames and f.frames > 0 else 0
     out = np.empty(max(expected, BLOCK_FRAMES), dtype=np.float32)
     n = 0
-    buf = np.empty((BLOCK_FRAMES, f.channels), dtype=np.float32)
-    try:
-        while True:
-            got = f.read(BLOCK_FRAMES, dtype="float32", always_2d=True, out=buf)
-            k = got.shape[0]
-            if k == 0:
-                break
-            if n + k > out.size:
-                out = np.resize(out, max(out.size * 2, n + k))
-            if channel is not None:
-                out[n:n + k] = got[:, channel]
-            elif f.channels == 1:
-                out[n:n + k] = got[:, 0]
-            else:
-                np.mean(got, axis=1, out=out[n:n + k])
-            n += k
-            if k < BLOCK_FRAMES:
-                break
-    except (sf.LibsndfileError, RuntimeError) as exc:
-        if n == 0:
-            raise AudioError(
-                f"{p}: could not decode the audio ({_short(exc)}); convert it to {SUPPORTED}"
-            ) from exc
-        # a truncated file: keep what decoded
+    for block in mono_blocks(f, p, channel):
+        k = block.size
+        if n + k > out.size:
+            out = np.resize(out, max(out.size * 2, n + k))
+        out[n:n + k] = block
+        n += k
     return out[:n].copy() if n != out.size else out
 
 
