@@ -53,6 +53,7 @@ def load_for_review(
     same name, which is then opened instead of being overwritten).
     """
     from speechcal_core.audio import EnvelopePyramid, load_audio
+    from speechcal_core.audio.file_samples import FileSamples
     from speechcal_core.sources import open_recording
 
     report = progress or (lambda _t, _f: None)
@@ -97,8 +98,14 @@ def load_for_review(
     if session.audio:
         report("reading audio", 0.92)
         try:
-            sound = sound or load_audio(session.audio)
-            pyramid = EnvelopePyramid(sound.samples, sound.rate)
+            if sound is None:  # block by block: the samples stay in the file
+                pyramid = EnvelopePyramid.from_file(session.audio)
+            else:  # read for processing: the pyramid reads its stretches from the file
+                reader = FileSamples(sound.path or session.audio, sound.rate,
+                                     rate_in=sound.rate, size_in=sound.samples.size,
+                                     channel=sound.channel)
+                pyramid = EnvelopePyramid(sound.samples, sound.rate, source=reader)
+            sound = None
         except SpeechCalError as exc:
             note = f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
     report("ready", 1.0)

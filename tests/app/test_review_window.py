@@ -159,3 +159,26 @@ def test_add_and_remove_buttons_do_what_t_and_delete_do(qtbot, window) -> None:
     qtbot.mouseClick(window.remove_button, Qt.MouseButton.LeftButton)
     assert window.table.rowCount() == rows
     assert all(s.trigger.source != "manual" for s in model.session.sets)
+
+
+def test_waveform_keeps_no_samples_and_draws_the_file_ones_zoomed_in(window) -> None:
+    import numpy as np
+
+    from speechcal_core.audio import load_audio
+    from speechcal_core.audio.file_samples import FileSamples
+
+    view = window.waveform
+    pyramid = view.pyramid
+    loaded = load_audio(window.model.session.audio)
+    assert isinstance(pyramid.source, FileSamples)  # the samples stay in the file
+    assert pyramid.size == loaded.samples.size
+    levels = sum(a.nbytes + b.nbytes for _, a, b in pyramid.levels)
+    assert levels < loaded.samples.nbytes / 20  # plus the stretch last drawn, if any
+    mid_ns = int(view.sync.to_session(loaded.duration_s / 2))
+    view.setXRange(view._to_x(mid_ns), view._to_x(mid_ns + 5_000_000), padding=0)
+    view.redraw()
+    xs, ys = view._upper.getData()
+    drawn = ys / view._scale
+    first = int(np.floor(float(view.sync.to_audio(view._to_ns(xs[0]))) * loaded.rate + 0.5))
+    assert 100 < drawn.size < 1000  # raw samples: 5 ms of audio
+    np.testing.assert_allclose(drawn, loaded.samples[first:first + drawn.size], atol=1e-6)

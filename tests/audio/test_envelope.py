@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 import time
+from itertools import pairwise
+from pathlib import Path
 
 import numpy as np
+import pytest
+import soundfile as sf
 
-from speechcal_core.audio import EnvelopePyramid
+from speechcal_core.audio import AudioError, EnvelopePyramid, load_audio
+from speechcal_core.audio.file_samples import FileSamples
 
 
 def _signal(n: int = 2_000_003) -> np.ndarray:
@@ -62,3 +67,90 @@ def test_empty_range_and_short_signal() -> None:
     assert t.size == 5
     t, _, _ = pyr.envelope(2.0, 3.0, 10)
     assert t.size == 0
+
+
+def _expected(x: np.ndarray, rate: float, t0: float, t1: float,
+              width: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """What a pyramid over every level from 16 samples up draws, straight from ``x``."""
+    i0, i1 = int(np.floor(t0 * rate)), int(np.ceil(t1 * rate))
+    per_px = (i1 - i0) / width
+    if per_px < 32:
+        return np.arange(i0, i1) / rate, x[i0:i1], x[i0:i1]
+    size = 16
+    while size * 4 * 2 <= per_px and -(-x.size // size) > 1:
+        size *= 4
+    b0, b1 = i0 // size, min(-(-i1 // size), -(-x.size // size))
+    edges = np.unique(np.linspace(b0, b1, width + 1).astype(np.int64))
+    mn = np.array([x[a * size:b * size].min() for a, b in pairwise(edges)])
+    mx = np.array([x[a * size:b * size].max() for a, b in pairwise(edges)])
+    t = (edges[:-1] * size + np.diff(edges) * size / 2) / rate
+    return t, mn, mx
+
+
+def _write(path: Path, rate: int, seconds: float, channels: int, **kw) -> Path:
+    rng = np.random.default_rng(5)
+    n = int(rate * seconds)
+    t = np.arange(n) / rate
+    tone = 0.3 * np.sin(2 * np.pi * 220.0 * t) * (np.sin(2 * np.pi * 0.3 * t) > 0)
+    data = (tone[:, None] + 0.05 * rng.standard_normal((n, channels))).astype(np.float32)
+    with sf.SoundFile(str(path), "w", samplerate=rate, channels=channels, **kw) as f:
+        for i in range(0, n, 4096):  # DESIGN §5: write Ogg in blocks
+            f.write(data[i:i + 4096])
+    return path
+
+
+@pytest.mark.parametrize(("name", "channels", "kw"), [
+    ("a.wav", 1, {}),
+    ("a.ogg", 2, {"format": "OGG", "subtype": "VORBIS"}),  # stretches read after a seek
+])
+def test_file_pyramid_holds_no_samples_and_draws_the_loaded_ones(
+        tmp_path: Path, name: str, channels: int, kw: dict) -> None:
+    p = _write(tmp_path / name, 48000, 21.3, channels, **kw)  # several decode blocks
+    loaded = load_audio(p).samples
+    from_file = EnvelopePyramid.from_file(p)
+    in_memory = EnvelopePyramid(loaded, 48000)
+    after_load = EnvelopePyramid(loaded, 48000, source=FileSamples(
+        p, 48000, rate_in=48000, size_in=loaded.size))
+    assert from_file.size == loaded.size
+    for pyr in (from_file, after_load):
+        assert isinstance(pyr.source, FileSamples)
+        assert not any(isinstance(v, np.ndarray) and v.size >= loaded.size / 100
+                       for v in vars(pyr).values())
+        assert pyr.nbytes < loaded.nbytes / 20
+    for (_, a, b), (_, c, d) in zip(from_file.levels, in_memory.levels, strict=True):
+        np.testing.assert_array_equal(a, c)
+        np.testing.assert_array_equal(b, d)
+    rng = np.random.default_rng(2)
+    views = [(0.0, 21.3, 800), (3.0, 3.01, 1000), (20.9, 21.3, 1920), (5.0, 5.9, 300),
+             (7.0, 9.5, 1000), (0.0, 1e-3, 100)]  # raw, 16- and 64-sample buckets, kept
+    views += [(a, a + w, int(rng.integers(100, 2000)))
+              for a, w in zip(rng.uniform(0, 20, 20), rng.uniform(1e-3, 4, 20),
+                              strict=True)]
+    for t0, t1, width in views:
+        want = _expected(loaded, 48000, t0, t1, width)
+        for pyr in (from_file, after_load, in_memory):
+            got = pyr.envelope(t0, t1, width)
+            for g, w in zip(got, want, strict=True):
+                np.testing.assert_array_equal(g, w, err_msg=f"{name} {t0} {t1} {width}")
+    assert from_file.unreadable is None
+
+
+def test_moved_file_draws_coarse_levels_and_says_why(tmp_path: Path) -> None:
+    p = _write(tmp_path / "a.wav", 16000, 10.0, 1)
+    pyr = EnvelopePyramid.from_file(p)
+    p.rename(tmp_path / "moved.wav")
+    t, mn, mx = pyr.envelope(2.0, 2.05, 1000)  # raw samples asked
+    assert pyr.unreadable and "a.wav" in pyr.unreadable
+    assert 0 < t.size < 1000 and np.all(mn <= mx)
+    t, _, _ = pyr.envelope(0.0, 10.0, 100)  # levels kept still draw
+    assert t.size == 100
+
+
+def test_empty_file_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(AudioError, match="empty"):
+        EnvelopePyramid.from_file(_touch(tmp_path / "e.wav"))
+
+
+def _touch(path: Path) -> Path:
+    path.write_bytes(b"")
+    return path
