@@ -10,7 +10,7 @@ import numpy as np
 import soundfile as sf
 
 from speechcal_core.audio.errors import AudioError
-from speechcal_core.audio.resampling import resample
+from speechcal_core.audio.resampling import resample, resample_blocks
 
 BLOCK_FRAMES = 1 << 16
 SUPPORTED = "WAV, FLAC, Ogg Vorbis, Opus, MP3"
@@ -64,6 +64,32 @@ def load_audio(path: str | Path, *, rate: int | None = None,
         mono = np.nan_to_num(mono, nan=0.0, posinf=1.0, neginf=-1.0)
     audio = Audio(mono, rate_in, p, channels, rate_in, channel)
     return audio.resampled(int(rate)) if rate is not None else audio
+
+
+def load_resampled(path: str | Path, rate: int, *,
+                   channel: int | None = None) -> tuple[Audio, int]:
+    """``load_audio(path, rate=rate, channel=channel)``, decoded and resampled block by
+    block so memory stays near the result (not the file's samples at its own rate), and
+    how many samples the file decoded to at its own rate. The same samples."""
+    p = Path(path)
+    if rate <= 0:
+        raise AudioError(f"{p}: cannot resample to {rate} Hz; give a positive rate")
+    with open_audio(p, channel) as f:
+        channels, rate_in = int(f.channels), int(f.samplerate)
+        expected = int(f.frames) if f.frames and f.frames > 0 else 0
+        samples, size_in = resample_blocks(_finite(mono_blocks(f, p, channel)), rate_in,
+                                           int(rate), size_hint=expected)
+    if size_in == 0:
+        raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
+    return Audio(samples, int(rate), p, channels, rate_in, channel), size_in
+
+
+def _finite(blocks: Iterator[np.ndarray]) -> Iterator[np.ndarray]:
+    """The blocks with NaN and inf replaced as :func:`load_audio` does."""
+    for block in blocks:
+        if not np.all(np.isfinite(block)):
+            block = np.nan_to_num(block, nan=0.0, posinf=1.0, neginf=-1.0)
+        yield block
 
 
 def open_audio(path: str | Path, channel: int | None = None) -> sf.SoundFile:

@@ -51,15 +51,17 @@ class SessionAudio:
             if self._index is None:
                 if self.path is None:
                     raise UsageError("this session has no audio file to search")
-                from speechcal_core.audio import load_audio
                 from speechcal_core.audio.file_samples import FileSamples
+                from speechcal_core.audio.loader import load_resampled
 
                 report(f"reading {self.path.name} for the search…", 0.05)
-                native = load_audio(self.path)
-                reader = FileSamples(self.path, RATE, rate_in=native.rate,
-                                     size_in=native.samples.size)
-                samples = native.resampled(RATE).samples
-                del native  # the file's own rate: 3 times the 16 kHz samples at 48 kHz
+                # decoded and resampled block by block: the file's own rate is never
+                # held whole (3 times the 16 kHz samples at 48 kHz)
+                audio, size_in = load_resampled(self.path, RATE)
+                reader = FileSamples(self.path, RATE, rate_in=audio.rate_in_file,
+                                     size_in=size_in)
+                samples = audio.samples
+                del audio
                 report("finding speech in the audio…", 0.4)
                 index = SpeechIndex.build(samples, RATE)
                 del samples
