@@ -244,6 +244,7 @@ class ReviewWindow(QMainWindow):
         split.setSizes([600, 260])
         layout.addWidget(split)
 
+        self.waveform.audio_unreadable.connect(lambda text: self.status.end("waveform", text))
         if inputs.pyramid is not None:
             self.waveform.set_audio(inputs.pyramid, model.session.sync)
         self.waveform.set_clap(inputs.clap_audio_s)

@@ -25,11 +25,14 @@ class WaveformView(pg.PlotWidget):
     playhead_moved = Signal(int)  # session ns
     clap_moved = Signal(int)  # how far the clap handle was dragged, ns (on release)
     clap_dragging = Signal(int)  # the same while the handle is being dragged
+    #: the audio file could not be read again (moved?): what to tell the operator, once
+    audio_unreadable = Signal(str)
 
     def __init__(self, origin_ns: int, parent=None) -> None:
         super().__init__(parent, background=(30, 32, 36))
         self.origin_ns = origin_ns
         self.pyramid: EnvelopePyramid | None = None
+        self._told_unreadable = False
         self.sync: SyncModel | None = None
         self._clap_audio_s: float | None = None
         self.setMouseEnabled(x=True, y=False)
@@ -72,6 +75,7 @@ class WaveformView(pg.PlotWidget):
     def set_audio(self, pyramid: EnvelopePyramid, sync: SyncModel) -> None:
         """Show this audio on the session clock given by ``sync``."""
         self.pyramid, self.sync = pyramid, sync
+        self._told_unreadable = False
         peak = max(1e-6, float(np.max(np.abs(pyramid.levels[-1][1:]))) if pyramid.levels else 1)
         self._scale = 1.0 / peak
         self.redraw()
@@ -107,6 +111,9 @@ class WaveformView(pg.PlotWidget):
         a1 = float(self.sync.to_audio(self._to_ns(x1)))
         width = max(100, int(self.getViewBox().width()))
         t, mn, mx = self.pyramid.envelope(max(a0, 0.0), max(a1, 0.0), width)
+        if self.pyramid.unreadable and not self._told_unreadable:
+            self._told_unreadable = True
+            self.audio_unreadable.emit(unreadable_message(self.pyramid))
         if t.size == 0:
             self._upper.setData([], [])
             self._lower.setData([], [])
@@ -153,3 +160,12 @@ class WaveformView(pg.PlotWidget):
             return
         pos = self.getViewBox().mapSceneToView(event.scenePos())
         self.playhead_moved.emit(self._to_ns(pos.x()))
+
+
+def unreadable_message(pyramid: EnvelopePyramid) -> str:
+    """What the status line says when the waveform's audio file can no longer be read."""
+    path = getattr(pyramid.source, "path", None)
+    name = f"the audio file {path}" if path is not None else "the audio file"
+    return (f"waveform shows coarse levels only: {name} could not be read again "
+            "(moved or changed?); put it back there and reopen the session for the "
+            "detailed waveform")
