@@ -24,46 +24,20 @@ from __future__ import annotations
 
 import argparse
 import json
-import resource
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
+from long_audio import peak_rss_mb, rss_mb, run_child, write_tone_bursts
 
 REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
     sys.path.insert(0, str(REPO))
 
-RATE = 48000
 SEARCHES = 5
 MODES = ("array", "whole", "file")
-
-
-def _write(path: Path, minutes: float) -> None:
-    """Noise with 0.4 s tone bursts (three pitches) every ~3 s, written a minute at a time."""
-    import soundfile as sf
-
-    rng = np.random.default_rng(3)
-    with sf.SoundFile(str(path), "w", samplerate=RATE, channels=1, subtype="PCM_16") as f:
-        for _minute in range(int(np.ceil(minutes))):
-            n = RATE * 60
-            x = 0.01 * rng.standard_normal(n)
-            for start in np.arange(0.5, 59.0, 3.0) + rng.uniform(0, 1.5, 20):
-                a = int(start * RATE)
-                t = np.arange(int(0.4 * RATE)) / RATE
-                hz = (300.0, 450.0, 700.0)[int(rng.integers(0, 3))]
-                x[a:a + t.size] += 0.2 * np.sin(2 * np.pi * hz * t) * np.hanning(t.size)
-            f.write(x.astype(np.float32))
-
-
-def _rss_mb() -> float:
-    with open("/proc/self/statm") as f:
-        pages = int(f.read().split()[1])
-    return pages * resource.getpagesize() / 1e6
 
 
 def _measure(path: str, mode: str) -> dict:
@@ -73,7 +47,7 @@ def _measure(path: str, mode: str) -> dict:
     from speechcal_core.speech.more_like import find_more_like, word_near
     from speechcal_core.speech.speech_index import SpeechIndex
 
-    rss0 = _rss_mb()
+    rss0 = rss_mb()
     t0 = time.perf_counter()
     if mode == "array":
         from speechcal_core.audio import load_audio
@@ -94,7 +68,7 @@ def _measure(path: str, mode: str) -> dict:
     else:
         index = SessionAudio(path).index()
     build_s = time.perf_counter() - t0
-    held = _rss_mb() - rss0
+    held = rss_mb() - rss0
     arrays = sum(a.nbytes for a in (index.full, index.seq, index.frames,
                                     index.activity.floor_db, index.activity.energy_db)
                  if a is not None)
@@ -110,15 +84,9 @@ def _measure(path: str, mode: str) -> dict:
         words = find_more_like(index, *bounds, "word")
         times.append(time.perf_counter() - t1)
         found.append([(w.start_s, w.end_s, w.score) for w in words])
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e3
+    peak = peak_rss_mb()
     return {"build_s": build_s, "held_mb": held, "arrays_mb": arrays / 1e6,
             "peak_mb": peak, "search_s": times, "found": found}
-
-
-def _run(path: Path, mode: str) -> dict:
-    out = subprocess.run([sys.executable, __file__, "--child", mode, str(path)],
-                         capture_output=True, text=True, check=True)
-    return json.loads(out.stdout)
 
 
 def main() -> None:
@@ -133,10 +101,10 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="bench_find_similar_") as tmp:
         path = Path(tmp) / "long.wav"
         t0 = time.perf_counter()
-        _write(path, args.minutes)
+        write_tone_bursts(path, args.minutes)
         print(f"{args.minutes:g} min of 48 kHz audio ({path.stat().st_size / 1e6:.0f} MB "
               f"WAV) written in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
-        runs = {mode: [_run(path, mode) for _ in range(args.repeats)]
+        runs = {mode: [run_child(__file__, mode, path) for _ in range(args.repeats)]
                 for mode in MODES}
     same = all(runs[m][0]["found"] == runs["file"][0]["found"] for m in MODES)
     hits = sum(len(f) for f in runs["file"][0]["found"])

@@ -21,21 +21,19 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
-import resource
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
+from long_audio import RATE, peak_rss_mb, rss_mb, run_child, write_tone_bursts
 
 REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
     sys.path.insert(0, str(REPO))
 
-RATE = 48000
 WIDTH = 1920
 #: (view span in seconds, label): zoomed out, one bucket level of each kind, raw samples
 SPANS = ((None, "whole"), (600.0, "10 min"), (15.0, "15 s"), (2.0, "2 s"), (0.03, "30 ms"))
@@ -91,32 +89,11 @@ class SamplesPyramid:
                 np.maximum.reduceat(mx[b0:b1], starts - b0))
 
 
-def _write(path: Path, minutes: float) -> None:
-    """Noise with 0.4 s tone bursts every ~3 s, written a minute at a time."""
-    import soundfile as sf
-
-    rng = np.random.default_rng(3)
-    with sf.SoundFile(str(path), "w", samplerate=RATE, channels=1, subtype="PCM_16") as f:
-        for _minute in range(int(np.ceil(minutes))):
-            x = 0.01 * rng.standard_normal(RATE * 60)
-            for start in np.arange(0.5, 59.0, 3.0) + rng.uniform(0, 1.5, 20):
-                a = int(start * RATE)
-                t = np.arange(int(0.4 * RATE)) / RATE
-                x[a:a + t.size] += 0.2 * np.sin(2 * np.pi * 440.0 * t) * np.hanning(t.size)
-            f.write(x.astype(np.float32))
-
-
-def _rss_mb() -> float:
-    with open("/proc/self/statm") as f:
-        pages = int(f.read().split()[1])
-    return pages * resource.getpagesize() / 1e6
-
-
 def _measure(path: str, mode: str) -> dict:
     """One fresh process: build, then draw every view; memory in MB, times in s."""
     from speechcal_core.audio import EnvelopePyramid, load_audio
 
-    rss0 = _rss_mb()
+    rss0 = rss_mb()
     t0 = time.perf_counter()
     if mode == "samples":
         audio = load_audio(path)
@@ -125,7 +102,7 @@ def _measure(path: str, mode: str) -> dict:
     else:
         pyramid = EnvelopePyramid.from_file(path)
     build_s = time.perf_counter() - t0
-    held = _rss_mb() - rss0
+    held = rss_mb() - rss0
     arrays = pyramid.nbytes
     import soundfile as sf
 
@@ -147,15 +124,9 @@ def _measure(path: str, mode: str) -> dict:
             draw.setdefault(label, []).append(time.perf_counter() - t1)
             for arr in out:
                 digest.update(np.ascontiguousarray(arr).tobytes())
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e3
+    peak = peak_rss_mb()
     return {"build_s": build_s, "held_mb": held, "arrays_mb": arrays / 1e6,
             "peak_mb": peak, "draw_s": draw, "digest": digest.hexdigest()}
-
-
-def _run(path: Path, mode: str) -> dict:
-    out = subprocess.run([sys.executable, __file__, "--child", mode, str(path)],
-                         capture_output=True, text=True, check=True)
-    return json.loads(out.stdout)
 
 
 def main() -> None:
@@ -170,10 +141,10 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="bench_waveform_") as tmp:
         path = Path(tmp) / "long.wav"
         t0 = time.perf_counter()
-        _write(path, args.minutes)
+        write_tone_bursts(path, args.minutes, (440.0,))
         print(f"{args.minutes:g} min of 48 kHz audio ({path.stat().st_size / 1e6:.0f} MB "
               f"WAV) written in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
-        runs = {mode: [_run(path, mode) for _ in range(args.repeats)]
+        runs = {mode: [run_child(__file__, mode, path) for _ in range(args.repeats)]
                 for mode in ("samples", "file")}
     same = runs["samples"][0]["digest"] == runs["file"][0]["digest"]
     print(f"waveform envelope, {args.minutes:g} min recording at 48 kHz, {WIDTH} px, "
