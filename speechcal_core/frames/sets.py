@@ -184,9 +184,8 @@ def _build(
         if references is not None and s.name in references.sharpness:
             refs[s.name] = references.sharpness[s.name]
             continue
-        # only frames measured on the target: a whole frame's sharpness says little of it
         vals = [v[0] for (_n, name), v in measured.items()
-                if name == s.name and v[0] > 0 and (v[1] is not None or target is None)]
+                if name == s.name and v[0] is not None and v[0] > 0]
         refs[s.name] = float(np.percentile(vals, 90)) if vals else 0.0
     result.references = FrameReferences(floors, refs)
     # free-running cameras cannot always do better than the two longest half periods
@@ -246,13 +245,17 @@ def _measure(
     local: _Detectors,
     pool: ThreadPoolExecutor,
     report: Progress,
-) -> dict[tuple[int, str], tuple[float, Detection | None, tuple[int, int] | None]]:
-    """Full-resolution corners and raw sharpness of every chosen frame (-1: undecodable)."""
+) -> dict[tuple[int, str], tuple[float | None, Detection | None, tuple[int, int] | None]]:
+    """Full-resolution corners and raw sharpness of every chosen frame (-1: undecodable).
+
+    Sharpness is measured on the target; with a target wanted and not found it is None (a
+    whole frame's sharpness says nothing of the target and does not compare with it).
+    """
     jobs = [(n, name, idx) for n, row in enumerate(picks) for name, (idx, _) in row.items()
             if idx >= 0]
     done = [0]
 
-    def one(job: tuple[int, str, int]) -> tuple[float, Detection | None,
+    def one(job: tuple[int, str, int]) -> tuple[float | None, Detection | None,
                                                 tuple[int, int] | None]:
         _n, name, idx = job
         try:  # grey straight from the JPEG/PNG payload when there is one
@@ -260,9 +263,11 @@ def _measure(
         except BadFrameError:
             return -1.0, None, None
         det = local.full.detect(img) if local.full is not None else None
-        mask = region_mask(img.shape[:2], [det.hull()] if det is not None else [], 0)
-        rows, cols = mask_box(mask)
-        sharp = sharpness(img[rows, cols], mask[rows, cols])
+        sharp = None
+        if det is not None or local.full is None:
+            mask = region_mask(img.shape[:2], [det.hull()] if det is not None else [], 0)
+            rows, cols = mask_box(mask)
+            sharp = sharpness(img[rows, cols], mask[rows, cols])
         done[0] += 1
         report("corners", done[0] / max(1, len(jobs)))
         return sharp, det, (img.shape[1], img.shape[0])
@@ -270,18 +275,16 @@ def _measure(
     return {(n, name): r for (n, name, _), r in zip(jobs, pool.map(one, jobs), strict=True)}
 
 
-def _frame_choice(stream: str, idx: int, stamp: int, sharp: float, ref: float,
+def _frame_choice(stream: str, idx: int, stamp: int, sharp: float | None, ref: float,
                   det: Detection | None, want_target: bool, still: bool | None) -> FrameChoice:
     """The chosen frame with its session-normalized sharpness, corner count and flags."""
     if idx < 0:
         return FrameChoice(stream, -1, stamp, flags=("no-frame",))
     flags: list[str] = []
     sharp_norm = None
-    if sharp < 0:
+    if sharp is not None and sharp < 0:
         flags.append("bad-frame")
-    elif want_target and det is None:
-        pass  # no target region to judge: "no-target" below says what is wrong
-    elif ref > 0:
+    elif sharp is not None and ref > 0:
         sharp_norm = round(sharp / ref, 3)
         if sharp_norm < BLURRED_BELOW:
             flags.append("blurred")
