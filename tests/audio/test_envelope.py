@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import soundfile as sf
+from audio_files import write_gated_tone
 
 from speechcal_core.audio import AudioError, EnvelopePyramid, load_audio
 from speechcal_core.audio.file_samples import FileSamples
@@ -88,15 +88,7 @@ def _expected(x: np.ndarray, rate: float, t0: float, t1: float,
 
 
 def _write(path: Path, rate: int, seconds: float, channels: int, **kw) -> Path:
-    rng = np.random.default_rng(5)
-    n = int(rate * seconds)
-    t = np.arange(n) / rate
-    tone = 0.3 * np.sin(2 * np.pi * 220.0 * t) * (np.sin(2 * np.pi * 0.3 * t) > 0)
-    data = (tone[:, None] + 0.05 * rng.standard_normal((n, channels))).astype(np.float32)
-    with sf.SoundFile(str(path), "w", samplerate=rate, channels=channels, **kw) as f:
-        for i in range(0, n, 4096):  # DESIGN §5: write Ogg in blocks
-            f.write(data[i:i + 4096])
-    return path
+    return write_gated_tone(path, rate, seconds, channels, seed=5, tone_hz=220.0, gate_hz=0.3, **kw)
 
 
 @pytest.mark.parametrize(("name", "channels", "kw"), [

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import soundfile as sf
+from audio_files import write_gated_tone
 
 from speechcal_core.audio import load_audio
 from speechcal_core.audio.file_samples import FileSamples
@@ -16,15 +16,7 @@ from speechcal_core.speech.speech_index import SpeechIndex
 
 
 def _write(path: Path, rate: int, seconds: float, channels: int, **kw) -> Path:
-    rng = np.random.default_rng(7)
-    n = int(rate * seconds)
-    t = np.arange(n) / rate
-    tone = 0.3 * np.sin(2 * np.pi * 440.0 * t) * (np.sin(2 * np.pi * 0.7 * t) > 0)
-    data = (tone[:, None] + 0.05 * rng.standard_normal((n, channels))).astype(np.float32)
-    with sf.SoundFile(str(path), "w", samplerate=rate, channels=channels, **kw) as f:
-        for i in range(0, n, 4096):  # DESIGN §5: write Ogg in blocks
-            f.write(data[i:i + 4096])
-    return path
+    return write_gated_tone(path, rate, seconds, channels, seed=7, tone_hz=440.0, gate_hz=0.7, **kw)
 
 
 @pytest.mark.parametrize(("name", "rate", "channels", "kw"), [

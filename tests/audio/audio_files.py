@@ -1,0 +1,23 @@
+"""Audio files for the audio tests: a gated tone in noise, in any format and layout."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import soundfile as sf
+
+
+def write_gated_tone(path: Path, rate: int, seconds: float, channels: int, *, seed: int,
+                     tone_hz: float, gate_hz: float, **kw) -> Path:
+    """A tone switched on and off at ``gate_hz`` plus noise per channel; ``kw`` goes to
+    ``soundfile.SoundFile`` (format, subtype)."""
+    rng = np.random.default_rng(seed)
+    n = int(rate * seconds)
+    t = np.arange(n) / rate
+    tone = 0.3 * np.sin(2 * np.pi * tone_hz * t) * (np.sin(2 * np.pi * gate_hz * t) > 0)
+    data = (tone[:, None] + 0.05 * rng.standard_normal((n, channels))).astype(np.float32)
+    with sf.SoundFile(str(path), "w", samplerate=rate, channels=channels, **kw) as f:
+        for i in range(0, n, 4096):  # DESIGN §5: write Ogg in blocks
+            f.write(data[i:i + 4096])
+    return path
