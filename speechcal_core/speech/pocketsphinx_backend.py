@@ -14,7 +14,10 @@ The sensitivity sets the phone-loop cost (a dearer filler lets more words pass) 
 close to the found triggers a span must sound to join them.
 Finally the recording is searched for spans that sound like the triggers found (same
 speaker, same word: see ``self_similarity``), which recovers words lost in noise; spans the
-recogniser heard clearly keep its verdict.
+recogniser heard clearly keep its verdict. Spans it took for an inflection are searched
+too: some voices say "capture" so that it hears "capturing".
+A trigger, recognised or found, whose sound runs on without a pause is dropped: it is the
+start of something longer ("captured it?"). Operators say the trigger word on its own.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from speechcal_core.speech.lexicon import (
     rival_words,
 )
 from speechcal_core.speech.self_similarity import confirm_and_expand
-from speechcal_core.speech.timing import refine_bounds
+from speechcal_core.speech.timing import word_bounds
 from speechcal_core.speech.vad import VoiceActivity, voice_activity
 
 if TYPE_CHECKING:
@@ -105,6 +108,7 @@ class PocketsphinxBackend:
         self._decoder: Any = None
         self._key: tuple | None = None
         self._vocab: set[str] = set()
+        self._rivals: set[str] = set()
 
     def words(self, audio: Audio, spec: TriggerSpec) -> list[Word]:
         """Trigger words and rival words found in ``audio``, in time order."""
@@ -117,16 +121,22 @@ class PocketsphinxBackend:
             a, b = int(start * RATE), int(end * RATE)
             decoder.activate_search(_tier_name(activity.level_db(start, end)))
             found.extend(decode_span(decoder, x[a:b], start, self._vocab))
-        refined = []
+        refined, running_on = [], []
         for w in _dedupe(found):
-            s, e = refine_bounds(x, RATE, w.start_s, w.end_s, activity.floor_at(w.t))
-            refined.append(Word(w.word, s, e, w.score, w.source))
+            bounds = word_bounds(x, RATE, w.start_s, w.end_s, activity.floor_at(w.t))
+            word = Word(w.word, bounds.start_s, bounds.end_s, w.score, w.source)
+            # a trigger whose sound runs on without a pause is the start of something
+            # longer ("captured it?"): not reported, and no template for the search below
+            (running_on if bounds.runs_on and w.word in spec.words else refined).append(word)
         if not self.expand:
             return refined
         out = [w for w in refined if w.word not in spec.words]
         for trigger in spec.words:
             seeds = [w for w in refined if w.word == trigger]
-            others = [w for w in refined if w.word != trigger]
+            # rivals (inflections) do not keep the search out: some voices say "capture"
+            # so the recogniser hears "capturing", and the search recovers those
+            others = [w for w in refined if w.word != trigger and w.word not in self._rivals]
+            others += running_on
             factor = SIMILARITY_FACTOR[0] + (SIMILARITY_FACTOR[1] - SIMILARITY_FACTOR[0]) \
                 * spec.sensitivity
             clear = [activity.level_db(w.start_s, w.end_s) >= EXPAND_BELOW_DB for w in seeds]
@@ -136,6 +146,9 @@ class PocketsphinxBackend:
             # in noisier spans, where it recovers what the recogniser lost
             out += kept + [w for w in extra if EXPAND_MIN_DB <= activity.level_db(
                 w.start_s, w.end_s) < EXPAND_BELOW_DB]
+        triggers = [w for w in out if w.word in spec.words]
+        out = [w for w in out if w.word not in self._rivals
+               or not any(t.start_s < w.end_s and w.start_s < t.end_s for t in triggers)]
         return sorted(out, key=lambda w: w.start_s)
 
     def _prepare(self, spec: TriggerSpec) -> Any:
@@ -168,6 +181,7 @@ class PocketsphinxBackend:
                             _spot_grammar(logmath, spec, rivals, confusables, phones, tier))
         self._decoder, self._key = decoder, key
         self._vocab = set(spec.words) | set(rivals) | set(confusables)
+        self._rivals = set(rivals)
         return decoder
 
 

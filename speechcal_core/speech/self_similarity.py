@@ -17,7 +17,7 @@ from speechcal_core.speech.backend import Word
 from speechcal_core.speech.features import HOP_S
 from speechcal_core.speech.query_by_example import subsequence_dtw
 from speechcal_core.speech.speech_index import NOISE_FLOOR, SpeechIndex
-from speechcal_core.speech.timing import refine_bounds
+from speechcal_core.speech.timing import word_bounds
 from speechcal_core.speech.vad import VoiceActivity
 
 #: a span is accepted when its cost is below this times the seeds' typical mutual cost
@@ -181,6 +181,9 @@ def _pick(best: _BestMatch, idx: np.ndarray, limit: _Limit, taken: list[tuple[fl
         taken.append((ts, te))  # the best match of a span decides it, accepted or not
         if c >= limit.at(ts, te):
             continue
-        rs, re_ = refine_bounds(samples, rate, ts, te, activity.floor_at((ts + te) / 2))
-        out.append(Word(word, rs, re_, max(0.0, 1.0 - c), "pocketsphinx+similarity"))
+        bounds = word_bounds(samples, rate, ts, te, activity.floor_at((ts + te) / 2))
+        if bounds.runs_on:
+            continue  # the template matched the start of a longer word ("captured it?")
+        out.append(Word(word, bounds.start_s, bounds.end_s, max(0.0, 1.0 - c),
+                        "pocketsphinx+similarity"))
     return out

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from speechcal_core.speech.vad import HOP_S, band_energy_db
@@ -13,23 +15,41 @@ PEAK_RANGE_DB = 20.0  # ... and within this range of the word's loudest frame (r
 GAP_S = 0.06  # a closure this short (the stop in "cap-ture") does not end the word
 
 
+class WordBounds(NamedTuple):
+    """A word's audible bounds (audio seconds) and whether its sound runs on past them."""
+
+    start_s: float
+    end_s: float
+    #: the energy lasted, with no pause, as far as the search for the offset looked:
+    #: the word runs on into more speech, so it may be the start of a longer word or
+    #: phrase ("captured it?" heard as "capture")
+    runs_on: bool = False
+
+
 def refine_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
                   floor_db: float) -> tuple[float, float]:
     """Onset and offset of the energy around ``start_s``..``end_s`` above ``floor_db``.
 
     Keeps the recognised bound when the energy gives no clear answer (too noisy).
     """
+    bounds = word_bounds(samples, rate, start_s, end_s, floor_db)
+    return bounds.start_s, bounds.end_s
+
+
+def word_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
+                floor_db: float) -> WordBounds:
+    """``refine_bounds`` plus whether the word's energy runs on past the offset search."""
     a = max(0, int((start_s - SEARCH_BEFORE_S - 0.03) * rate))
     b = min(samples.size, int((end_s + SEARCH_AFTER_S + 0.03) * rate))
     energy = band_energy_db(samples[a:b], rate)
     if energy.size < 3:
-        return start_s, end_s
+        return WordBounds(start_s, end_s)
     peak = float(np.max(energy))
     loud = energy > max(floor_db + MARGIN_DB, peak - PEAK_RANGE_DB)
     t = a / rate + np.arange(energy.size) * HOP_S + 0.0125  # frame centres
     inside = (t >= start_s) & (t <= end_s)
     if not loud[inside].any():
-        return start_s, end_s
+        return WordBounds(start_s, end_s)
     gap = max(1, round(GAP_S / HOP_S))
     first = int(np.flatnonzero(inside & loud)[0])
     last = int(np.flatnonzero(inside & loud)[-1])
@@ -40,4 +60,6 @@ def refine_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
     while j < energy.size - 1 and t[j + 1] <= end_s + SEARCH_AFTER_S and \
             loud[j + 1:j + 1 + gap].any():
         j += 1
-    return float(t[i] - 0.0125), float(t[j] + 0.0125)
+    offset = float(t[j] + 0.0125)
+    # the sound lasted as far as the search looked: no pause ended the word
+    return WordBounds(float(t[i] - 0.0125), offset, offset >= end_s + SEARCH_AFTER_S)

@@ -34,14 +34,25 @@ def clip(name: str) -> np.ndarray:
     return x
 
 
-def make_scene(path: Path, items: list[tuple[str, str]] | list[tuple[str, str, float]], *,
+def run_together(first: str, second: str, overlap_s: float = 0.1) -> np.ndarray:
+    """Two clips spoken without a pause: the second starts ``overlap_s`` before the first
+    ends."""
+    a, b = clip(first), clip(second)
+    n = int(overlap_s * RATE)
+    out = np.concatenate([a, np.zeros(b.size - n, np.float32)])
+    out[a.size - n:] += b
+    return out
+
+
+def make_scene(path: Path, items: list[tuple[str, str]] | list[tuple[str, str, float]]
+               | list[tuple[str, str | np.ndarray]], *,
                gap_s: float = 0.9, snr_db: float = 25.0, seed: int = 0) -> Scene:
-    """Clips ``(text, clip name[, gain dB])`` one after another with ``gap_s`` between, in
-    pink-ish noise; ``snr_db`` holds for clips at gain 0."""
+    """Clips ``(text, clip name or samples[, gain dB])`` one after another with ``gap_s``
+    between, in pink-ish noise; ``snr_db`` holds for clips at gain 0."""
     rng = np.random.default_rng(seed)
     parts, placed, t = [np.zeros(int(0.8 * RATE), np.float32)], [], 0.8
     for text, name, *gain in items:
-        x = clip(name)
+        x = clip(name) if isinstance(name, str) else name
         x = x * (0.1 / (np.sqrt(np.mean(x**2)) + 1e-9)) * 10 ** ((gain[0] if gain else 0.0) / 20)
         placed.append((text, t, t + x.size / RATE))
         parts += [x.astype(np.float32), np.zeros(int(gap_s * RATE), np.float32)]

@@ -141,3 +141,20 @@ def test_every_trigger_is_found_among_near_homophones_in_one_voice(tmp_path: Pat
     # each other drops it (SEED_CHECK)
     for other in ("rapture", "picture", "captain", "capsule"):
         assert _hits(scene, times, other, tol=0.1) == 0, other
+
+
+def test_a_trigger_heard_as_an_inflection_is_found_by_sounding_like_the_others(
+        tmp_path: Path) -> None:
+    # in noise the recogniser hears one of this voice's takes as "capturing"; the
+    # inflection does not keep the similarity search out, and "captured it?" stays out
+    items = [("capture", f"slt/capture_{k}") for k in (1, 2, 3, 4, 5, 1, 2)]
+    items.insert(3, ("captured it", "slt/captured_it_1"))
+    items.insert(6, ("captured it", "slt/captured_it_2"))
+    scene = make_scene(tmp_path / "inflection.wav", items, snr_db=15.0, seed=0)
+    words = PocketsphinxBackend().words(load_audio(scene.path), TriggerSpec(("capture",)))
+    triggers = [w for w in words if w.word == "capture"]
+    assert "capturing" in {w.word for w in PocketsphinxBackend(expand=False).words(
+        load_audio(scene.path), TriggerSpec(("capture",)))}
+    assert len(triggers) == 7
+    assert all(any(a <= w.t <= b for a, b in scene.spans("capture")) for w in triggers)
+    assert not any(w.word == "capturing" for w in words)  # replaced by the trigger

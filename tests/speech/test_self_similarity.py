@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from speech_scenes import clip, make_scene
+from speech_scenes import clip, make_scene, run_together
 
 from speechcal_core.speech import Word
 from speechcal_core.speech.features import mfcc, normalize
@@ -99,3 +99,19 @@ def test_a_quieter_instance_may_cost_more_than_the_seeds_cost_each_other(
     assert found(0.0) == []  # 8 dB quieter: noise makes it cost more than the limit
     quiet = (spans[3][0] + spans[3][1]) / 2
     assert [round(t - quiet, 1) for t in found(0.05)] == [0.0]  # not rapture nor picture
+
+
+def test_a_match_at_the_start_of_longer_speech_is_no_trigger(tmp_path: Path) -> None:
+    # "capture" said straight into "higher": the template matches its start, but the sound
+    # runs on without a pause, as in "captured it?"; the same take said alone is found
+    items = [("capture", "rms/capture_1"), ("capture", "rms/capture_2"),
+             ("capture", "rms/capture_3"),
+             ("capture higher", run_together("rms/capture_2", "rms/higher_1")),
+             ("capture", "rms/capture_2")]
+    scene = make_scene(tmp_path / "run_on.wav", items, snr_db=12.0, seed=1)
+    spans = scene.spans("capture")
+    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in spans[:3]]
+    activity = voice_activity(scene.samples, 16000)
+    extra = expand_by_similarity(scene.samples, 16000, seeds, activity, blocked=[])
+    alone = (spans[3][0] + spans[3][1]) / 2
+    assert [round(w.t - alone, 1) for w in extra] == [0.0]

@@ -1,0 +1,41 @@
+"""Word bounds from the energy around a recognised word, and whether its sound runs on."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from speechcal_core.speech.timing import SEARCH_AFTER_S, refine_bounds, word_bounds
+
+RATE = 16000
+
+
+def _bursts(*spans: tuple[float, float], duration_s: float = 3.0) -> np.ndarray:
+    """Noise-like bursts at ``spans`` (seconds) over a quiet floor."""
+    rng = np.random.default_rng(0)
+    x = 0.001 * rng.standard_normal(int(duration_s * RATE))
+    for a, b in spans:
+        x[int(a * RATE):int(b * RATE)] += 0.1 * rng.standard_normal(int((b - a) * RATE))
+    return x.astype(np.float32)
+
+
+def _floor_db(x: np.ndarray) -> float:
+    from speechcal_core.speech.vad import band_energy_db
+
+    return float(np.percentile(band_energy_db(x, RATE), 20))
+
+
+def test_bounds_move_to_the_energy_and_a_word_ending_in_a_pause_does_not_run_on() -> None:
+    x = _bursts((1.0, 1.5), (1.8, 2.2))
+    bounds = word_bounds(x, RATE, 1.04, 1.45, _floor_db(x))
+    assert abs(bounds.start_s - 1.0) <= 0.03 and abs(bounds.end_s - 1.5) <= 0.03
+    assert not bounds.runs_on  # 0.3 s of quiet before the next burst
+    assert refine_bounds(x, RATE, 1.04, 1.45, _floor_db(x)) == bounds[:2]
+
+
+def test_a_word_whose_sound_goes_on_past_the_search_runs_on() -> None:
+    x = _bursts((1.0, 2.0))  # the recogniser's word ends at 1.5: more sound follows
+    bounds = word_bounds(x, RATE, 1.0, 1.5, _floor_db(x))
+    assert bounds.runs_on
+    assert bounds.end_s >= 1.5 + SEARCH_AFTER_S
+    short_pause = _bursts((1.0, 1.5), (1.53, 2.0))  # a stop closure, not a pause
+    assert word_bounds(short_pause, RATE, 1.0, 1.5, _floor_db(short_pause)).runs_on
