@@ -5,8 +5,8 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
-# Debian packages Qt needs at run time (also offscreen).
-QT_DEBS := libegl1 libgl1 libxkbcommon0 libdbus-1-3 libxcb-cursor0 libfontconfig1
+# Debian packages Qt needs at run time (also offscreen); QtMultimedia links libpulse.
+QT_DEBS := libegl1 libgl1 libxkbcommon0 libdbus-1-3 libxcb-cursor0 libfontconfig1 libpulse0
 
 .PHONY: demo test lint bench system-deps clean
 
