@@ -24,6 +24,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.audio_player import AudioPlayer
 from app.checks_action import ChecksAction
 from app.export_action import ExportAction
 from app.frame_grid import FrameGrid
@@ -35,6 +36,7 @@ from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
 from app.tasks import BackgroundTask, start
 from app.waveform import WaveformView
+from speechcal_core.audio.playback import word_span
 from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
@@ -63,6 +65,7 @@ class ReviewWindow(QMainWindow):
         self.load_error = ""
         self._pending_tiles: set[str] = set()
         self._playing = False
+        self._stepping = False  # the playhead moves because play goes on (not a jump)
         #: previously opened sessions, closed once no export, re-scoring or decode reads them
         self._retired: list[ReviewInputs] = []
         #: frame loaders of those sessions, until their last decode ends
@@ -78,6 +81,7 @@ class ReviewWindow(QMainWindow):
         self.rescorer = RescoreAction(self)
         self.checker = ChecksAction(self)
         self.similar = SimilarAction(self)
+        self.player = AudioPlayer(self, say=lambda text: self.status.end("audio", text))
         self._build_actions()
         self.setAcceptDrops(True)
         self._save_clock = QTimer(self)
@@ -153,6 +157,7 @@ class ReviewWindow(QMainWindow):
             shortcut = QShortcut(QKeySequence(key), self)
             shortcut.activated.connect(lambda a=action: self.run_action(a))
         QShortcut(QKeySequence("Space"), self).activated.connect(self.toggle_play)
+        QShortcut(QKeySequence("W"), self).activated.connect(self.hear_word)
         QShortcut(QKeySequence("Escape"), self).activated.connect(self._leave_enlarged)
 
     def _build_review_page(self, inputs: ReviewInputs) -> None:
@@ -229,8 +234,8 @@ class ReviewWindow(QMainWindow):
         ):
             sync_row.addWidget(self._action_button(label, action, tip))
         self.help_line = QLabel(
-            "Space play · ←/→ frame · J/K set · F filter · A/R/U decide · T add · Del remove · "
-            "S more like this · "
+            "Space play · W hear the word · ←/→ frame · J/K set · F filter · A/R/U decide · "
+            "T add · Del remove · S more like this · "
             "[ ] { } audio ±1 ms / ±1 frame · drag the clap handle · "
             "double-click a camera to enlarge, Esc back · "
             "waveform: wheel zooms, click moves the playhead")
@@ -343,6 +348,9 @@ class ReviewWindow(QMainWindow):
     def _on_loaded(self, inputs: ReviewInputs) -> None:
         self.status.end("open")
         self.task = None
+        if self._playing:
+            self.toggle_play()
+        self.player.set_source(inputs.session.audio)
         if self.loader is not None:
             self.loader.shutdown()
             if self.loader.reading():  # its recording stays open until the decode ends
@@ -360,6 +368,7 @@ class ReviewWindow(QMainWindow):
         self.loader.failed.connect(self._on_frame_failed)
         self._build_review_page(inputs)
         self.model.connect("playhead", lambda _t: self._refresh_playhead())
+        self.model.connect("playhead", self._on_playhead_moved)
         self.model.connect("current_set", self.table.select_row)
         self.model.connect("decision", self._on_decision)
         self.model.connect("sets", self.rescorer.schedule)
@@ -578,14 +587,24 @@ class ReviewWindow(QMainWindow):
 
     # -- playback -----------------------------------------------------------------------
     def toggle_play(self) -> None:
+        """Space: play from the playhead, with the audio from there; again: pause."""
         if self.model is None:
             return
         self._playing = not self._playing
         self._play_started = (time.monotonic(), self.model.playhead_ns)
         if self._playing:
             self._play_timer.start()
+            self._play_sound()
         else:
             self._play_timer.stop()
+            self.player.stop()
+
+    def _play_sound(self, quiet: bool = False) -> None:
+        """The audio from the playhead on (until paused); ``quiet``: say nothing when
+        there is no sound (it was said when play started)."""
+        assert self.model is not None
+        t_s = float(self.model.session.sync.to_audio(self.model.playhead_ns))
+        self.player.play(t_s, quiet=quiet)
 
     def _play_step(self) -> None:
         if self.model is None:
@@ -594,7 +613,40 @@ class ReviewWindow(QMainWindow):
         target = p0 + int((time.monotonic() - t0) * 1e9)
         if target >= self.model.time_range_ns()[1]:
             self.toggle_play()
-        self.model.set_playhead(target)
+        self._stepping = True
+        try:
+            self.model.set_playhead(target)
+        finally:
+            self._stepping = False
+
+    def _on_playhead_moved(self, playhead_ns: int) -> None:
+        """The operator moved the playhead (or the offset) while playing: play on from
+        there, the sound too."""
+        if self._playing and not self._stepping:
+            self._play_started = (time.monotonic(), playhead_ns)
+            self._play_sound(quiet=True)
+
+    def hear_word(self) -> None:
+        """W: play the trigger word of the set under the playhead (the playhead stays)."""
+        model = self.model
+        if model is None:
+            return
+        frame_set = model.set_at_playhead()
+        if frame_set is None:
+            self.status.end("audio", "no frame set at the playhead: J / K go to one")
+            return
+        if self._playing:
+            self.toggle_play()
+        span = word_span(frame_set.trigger)
+        if not self.player.play(span.start_s, span.end_s):
+            return
+        if span.by_hand:
+            text = (f"set {frame_set.id} was added by hand and has no word bounds: playing "
+                    f"{span.end_s - span.start_s:.0f} s around its time")
+        else:
+            text = (f"playing set {frame_set.id}'s word \"{frame_set.trigger.word}\" "
+                    f"({span.end_s - span.start_s:.2f} s with margins)")
+        self.status.end("audio", text)
 
     def _leave_enlarged(self) -> None:
         if self.model is not None and self.grid._enlarged:
@@ -621,6 +673,8 @@ class ReviewWindow(QMainWindow):
     def closeEvent(self, event) -> None:
         if self.task is not None:
             self.task.cancel()
+        self._play_timer.stop()
+        self.player.shutdown()
         self.exporter.shutdown()
         self.rescorer.shutdown()
         self.checker.shutdown()
