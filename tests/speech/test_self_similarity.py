@@ -5,13 +5,21 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from speech_scenes import clip, make_scene, run_together
+from speech_scenes import Scene, clip, make_scene, run_together
 
 from speechcal_core.speech import Word
 from speechcal_core.speech.features import mfcc, normalize
 from speechcal_core.speech.query_by_example import unit_rows
 from speechcal_core.speech.self_similarity import confirm_and_expand, expand_by_similarity
 from speechcal_core.speech.vad import voice_activity
+
+
+def expand_from_first(scene: Scene, n_seeds: int) -> list[Word]:
+    """What the similarity search adds to the scene's first ``n_seeds`` triggers."""
+    seeds = [Word("capture", a, b, 0.9, "pocketsphinx")
+             for a, b in scene.spans("capture")[:n_seeds]]
+    activity = voice_activity(scene.samples, 16000)
+    return expand_by_similarity(scene.samples, 16000, seeds, activity, blocked=[])
 
 
 def test_two_found_instances_lead_to_the_missed_ones_only(tmp_path: Path) -> None:
@@ -21,9 +29,7 @@ def test_two_found_instances_lead_to_the_missed_ones_only(tmp_path: Path) -> Non
              ("capture", "rms/capture_5")]
     scene = make_scene(tmp_path / "rms.wav", items, snr_db=12.0, seed=7)
     spans = scene.spans("capture")
-    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in spans[:2]]
-    activity = voice_activity(scene.samples, 16000)
-    extra = expand_by_similarity(scene.samples, 16000, seeds, activity, blocked=[])
+    extra = expand_from_first(scene, 2)
     missed = [(a + b) / 2 for a, b in spans[2:]]
     assert len(extra) == 2
     assert all(min(abs(w.t - t) for t in missed) < 0.05 for w in extra)
@@ -110,8 +116,6 @@ def test_a_match_at_the_start_of_longer_speech_is_no_trigger(tmp_path: Path) -> 
              ("capture", "rms/capture_2")]
     scene = make_scene(tmp_path / "run_on.wav", items, snr_db=12.0, seed=1)
     spans = scene.spans("capture")
-    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in spans[:3]]
-    activity = voice_activity(scene.samples, 16000)
-    extra = expand_by_similarity(scene.samples, 16000, seeds, activity, blocked=[])
+    extra = expand_from_first(scene, 3)
     alone = (spans[3][0] + spans[3][1]) / 2
     assert [round(w.t - alone, 1) for w in extra] == [0.0]
