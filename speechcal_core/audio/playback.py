@@ -5,6 +5,11 @@
 whole): by audio seconds, by session time through the sync model, or a frame set's
 trigger word with a margin. Stretches are clipped to the file; a file that cannot be read
 raises :class:`~speechcal_core.audio.errors.AudioError` naming it.
+
+Two small pieces of arithmetic for playing them, kept here without Qt so they are tested
+without a sound device: :func:`heard_s` (how far into a stretch the sound has got, from
+what the audio output reports) and :class:`RestartThrottle` (a playhead dragged while
+playing restarts the sound at most once per interval).
 """
 
 from __future__ import annotations
@@ -31,6 +36,8 @@ BY_HAND_SPAN_S = 1.0
 MIN_WORD_S = 0.05
 #: block length of :meth:`PlaybackAudio.blocks`
 BLOCK_S = 0.25
+#: a playhead moved while playing restarts the sound at most this often
+RESTART_INTERVAL_S = 0.12
 
 
 @dataclass(frozen=True)
@@ -114,13 +121,77 @@ class PlaybackAudio:
         span = word_span(trigger)
         return self.clip(span.start_s, span.end_s), span
 
+    def start_index(self, start_s: float, lead_in: bool = False) -> int:
+        """The first sample to play from ``start_s``: clipped to the file; with
+        ``lead_in`` one before the file's start is kept (negative: silence to play until
+        the file starts, so the sound keeps time with a playhead there)."""
+        if lead_in:
+            return min(round(start_s * self.rate), self.samples.size)
+        return self.index(start_s)
+
     def blocks(self, start_s: float, end_s: float | None = None,
-               block_s: float = BLOCK_S) -> Iterator[Clip]:
+               block_s: float = BLOCK_S, *, lead_in: bool = False) -> Iterator[Clip]:
         """``start_s`` .. ``end_s`` (default: the file's end) in consecutive clips of
-        ``block_s``, read from the file one at a time (for playing as it goes)."""
-        a = self.index(start_s)
+        ``block_s``, read from the file one at a time (for playing as it goes); with
+        ``lead_in``, a start before the file begins with silence (see
+        :meth:`start_index`)."""
+        a = self.start_index(start_s, lead_in)
         b = self.samples.size if end_s is None else max(a, self.index(end_s))
         step = max(1, round(block_s * self.rate))
         for i in range(a, b, step):
             j = min(i + step, b)
-            yield Clip(to_pcm16(self.samples.read(i, j)), self.rate, i / self.rate)
+            silent = max(min(j, 0) - i, 0)  # samples before the file's start
+            pcm = (to_pcm16(self.samples.read(i + silent, j)) if j > i + silent
+                   else np.zeros(0, np.int16))
+            if silent:
+                pcm = np.concatenate([np.zeros(silent, np.int16), pcm])
+            yield Clip(pcm, self.rate, i / self.rate)
+
+
+def heard_s(start_s: float, rate: int, written: int, buffered: int,
+            processed_us: int) -> float:
+    """Audio seconds the sound of a stretch has got to: the stretch's first sample at
+    ``start_s``, ``written`` samples (at ``rate`` Hz) handed to the output so far,
+    ``buffered`` of them still in its buffer, and ``processed_us`` what the output says
+    it has processed (``QAudioSink.processedUSecs``).
+
+    The output's figure, but never past what has left its buffer: backends differ in
+    whether they count what they hold (PySide6 6.11 on PulseAudio counts exactly what
+    left the buffer, so the figure is used as it is there).
+    """
+    left = max(written - buffered, 0) / rate
+    return start_s + min(max(processed_us, 0) / 1e6, left)
+
+
+class RestartThrottle:
+    """When to restart the sound for a playhead that keeps moving while playing (a drag
+    of the playhead or the clap handle): the first move at once, moves within
+    ``interval_s`` of the last restart together once that interval is over, from where
+    the playhead then is. Times are the caller's clock (``time.monotonic()``)."""
+
+    def __init__(self, interval_s: float = RESTART_INTERVAL_S) -> None:
+        self.interval_s = interval_s
+        self._last = -float("inf")
+        #: a restart is waiting for the interval to end
+        self.pending = False
+
+    def request(self, now: float) -> float | None:
+        """The playhead moved at ``now``: seconds until the restart (0: restart now,
+        then call :meth:`done`), or None when one is already waiting (it will start
+        from the latest position)."""
+        if self.pending:
+            return None
+        wait = self._last + self.interval_s - now
+        if wait <= 0:
+            return 0.0
+        self.pending = True
+        return wait
+
+    def done(self, now: float) -> None:
+        """The sound was (re)started at ``now``."""
+        self._last = now
+        self.pending = False
+
+    def cancel(self) -> None:
+        """Play stopped: nothing is waiting any more."""
+        self.pending = False

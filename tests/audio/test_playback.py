@@ -1,5 +1,6 @@
 """The PCM the review window plays: stretches of real audio files as int16 mono, by audio
-seconds, session time or a set's trigger word, clipped to the file."""
+seconds, session time or a set's trigger word, clipped to the file; how far a stretch's
+sound has got, and how often a dragged playhead restarts it."""
 
 from __future__ import annotations
 
@@ -13,7 +14,14 @@ from audio_files import write_gated_tone
 from truth_sessions import quiet_time_s
 
 from speechcal_core.audio.errors import AudioError
-from speechcal_core.audio.playback import BY_HAND_SPAN_S, WORD_MARGIN_S, PlaybackAudio
+from speechcal_core.audio.playback import (
+    BY_HAND_SPAN_S,
+    RESTART_INTERVAL_S,
+    WORD_MARGIN_S,
+    PlaybackAudio,
+    RestartThrottle,
+    heard_s,
+)
 from speechcal_core.session.model import Trigger
 from speechcal_core.sync.model import SyncModel
 
@@ -109,6 +117,23 @@ def test_blocks_put_together_are_the_stretch(tmp_path: Path, name: str, channels
     assert sum(b.pcm.size for b in to_end) == round(0.9 * 44100)
 
 
+def test_a_start_before_the_file_plays_silence_until_it_starts(tmp_path: Path) -> None:
+    ints = _ints(tmp_path / "a.wav")
+    audio = PlaybackAudio(tmp_path / "a.wav")
+    assert audio.start_index(-0.6, lead_in=True) == -round(0.6 * RATE)
+    assert audio.start_index(-0.6) == 0
+    blocks = list(audio.blocks(-0.6, 0.8, block_s=0.25, lead_in=True))
+    assert blocks[0].start_s == pytest.approx(-0.6)
+    assert [round(b.duration_s, 3) for b in blocks] == [0.25] * 5 + [0.15]
+    pcm = np.concatenate([b.pcm for b in blocks])
+    lead = round(0.6 * RATE)
+    assert not pcm[:lead].any()  # silence, the block across 0 s included
+    np.testing.assert_array_equal(pcm[lead:], ints[:round(0.8 * RATE)])
+    assert next(audio.blocks(-0.6, 0.8, block_s=0.25)).start_s == 0.0  # no lead-in
+    assert audio.start_index(7.0, lead_in=True) == audio.samples.size  # past the end
+    assert list(audio.blocks(7.0, lead_in=True)) == []
+
+
 def test_another_rate_is_resampled(tmp_path: Path) -> None:
     _ints(tmp_path / "a.wav")
     audio = PlaybackAudio(tmp_path / "a.wav", rate=44100)
@@ -139,3 +164,57 @@ def test_a_file_moved_after_opening_is_named(tmp_path: Path) -> None:
     shutil.move(tmp_path / "a.wav", tmp_path / "b.wav")
     with pytest.raises(AudioError, match=r"a\.wav: could not read the audio again"):
         audio.clip(1.0, 2.0)
+
+
+def test_the_sound_has_got_as_far_as_the_output_has_processed() -> None:
+    rate = 48000
+    # nothing processed yet (an output still starting): the stretch's start
+    assert heard_s(12.5, rate, written=9600, buffered=9600, processed_us=0) == 12.5
+    # PySide6 6.11 on PulseAudio: processed is what left the buffer
+    assert heard_s(12.5, rate, written=48000, buffered=9600,
+                   processed_us=800_000) == pytest.approx(13.3)
+    # an output counting what it holds: never past what has left the buffer
+    assert heard_s(12.5, rate, written=48000, buffered=9600,
+                   processed_us=1_000_000) == pytest.approx(13.3)
+    # one behind that (played, latency taken off): its own figure
+    assert heard_s(12.5, rate, written=48000, buffered=9600,
+                   processed_us=650_000) == pytest.approx(13.15)
+    assert heard_s(-0.5, rate, written=0, buffered=0, processed_us=0) == -0.5  # lead-in
+
+
+def test_a_drag_restarts_the_sound_at_most_once_per_interval() -> None:
+    throttle = RestartThrottle(0.12)
+    assert throttle.request(10.0) == 0.0  # the first move: at once
+    throttle.done(10.0)
+    moves = [10.0 + 0.01 * k for k in range(1, 100)]  # a second of mouse moves, 10 ms apart
+    restarts = [10.0]
+    waits = []
+    for now in moves:
+        wait = throttle.request(now)
+        if wait == 0:
+            throttle.done(now)
+            restarts.append(now)
+        elif wait is not None:
+            waits.append(now + wait)
+        if waits and now >= waits[0]:  # the single-shot timer fires
+            throttle.done(waits.pop(0))
+            restarts.append(now)
+    assert np.diff(restarts).min() >= 0.12 - 1e-9
+    assert 7 <= len(restarts) <= 10  # a second / 0.12 s, not a hundred
+    assert 0.1 <= RESTART_INTERVAL_S <= 0.15  # short enough to follow a drag by ear
+
+
+def test_a_move_after_a_quiet_interval_restarts_at_once() -> None:
+    throttle = RestartThrottle(0.12)
+    throttle.done(5.0)
+    assert throttle.request(5.05) == pytest.approx(0.07)  # waits for the interval's end
+    assert throttle.pending
+    assert throttle.request(5.08) is None  # already waiting: one restart for both
+    throttle.done(5.12)
+    assert not throttle.pending
+    assert throttle.request(5.40) == 0.0
+    throttle.done(5.40)
+    assert throttle.request(5.45) == pytest.approx(0.07)
+    throttle.cancel()  # paused: nothing waits, and the next play is not held back
+    assert not throttle.pending
+    assert throttle.request(5.70) == 0.0
