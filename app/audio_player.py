@@ -3,8 +3,11 @@ output (QtMultimedia's ``QAudioSink``, fed 16-bit mono PCM as it is read).
 
 The samples come from :class:`~speechcal_core.audio.playback.PlaybackAudio`, read a
 quarter second at a time on a worker thread (:class:`BlockReader`) and written to the
-sink on the UI thread as it takes them; the UI thread never reads the file. Without an
-audio output (no sound device, as on CI, or QtMultimedia not loadable) nothing plays and
+sink on the UI thread as it takes them; the UI thread never reads the file.
+:meth:`AudioPlayer.heard_s` says how far the sound has got by what the sink reports it
+has played (not by the clock: the sink holds :data:`BUFFER_S` ahead, and may take a while
+to start), so the window's playhead can follow the sound. Without an audio output (no
+sound device, as on CI, or QtMultimedia not loadable) nothing plays and
 :meth:`AudioPlayer.play` says why through ``say``; everything else goes on without sound.
 """
 
@@ -21,7 +24,7 @@ from typing import Any
 
 from PySide6.QtCore import QObject, QTimer
 
-from speechcal_core.audio.playback import Clip, PlaybackAudio
+from speechcal_core.audio.playback import Clip, PlaybackAudio, heard_s
 from speechcal_core.errors import SpeechCalError
 
 #: what the sink holds ahead of the sound (latency of a restart, and slack for the UI thread)
@@ -105,6 +108,9 @@ class AudioPlayer(QObject):
         self._reader: BlockReader | None = None
         self._pending = b""
         self._ended_at: float | None = None  # when the reader's last block was written
+        self._start_s = 0.0  # audio time of the stretch's first sample
+        self._rate = 1  # the sink's sample rate
+        self._written = 0  # bytes handed to the sink
         self._timer = QTimer(self)
         self._timer.setInterval(FEED_MS)
         self._timer.timeout.connect(self._feed)
@@ -115,10 +121,22 @@ class AudioPlayer(QObject):
         #: seconds from the last :meth:`play` to its first samples handed to the output
         self.start_latency_s: float | None = None
         self._asked_at = 0.0
+        #: how many times :meth:`play` was asked (each restart counts)
+        self.plays = 0
 
     @property
     def playing(self) -> bool:
         return self._sink is not None
+
+    def heard_s(self) -> float | None:
+        """Audio seconds the sound has got to (what the sink has played, the stretch's
+        start until it starts); None when nothing plays."""
+        sink = self._sink
+        if sink is None:
+            return None
+        buffered = max(sink.bufferSize() - sink.bytesFree(), 0) // 2
+        return heard_s(self._start_s, self._rate, self._written // 2, buffered,
+                       sink.processedUSecs())
 
     def set_source(self, path: str | Path | None) -> None:
         """The audio file to play from (another session was opened)."""
@@ -126,14 +144,17 @@ class AudioPlayer(QObject):
         self._path = Path(path) if path else None
         self._audio = {}
 
-    def play(self, start_s: float, end_s: float | None = None, *, quiet: bool = False) -> bool:
-        """Play audio seconds ``start_s`` .. ``end_s`` (default: to the end of the file).
+    def play(self, start_s: float, end_s: float | None = None, *, quiet: bool = False,
+             lead_in: bool = False) -> bool:
+        """Play audio seconds ``start_s`` .. ``end_s`` (default: to the end of the file);
+        ``lead_in``: a start before the file plays silence until it starts.
 
         False when nothing plays; then ``say`` has been told why (unless ``quiet``).
         """
         self.stop()
         self._asked_at = time.monotonic()
         self.asked = (start_s, end_s)
+        self.plays += 1
         self.start_latency_s = None
         if self._path is None:
             return self._cannot("this session has no audio file to play", quiet)
@@ -152,6 +173,10 @@ class AudioPlayer(QObject):
         if fmt is None:
             return self._cannot(f"no audio output: {device.description()} takes no 16-bit "
                                 "mono sound", quiet)
+        first = audio.start_index(start_s, lead_in)
+        if first >= (audio.samples.size if end_s is None else audio.index(end_s)):
+            return self._cannot("no sound here: the audio file holds audio seconds 0 to "
+                                f"{audio.duration_s:.3f}", quiet)
         sink = qt.QAudioSink(device, fmt, self)
         sink.setBufferSize(2 * round(audio.rate * BUFFER_S))
         io = sink.start()
@@ -161,7 +186,8 @@ class AudioPlayer(QObject):
             return self._cannot(f"no audio output: {device.description()} could not be "
                                 f"opened ({sink.error().name})", quiet)
         self._sink, self._io = sink, io
-        self._reader = BlockReader(audio.blocks(start_s, end_s))
+        self._start_s, self._rate = first / audio.rate, audio.rate
+        self._reader = BlockReader(audio.blocks(start_s, end_s, lead_in=lead_in))
         self.unavailable = ""
         self._timer.start()
         return True
@@ -224,6 +250,7 @@ class AudioPlayer(QObject):
             if self.start_latency_s is None:
                 self.start_latency_s = time.monotonic() - self._asked_at
             self._pending = self._pending[written:]
+            self._written += written
         if self._ended_at is not None and not self._pending and (
                 sink.state() == qt.QtAudio.State.IdleState
                 or time.monotonic() - self._ended_at > BUFFER_S + 0.5):
@@ -241,6 +268,7 @@ class AudioPlayer(QObject):
         self._sink = self._io = None
         self._pending = b""
         self._ended_at = None
+        self._written = 0
 
     def shutdown(self) -> None:
         """The window closes: stop, and forget the file."""

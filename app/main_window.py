@@ -36,7 +36,7 @@ from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
 from app.tasks import BackgroundTask, start
 from app.waveform import WaveformView
-from speechcal_core.audio.playback import word_span
+from speechcal_core.audio.playback import RestartThrottle, word_span
 from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
@@ -90,6 +90,10 @@ class ReviewWindow(QMainWindow):
         self._play_timer = QTimer(self)
         self._play_timer.setInterval(40)
         self._play_timer.timeout.connect(self._play_step)
+        self._restarts = RestartThrottle()  # a playhead dragged while playing
+        self._restart_timer = QTimer(self)
+        self._restart_timer.setSingleShot(True)
+        self._restart_timer.timeout.connect(self._restart_sound)
 
     # -- construction -------------------------------------------------------------------
     def _build_empty_page(self) -> QWidget:
@@ -592,6 +596,8 @@ class ReviewWindow(QMainWindow):
             return
         self._playing = not self._playing
         self._play_started = (time.monotonic(), self.model.playhead_ns)
+        self._restart_timer.stop()
+        self._restarts.cancel()
         if self._playing:
             self._play_timer.start()
             self._play_sound()
@@ -604,13 +610,24 @@ class ReviewWindow(QMainWindow):
         there is no sound (it was said when play started)."""
         assert self.model is not None
         t_s = float(self.model.session.sync.to_audio(self.model.playhead_ns))
-        self.player.play(t_s, quiet=quiet)
+        self._restarts.done(time.monotonic())
+        self.player.play(t_s, quiet=quiet, lead_in=True)
 
     def _play_step(self) -> None:
-        if self.model is None:
+        """The playhead follows the sound: where the audio output has got to, so what is
+        seen is what is heard; by the clock only while nothing plays (no audio output,
+        or past the audio's end). It waits while a restart is due (see
+        :meth:`_on_playhead_moved`)."""
+        if self.model is None or self._restarts.pending:
             return
-        t0, p0 = self._play_started
-        target = p0 + int((time.monotonic() - t0) * 1e9)
+        now = time.monotonic()
+        heard = self.player.heard_s()
+        if heard is not None:
+            target = int(self.model.session.sync.to_session(heard))
+            self._play_started = (now, target)  # the clock goes on from here if sound ends
+        else:
+            t0, p0 = self._play_started
+            target = p0 + int((now - t0) * 1e9)
         if target >= self.model.time_range_ns()[1]:
             self.toggle_play()
         self._stepping = True
@@ -621,10 +638,26 @@ class ReviewWindow(QMainWindow):
 
     def _on_playhead_moved(self, playhead_ns: int) -> None:
         """The operator moved the playhead (or the offset) while playing: play on from
-        there, the sound too."""
-        if self._playing and not self._stepping:
-            self._play_started = (time.monotonic(), playhead_ns)
+        there, the sound too; a drag restarts the sound at most once per
+        :data:`~speechcal_core.audio.playback.RESTART_INTERVAL_S`, from where the
+        playhead is by then."""
+        if not self._playing or self._stepping:
+            return
+        now = time.monotonic()
+        self._play_started = (now, playhead_ns)
+        wait = self._restarts.request(now)
+        if wait == 0:
             self._play_sound(quiet=True)
+        elif wait is not None:
+            self._restart_timer.start(max(1, round(wait * 1000)))
+
+    def _restart_sound(self) -> None:
+        """A restart waited for the drag's interval: the sound from the playhead now."""
+        if self._playing and self.model is not None:
+            self._play_started = (time.monotonic(), self.model.playhead_ns)
+            self._play_sound(quiet=True)
+        else:
+            self._restarts.cancel()
 
     def hear_word(self) -> None:
         """W: play the trigger word of the set under the playhead (the playhead stays)."""
@@ -674,6 +707,7 @@ class ReviewWindow(QMainWindow):
         if self.task is not None:
             self.task.cancel()
         self._play_timer.stop()
+        self._restart_timer.stop()
         self.player.shutdown()
         self.exporter.shutdown()
         self.rescorer.shutdown()

@@ -1,10 +1,16 @@
 """Hearing the audio in the review window: W plays the word of the set under the playhead,
-Space plays from the playhead; without an audio output (as here and on CI: offscreen, no
-sound card) the status line says so once and everything else works."""
+Space plays from the playhead, which follows what the audio output has played, and a drag
+restarts the sound at most once per short interval; without an audio output (as on CI:
+offscreen, no sound card) the status line says so once and everything else works.
+
+The tests marked ``needs_output`` play for real; they run where there is an audio output
+(a PulseAudio null sink will do: ``pulseaudio --start -n --load=module-null-sink
+--load=module-native-protocol-unix``) and are skipped elsewhere."""
 
 from __future__ import annotations
 
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -13,15 +19,19 @@ import soundfile as sf
 from PySide6.QtCore import Qt
 
 import app.audio_player
-from app.audio_player import BlockReader, multimedia
+from app.audio_player import BUFFER_S, AudioPlayer, BlockReader, multimedia
 from speechcal_core.audio.errors import AudioError
-from speechcal_core.audio.playback import WORD_MARGIN_S, PlaybackAudio
+from speechcal_core.audio.playback import RESTART_INTERVAL_S, WORD_MARGIN_S, PlaybackAudio
 from speechcal_core.review.model import set_time_ns
 
 
 def _has_output() -> bool:
     qt, _ = multimedia()
     return qt is not None and not qt.QMediaDevices.defaultAudioOutput().isNull()
+
+
+needs_output = pytest.mark.skipif(
+    "not _has_output()", reason="no audio output here (no sound device or sound server)")
 
 
 def test_qtmultimedia_loads_from_the_installed_pyside6() -> None:
@@ -166,3 +176,126 @@ def test_a_reader_hands_over_the_files_error(tmp_path: Path) -> None:
     reader.join(1.0)
     error = reader.take()
     assert isinstance(error, AudioError) and "a.wav" in str(error)
+
+
+@needs_output
+def test_the_sound_goes_as_far_as_the_output_has_played(qtbot, qapp, tiny_synth) -> None:
+    folder, truth = tiny_synth
+    said: list[str] = []
+    player = AudioPlayer(None, say=said.append)
+    player.set_source(folder / truth["audio"])
+    try:
+        t0 = time.monotonic()
+        assert player.play(2.0, 3.0), said
+        seen: list[tuple[float, float]] = []
+        while player.playing and time.monotonic() - t0 < 6.0:
+            heard = player.heard_s()
+            seen.append((time.monotonic() - t0, heard))
+            qtbot.wait(10)
+        assert not player.playing  # it stopped by itself, at the stretch's end
+        got = np.array(seen)
+        assert got[0, 1] == 2.0  # nothing heard before the output starts
+        assert (np.diff(got[:, 1]) >= 0).all()
+        assert got[-1, 1] > 2.9
+        # never ahead of the clock, and a buffer behind it once the sink is fed
+        assert (got[:, 1] - 2.0 <= got[:, 0] + 0.02).all()
+        moving = got[(got[:, 1] > 2.05) & (got[:, 1] < 2.9)]
+        assert len(moving) > 10
+        rate = (moving[-1, 1] - moving[0, 1]) / (moving[-1, 0] - moving[0, 0])
+        assert rate == pytest.approx(1.0, abs=0.2)  # the sound's own pace
+    finally:
+        player.shutdown()
+
+
+@needs_output
+def test_a_start_past_the_audios_end_says_there_is_no_sound(qapp, tiny_synth) -> None:
+    folder, truth = tiny_synth
+    said: list[str] = []
+    player = AudioPlayer(None, say=said.append)
+    player.set_source(folder / truth["audio"])
+    assert not player.play(60.0, lead_in=True)
+    end_s = PlaybackAudio(folder / truth["audio"]).duration_s
+    assert said == [f"no sound here: the audio file holds audio seconds 0 to {end_s:.3f}"]
+    assert player.play(-0.3, 0.2, lead_in=True)  # before the start: silence, then sound
+    assert player.heard_s() == pytest.approx(-0.3)
+    player.shutdown()
+
+
+@needs_output
+def test_the_playhead_shows_what_is_heard_not_the_clock(qtbot, window) -> None:
+    model = window.model
+    sync = model.session.sync
+    model.go_to_set(0)
+    start = model.playhead_ns
+    t0 = time.monotonic()
+    qtbot.keyClick(window, Qt.Key.Key_Space)
+    assert window.player.playing
+    qtbot.waitUntil(lambda: model.playhead_ns > start + 300_000_000, timeout=6_000)
+    for _ in range(10):
+        heard = window.player.heard_s()
+        assert heard is not None
+        # one step (40 ms) apart at most, the sound's pace in between
+        assert abs(model.playhead_ns - sync.to_session(heard)) < 70_000_000
+        # the clock would be ahead by what the sink holds (and its start-up)
+        clock = start + int((time.monotonic() - t0) * 1e9)
+        assert model.playhead_ns < clock - BUFFER_S / 2 * 1e9
+        qtbot.wait(30)
+    qtbot.keyClick(window, Qt.Key.Key_Space)
+    assert not window.player.playing
+
+
+def _drag(qtbot, window, move, positions) -> list[int]:
+    """``move`` to each of ``positions`` 10 ms apart (the mouse moves of a drag); the
+    playhead after each."""
+    after = []
+    for value in positions:
+        move(value)
+        qtbot.wait(10)
+        after.append(window.model.playhead_ns)
+    return after
+
+
+def test_dragging_the_playhead_while_playing_restarts_the_sound_now_and_then(
+        qtbot, window) -> None:
+    model = window.model
+    model.go_to_set(1)
+    start = model.playhead_ns
+    qtbot.keyClick(window, Qt.Key.Key_Space)
+    qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)
+    plays = window.player.plays
+    t0 = time.monotonic()
+    positions = [start + k * 20_000_000 for k in range(1, 41)]  # 40 moves, 0.8 s forward
+    after = _drag(qtbot, window, model.set_playhead, positions)
+    dragged_s = time.monotonic() - t0
+    qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)  # the last restart, from the last move
+    restarts = window.player.plays - plays
+    assert 2 <= restarts <= dragged_s / RESTART_INTERVAL_S + 2  # not one a move
+    sync = model.session.sync
+    assert window.player.asked[0] == pytest.approx(sync.to_audio(positions[-1]))
+    # the playhead stays with the mouse: sound of the stretch before does not pull it back
+    for pos, now in zip(positions, after, strict=True):
+        assert pos <= now < pos + 60_000_000
+    assert window._playing
+    qtbot.keyClick(window, Qt.Key.Key_Space)
+    assert not window.player.playing
+
+
+def test_dragging_the_clap_while_playing_restarts_the_sound_now_and_then(
+        qtbot, window) -> None:
+    model = window.model
+    model.go_to_set(1)
+    set_ns = model.playhead_ns
+    qtbot.keyClick(window, Qt.Key.Key_Space)
+    qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)
+    plays = window.player.plays
+    shifts = [k * 5_000_000 for k in range(1, 41)]  # the handle 0.2 s on, 5 ms a move
+    _drag(qtbot, window, window.waveform.clap_dragging.emit, shifts)
+    assert window.player.plays - plays <= 40 * 0.01 / RESTART_INTERVAL_S + 3
+    window.waveform.clap_moved.emit(shifts[-1])  # released: the offset is applied
+    qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)
+    moved_ns = set_time_ns(model.current_set)
+    assert model.current == 1 and moved_ns != set_ns  # the set moved with the offset
+    # and the sound plays on from it, through the new offset
+    assert window.player.asked[0] == pytest.approx(model.session.sync.to_audio(moved_ns))
+    qtbot.keyClick(window, Qt.Key.Key_Space)
+    assert not window.player.playing
