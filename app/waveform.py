@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Signal
+from PySide6.QtCore import Qt, Signal
 
 from app.style import DECISION_COLOURS, DECISION_SYMBOLS, PLAYHEAD_COLOUR
 
@@ -22,9 +22,11 @@ class WaveformView(pg.PlotWidget):
     The x axis is session time in seconds from ``origin_ns`` (the first camera frame).
     """
 
-    playhead_moved = Signal(int)  # session ns
-    clap_moved = Signal(int)  # how far the clap handle was dragged, ns (on release)
-    clap_dragging = Signal(int)  # the same while the handle is being dragged
+    # nanoseconds are Python ints carried as objects: Signal(int) is a 32-bit C int, which
+    # wraps session times (~1.7e18 ns) and clap shifts beyond 2.1 s
+    playhead_moved = Signal(object)  # session ns
+    clap_moved = Signal(object)  # how far the clap handle was dragged, ns (on release)
+    clap_dragging = Signal(object)  # the same while the handle is being dragged
     #: the audio file could not be read again (moved?): what to tell the operator, once
     audio_unreadable = Signal(str)
 
@@ -156,7 +158,7 @@ class WaveformView(pg.PlotWidget):
             self.setXRange(x - span * 0.1, x + span * 0.9, padding=0)
 
     def _clicked(self, event) -> None:
-        if event.button() != 1 or event.double():
+        if event.button() != Qt.MouseButton.LeftButton or event.double():
             return
         pos = self.getViewBox().mapSceneToView(event.scenePos())
         self.playhead_moved.emit(self._to_ns(pos.x()))

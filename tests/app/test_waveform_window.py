@@ -1,5 +1,6 @@
-"""The waveform in the window: an audio file moved during the session is named on the
-status line, once, with what to do."""
+"""The waveform in the window: a click or a drag of the playhead line moves the playhead
+(session nanoseconds, beyond 32 bits); an audio file moved during the session is named on
+the status line, once, with what to do."""
 
 from __future__ import annotations
 
@@ -36,3 +37,29 @@ def test_moved_audio_file_is_named_once_on_the_status_line(open_window, tiny_syn
     waveform.setXRange(x0 - 1.0, x0 - 0.95, padding=0)
     waveform.setXRange(x0 + 0.5, x0 + 1.0, padding=0)
     assert "coarse levels" not in window.status_text.text()  # said once only
+
+
+def test_a_click_on_the_waveform_moves_the_playhead_there(window, qtbot) -> None:
+    from PySide6.QtCore import QPoint, QPointF, Qt
+
+    waveform = window.waveform
+    x0, x1 = waveform.getViewBox().viewRange()[0]
+    target_x = x0 + 0.6 * (x1 - x0)
+    scene_pos = waveform.getViewBox().mapViewToScene(QPointF(target_x, 0.0))
+    point = waveform.mapFromScene(scene_pos)
+    for press in (qtbot.mousePress, qtbot.mouseRelease):  # a click, as pyqtgraph sees one
+        press(waveform.viewport(), Qt.MouseButton.LeftButton, pos=QPoint(point.x(), point.y()))
+        qtbot.wait(20)
+    expected_ns = waveform.origin_ns + round(target_x * 1e9)
+    pixel_ns = (x1 - x0) / waveform.width() * 1e9
+    assert abs(window.model.playhead_ns - expected_ns) <= 2 * pixel_ns
+    assert abs(waveform.playhead.value() - target_x) <= 2 * pixel_ns / 1e9
+
+
+def test_dragging_the_playhead_line_moves_the_playhead(window) -> None:
+    waveform = window.waveform
+    x0, x1 = waveform.getViewBox().viewRange()[0]
+    target_x = x0 + 0.3 * (x1 - x0)
+    waveform.playhead.setValue(target_x)
+    waveform.playhead.sigDragged.emit(waveform.playhead)  # what a mouse drag emits
+    assert abs(window.model.playhead_ns - (waveform.origin_ns + round(target_x * 1e9))) <= 1
