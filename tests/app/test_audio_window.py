@@ -9,6 +9,7 @@ The tests marked ``needs_output`` play for real; they run where there is an audi
 
 from __future__ import annotations
 
+import shutil
 import sys
 import time
 from pathlib import Path
@@ -17,12 +18,14 @@ import numpy as np
 import pytest
 import soundfile as sf
 from PySide6.QtCore import Qt
+from truth_sessions import truth_session
 
 import app.audio_player
 from app.audio_player import BUFFER_S, AudioPlayer, BlockReader, multimedia
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.playback import RESTART_INTERVAL_S, WORD_MARGIN_S, PlaybackAudio
 from speechcal_core.review.model import set_time_ns
+from speechcal_core.session.store import save_session
 
 
 def _has_output() -> bool:
@@ -128,16 +131,18 @@ def test_without_qtmultimedia_the_window_says_so_and_plays_on(
     assert window.status_text.text().count("no audio output") == 1
 
 
-def test_a_moved_audio_file_is_named(qtbot, window, tmp_path: Path) -> None:
+def test_a_moved_audio_file_is_named(qtbot, open_window, tiny_synth, tmp_path: Path) -> None:
+    folder, truth = tiny_synth
+    copy = tmp_path / "session"
+    shutil.copytree(folder, copy)  # the shared session's audio stays where it is
+    save_session(truth_session(copy, truth), tmp_path / "review.json")
+    window = open_window(tmp_path / "review.json")
     audio = Path(window.inputs.session.audio)
-    moved = tmp_path / "moved.ogg"
-    audio.rename(moved)
-    try:
-        qtbot.keyClick(window, Qt.Key.Key_W)
-        text = window.status_text.text()
-        assert f"cannot play the audio: {audio}: audio file not found" in text
-    finally:
-        moved.rename(audio)
+    assert str(copy) in str(audio)
+    audio.rename(tmp_path / "moved.ogg")
+    qtbot.keyClick(window, Qt.Key.Key_W)
+    text = window.status_text.text()
+    assert f"cannot play the audio: {audio}: audio file not found" in text
 
 
 def test_the_reader_thread_reads_the_stretch_block_by_block(tiny_synth) -> None:
