@@ -249,6 +249,16 @@ def test_the_playhead_shows_what_is_heard_not_the_clock(qtbot, window) -> None:
     assert not window.player.playing
 
 
+def _play_from_set_1(qtbot, window) -> tuple[int, int]:
+    """Space at frame set 1, then a restart interval later: the playhead where play
+    started, and the player's play count by then."""
+    window.model.go_to_set(1)
+    start = window.model.playhead_ns
+    qtbot.keyClick(window, Qt.Key.Key_Space)
+    qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)
+    return start, window.player.plays
+
+
 def _drag(qtbot, window, move, positions) -> list[int]:
     """``move`` to each of ``positions`` 10 ms apart (the mouse moves of a drag); the
     playhead after each."""
@@ -263,11 +273,7 @@ def _drag(qtbot, window, move, positions) -> list[int]:
 def test_dragging_the_playhead_while_playing_restarts_the_sound_now_and_then(
         qtbot, window) -> None:
     model = window.model
-    model.go_to_set(1)
-    start = model.playhead_ns
-    qtbot.keyClick(window, Qt.Key.Key_Space)
-    qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)
-    plays = window.player.plays
+    start, plays = _play_from_set_1(qtbot, window)
     t0 = time.monotonic()
     positions = [start + k * 20_000_000 for k in range(1, 41)]  # 40 moves, 0.8 s forward
     after = _drag(qtbot, window, model.set_playhead, positions)
@@ -288,11 +294,7 @@ def test_dragging_the_playhead_while_playing_restarts_the_sound_now_and_then(
 def test_dragging_the_clap_while_playing_restarts_the_sound_now_and_then(
         qtbot, window) -> None:
     model = window.model
-    model.go_to_set(1)
-    set_ns = model.playhead_ns
-    qtbot.keyClick(window, Qt.Key.Key_Space)
-    qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)
-    plays = window.player.plays
+    set_ns, plays = _play_from_set_1(qtbot, window)
     shifts = [k * 5_000_000 for k in range(1, 41)]  # the handle 0.2 s on, 5 ms a move
     _drag(qtbot, window, window.waveform.clap_dragging.emit, shifts)
     assert window.player.plays - plays <= 40 * 0.01 / RESTART_INTERVAL_S + 3
