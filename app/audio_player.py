@@ -174,7 +174,7 @@ class AudioPlayer(QObject):
             return self._cannot(f"no audio output: {device.description()} takes no 16-bit "
                                 "mono sound", quiet)
         first = audio.start_index(start_s, lead_in)
-        if first >= (audio.samples.size if end_s is None else audio.index(end_s)):
+        if first >= audio.end_index(end_s):
             return self._cannot("no sound here: the audio file holds audio seconds 0 to "
                                 f"{audio.duration_s:.3f}", quiet)
         sink = qt.QAudioSink(device, fmt, self)

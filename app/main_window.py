@@ -595,7 +595,6 @@ class ReviewWindow(QMainWindow):
         if self.model is None:
             return
         self._playing = not self._playing
-        self._play_started = (time.monotonic(), self.model.playhead_ns)
         self._restart_timer.stop()
         self._restarts.cancel()
         if self._playing:
@@ -606,11 +605,14 @@ class ReviewWindow(QMainWindow):
             self.player.stop()
 
     def _play_sound(self, quiet: bool = False) -> None:
-        """The audio from the playhead on (until paused); ``quiet``: say nothing when
-        there is no sound (it was said when play started)."""
+        """The audio from the playhead on (until paused), and the clock the playhead
+        follows where there is no sound; ``quiet``: say nothing when there is no sound
+        (it was said when play started)."""
         assert self.model is not None
+        now = time.monotonic()
+        self._play_started = (now, self.model.playhead_ns)
         t_s = float(self.model.session.sync.to_audio(self.model.playhead_ns))
-        self._restarts.done(time.monotonic())
+        self._restarts.done(now)
         self.player.play(t_s, quiet=quiet, lead_in=True)
 
     def _play_step(self) -> None:
@@ -643,9 +645,7 @@ class ReviewWindow(QMainWindow):
         playhead is by then."""
         if not self._playing or self._stepping:
             return
-        now = time.monotonic()
-        self._play_started = (now, playhead_ns)
-        wait = self._restarts.request(now)
+        wait = self._restarts.request(time.monotonic())
         if wait == 0:
             self._play_sound(quiet=True)
         elif wait is not None:
@@ -654,7 +654,6 @@ class ReviewWindow(QMainWindow):
     def _restart_sound(self) -> None:
         """A restart waited for the drag's interval: the sound from the playhead now."""
         if self._playing and self.model is not None:
-            self._play_started = (time.monotonic(), self.model.playhead_ns)
             self._play_sound(quiet=True)
         else:
             self._restarts.cancel()

@@ -129,6 +129,10 @@ class PlaybackAudio:
             return min(round(start_s * self.rate), self.samples.size)
         return self.index(start_s)
 
+    def end_index(self, end_s: float | None) -> int:
+        """The sample after the last to play up to ``end_s`` (None: the file's end)."""
+        return self.samples.size if end_s is None else self.index(end_s)
+
     def blocks(self, start_s: float, end_s: float | None = None,
                block_s: float = BLOCK_S, *, lead_in: bool = False) -> Iterator[Clip]:
         """``start_s`` .. ``end_s`` (default: the file's end) in consecutive clips of
@@ -136,7 +140,7 @@ class PlaybackAudio:
         ``lead_in``, a start before the file begins with silence (see
         :meth:`start_index`)."""
         a = self.start_index(start_s, lead_in)
-        b = self.samples.size if end_s is None else max(a, self.index(end_s))
+        b = max(a, self.end_index(end_s))
         step = max(1, round(block_s * self.rate))
         for i in range(a, b, step):
             j = min(i + step, b)

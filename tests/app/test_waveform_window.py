@@ -7,6 +7,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
+from PySide6.QtCore import QPoint, QPointF, Qt
 from truth_sessions import truth_session
 
 from speechcal_core.session.store import save_session
@@ -40,8 +41,6 @@ def test_moved_audio_file_is_named_once_on_the_status_line(open_window, tiny_syn
 
 
 def test_a_click_on_the_waveform_moves_the_playhead_there(window, qtbot) -> None:
-    from PySide6.QtCore import QPoint, QPointF, Qt
-
     waveform = window.waveform
     x0, x1 = waveform.getViewBox().viewRange()[0]
     target_x = x0 + 0.6 * (x1 - x0)
