@@ -36,6 +36,23 @@ def test_two_found_instances_lead_to_the_missed_ones_only(tmp_path: Path) -> Non
     assert all(w.word == "capture" and w.source.endswith("similarity") for w in extra)
 
 
+def test_posteriorgrams_lead_to_the_missed_instances_in_noise(tmp_path: Path) -> None:
+    items = [("capture", "awb/capture_1"), ("okay", "awb/okay_1"),
+             ("capture", "awb/capture_2"), ("capsule", "awb/capsule_1"),
+             ("capture", "awb/capture_3"), ("hold on", "awb/hold_on_1"),
+             ("capture", "awb/capture_4", -4.0), ("captain", "awb/captain_1"),
+             ("capture", "awb/capture_5", -4.0)]
+    scene = make_scene(tmp_path / "awb.wav", items, snr_db=6.0, seed=0)
+    spans = scene.spans("capture")
+    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in spans[:3]]
+    activity = voice_activity(scene.samples, 16000)
+    kept, extra = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
+                                     factor=1.3, search="posteriorgram")
+    assert kept == seeds
+    missed = [(a + b) / 2 for a, b in spans[3:]]
+    assert [round(w.t - t, 1) for w, t in zip(extra, missed, strict=True)] == [0.0, 0.0]
+
+
 def test_a_single_seed_is_not_enough_to_judge_similarity(tmp_path: Path) -> None:
     scene = make_scene(tmp_path / "one.wav", [("capture", "rms/capture_1"),
                                               ("capture", "rms/capture_2")])

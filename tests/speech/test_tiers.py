@@ -9,7 +9,14 @@ from speech_scenes import Scene, make_scene
 
 from speechcal_core.speech import detect_triggers
 from speechcal_core.speech.lexicon import confusable_words, pronunciations
-from speechcal_core.speech.pocketsphinx_backend import TIERS, _tier_name
+from speechcal_core.speech.pocketsphinx_backend import (
+    POSTERIORGRAM_BELOW_DB,
+    POSTERIORGRAM_FACTOR,
+    SIMILARITY_FACTOR,
+    TIERS,
+    _search_for,
+    _tier_name,
+)
 from speechcal_core.speech.vad import voice_activity
 
 
@@ -37,6 +44,14 @@ def test_clear_spans_use_the_first_tier_and_noisy_ones_the_last() -> None:
     assert _tier_name(-20.0) == f"tier{len(TIERS) - 1}"
     assert TIERS[0].confusable_log10 is not None  # clear: one-phone neighbours compete
     assert TIERS[-1].confusable_log10 is None and TIERS[-1].min_level_db == -np.inf
+
+
+def test_quietly_heard_triggers_are_searched_for_by_posteriorgram() -> None:
+    quiet = [POSTERIORGRAM_BELOW_DB - 3.0, POSTERIORGRAM_BELOW_DB - 1.0, 30.0]
+    clear = [POSTERIORGRAM_BELOW_DB + 1.0, POSTERIORGRAM_BELOW_DB + 2.0, 5.0]
+    assert _search_for(quiet) == ("posteriorgram", POSTERIORGRAM_FACTOR)  # by the median
+    assert _search_for(clear) == ("mfcc", SIMILARITY_FACTOR)
+    assert _search_for([]) == ("mfcc", SIMILARITY_FACTOR)
 
 
 def _found(scene: Scene, text: str) -> int:
