@@ -69,7 +69,7 @@ def _measure(path: str, mode: str) -> dict:
         index = SessionAudio(path).index()
     build_s = time.perf_counter() - t0
     held = rss_mb() - rss0
-    arrays = sum(a.nbytes for a in (index.full, index.seq, index.frames,
+    arrays = sum(a.nbytes for a in (index.seq, index.frames,
                                     index.activity.floor_db, index.activity.energy_db)
                  if a is not None)
     arrays += getattr(index.samples, "nbytes", 0)

@@ -75,19 +75,23 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     """
     if len(seeds) < MIN_SEEDS or not activity.segments:
         return list(seeds), []
-    index = SpeechIndex.build(samples, rate, activity, noise_floor)
+    checking = verify is not None and len(seeds) >= VERIFY_MIN_SEEDS \
+        and (checked is None or any(checked))
+    index = SpeechIndex.build(samples, rate, activity, noise_floor,
+                              representation="mfcc" if checking else search)
     if index.frames.size == 0:
         return list(seeds), []
     matches, closest = _seed_matches(index, seeds)
     finite = closest[np.isfinite(closest)]
     if finite.size == 0:
         return list(seeds), []
-    median = float(np.median(finite))
-    keep = [k for k in range(len(seeds)) if verify is None or len(seeds) < VERIFY_MIN_SEEDS
-            or matches[k] is None or closest[k] <= verify * median
-            or (checked is not None and not checked[k])]
+    keep = list(range(len(seeds)))
+    if checking:
+        median = float(np.median(finite))
+        keep = [k for k in keep if matches[k] is None or closest[k] <= verify * median
+                or (checked is not None and not checked[k])]
     kept = [seeds[k] for k in keep]
-    if search != "mfcc":
+    if checking and search != "mfcc":
         index = SpeechIndex.build(samples, rate, activity, noise_floor, representation=search)
         matches, closest = _seed_matches(index, kept)
         keep = list(range(len(kept)))
@@ -95,7 +99,7 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     mutual = mutual[np.isfinite(mutual)]
     if mutual.size == 0:
         return kept, []
-    idx, seq, full = index.frames, index.seq, index.full
+    idx = index.frames
     best = _BestMatch(idx.size)
     for k in keep:
         if matches[k] is not None:
@@ -111,7 +115,7 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
             break
         out += new
         for w in new:
-            best.add(full, seq, w)
+            best.add(index, w)
     return kept, sorted(out, key=lambda w: w.start_s)
 
 
@@ -119,16 +123,15 @@ def _seed_matches(index: SpeechIndex, seeds: list[Word]
                   ) -> tuple[list[tuple[np.ndarray, np.ndarray, int] | None], np.ndarray]:
     """Each seed's DTW match over the index (cost and start per end frame, and template
     length; None for a seed too short), and its cost at its closest other seed."""
-    idx, seq, full = index.frames, index.seq, index.full
-    ends = np.searchsorted(idx, [int(s.end_s / HOP_S) for s in seeds])
+    ends = np.searchsorted(index.frames, [int(s.end_s / HOP_S) for s in seeds])
     pair = np.full((len(seeds), len(seeds)), np.inf)
     matches: list[tuple[np.ndarray, np.ndarray, int] | None] = []
     for k, seed in enumerate(seeds):
-        template = full[int(seed.start_s / HOP_S):int(seed.end_s / HOP_S)]
+        template = index.span(seed.start_s, seed.end_s)
         if template.shape[0] < 5:
             matches.append(None)
             continue
-        cost, start = subsequence_dtw(template, seq)
+        cost, start = subsequence_dtw(template, index.seq)
         matches.append((cost, start, template.shape[0]))
         for q, e in enumerate(ends):
             if q != k and e < cost.size:
@@ -164,12 +167,12 @@ class _BestMatch:
         self.start = np.zeros(n, dtype=np.int64)
         self.length = np.zeros(n, dtype=np.int64)
 
-    def add(self, full: np.ndarray, seq: np.ndarray, word: Word) -> np.ndarray | None:
+    def add(self, index: SpeechIndex, word: Word) -> np.ndarray | None:
         """Match one instance as a template; its cost per end frame (None if too short)."""
-        template = full[int(word.start_s / HOP_S):int(word.end_s / HOP_S)]
+        template = index.span(word.start_s, word.end_s)
         if template.shape[0] < 5:
             return None
-        cost, start = subsequence_dtw(template, seq)
+        cost, start = subsequence_dtw(template, index.seq)
         self.merge(cost, start, template.shape[0])
         return cost
 
