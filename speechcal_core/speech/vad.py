@@ -71,16 +71,18 @@ class VoiceActivity:
     floor_db: np.ndarray
     energy_db: np.ndarray | None = None
 
-    def level_db(self, start_s: float, end_s: float) -> float:
+    def level_db(self, start_s: float, end_s: float,
+                 percentile: float = LEVEL_PERCENTILE) -> float:
         """How far the loud part of ``start_s``..``end_s`` stands above the noise floor (dB).
 
-        The 90th percentile of band energy minus floor: a local signal-to-noise figure.
+        The 90th percentile of band energy minus floor: a local signal-to-noise figure
+        (``percentile`` near 100 gives the loudest moment instead).
         """
         if self.energy_db is None or self.energy_db.size == 0:
             return 0.0
         a = min(self.energy_db.size - 1, max(0, int(start_s / HOP_S)))
         b = min(self.energy_db.size, max(a + 1, int(end_s / HOP_S)))
-        return float(np.percentile(self.energy_db[a:b] - self.floor_db[a:b], LEVEL_PERCENTILE))
+        return float(np.percentile(self.energy_db[a:b] - self.floor_db[a:b], percentile))
 
     def floor_at(self, t_s: float) -> float:
         """The noise floor at audio time ``t_s``."""

@@ -46,6 +46,15 @@ def test_clear_spans_use_the_first_tier_and_noisy_ones_the_last() -> None:
     assert TIERS[-1].confusable_log10 is None and TIERS[-1].min_level_db == -np.inf
 
 
+def test_a_quiet_span_with_a_loud_moment_is_not_decoded_as_the_noisiest() -> None:
+    noisiest, above = f"tier{len(TIERS) - 1}", f"tier{len(TIERS) - 2}"
+    assert TIERS[-2].min_peak_db is not None
+    assert _tier_name(TIERS[-2].min_level_db - 3.0) == noisiest
+    assert _tier_name(TIERS[-2].min_level_db - 3.0, TIERS[-2].min_peak_db - 1.0) == noisiest
+    # a short word in a long span: low level, but its loudest moment stands out
+    assert _tier_name(TIERS[-2].min_level_db - 3.0, TIERS[-2].min_peak_db + 1.0) == above
+
+
 def test_quietly_heard_triggers_are_searched_for_by_posteriorgram() -> None:
     quiet = [POSTERIORGRAM_BELOW_DB - 3.0, POSTERIORGRAM_BELOW_DB - 1.0, 30.0]
     clear = [POSTERIORGRAM_BELOW_DB + 1.0, POSTERIORGRAM_BELOW_DB + 2.0, 5.0]
