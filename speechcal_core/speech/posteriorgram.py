@@ -73,15 +73,14 @@ def gaussian_posteriorgram(feats: np.ndarray, components: int = COMPONENTS,
     frame per row) under ``mixtures`` mixtures trained on those frames; the same input
     and seed give the same output."""
     n = feats.shape[0]
-    width = mixtures * min(components, max(n, 1))
     if n == 0:
-        return np.zeros((0, width), dtype=np.float32)
+        return np.zeros((0, mixtures * components), dtype=np.float32)
     x = np.asarray(feats, dtype=np.float64)
     rng = np.random.default_rng(seed)
     train = x if n <= MAX_TRAINING_FRAMES else x[rng.choice(n, MAX_TRAINING_FRAMES,
                                                             replace=False)]
     models = [fit_mixture(train, components, seed=seed + 1 + m) for m in range(mixtures)]
-    out = np.empty((n, width), dtype=np.float32)
+    out = np.empty((n, sum(m.weights.size for m in models)), dtype=np.float32)
     for a in range(0, n, CHUNK_FRAMES):
         parts = []
         for model in models:

@@ -85,25 +85,25 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     finite = closest[np.isfinite(closest)]
     if finite.size == 0:
         return list(seeds), []
-    keep = list(range(len(seeds)))
+    kept = list(seeds)
     if checking:
-        median = float(np.median(finite))
-        keep = [k for k in keep if matches[k] is None or closest[k] <= verify * median
-                or (checked is not None and not checked[k])]
-    kept = [seeds[k] for k in keep]
-    if checking and search != "mfcc":
-        index = SpeechIndex.build(samples, rate, activity, noise_floor, representation=search)
-        matches, closest = _seed_matches(index, kept)
-        keep = list(range(len(kept)))
-    mutual = closest[keep]
-    mutual = mutual[np.isfinite(mutual)]
+        cutoff = verify * float(np.median(finite))
+        keep = [k for k in range(len(seeds)) if matches[k] is None
+                or closest[k] <= cutoff or (checked is not None and not checked[k])]
+        kept, matches, closest = [seeds[k] for k in keep], [matches[k] for k in keep], \
+            closest[keep]
+        if search != "mfcc":
+            index = SpeechIndex.build(samples, rate, activity, noise_floor,
+                                      representation=search)
+            matches, closest = _seed_matches(index, kept)
+    mutual = closest[np.isfinite(closest)]
     if mutual.size == 0:
         return kept, []
     idx = index.frames
     best = _BestMatch(idx.size)
-    for k in keep:
-        if matches[k] is not None:
-            best.merge(*matches[k])  # type: ignore[misc]
+    for match in matches:
+        if match is not None:
+            best.merge(*match)
     slope = LEVEL_SLOPE if level_slope is None else level_slope
     limit = _Limit(float(np.median(mutual)), factor, slope, activity,
                    float(np.median([activity.level_db(w.start_s, w.end_s) for w in kept])))
