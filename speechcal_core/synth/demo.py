@@ -7,7 +7,13 @@ import os
 from collections.abc import Callable
 from pathlib import Path
 
+from speechcal_core.errors import SpeechCalError
 from speechcal_core.synth.options import SynthOptions
+
+
+class DemoFolderError(SpeechCalError):
+    """The demo's folder holds something else; nothing was changed."""
+
 
 DEMO_OPTIONS = SynthOptions(cameras=4, fisheye=1, duration=45.0, seed=7, claps=2)
 
@@ -31,9 +37,22 @@ def ensure_demo_session(
     folder = Path(workdir) if workdir else default_demo_dir()
     truth_path = folder / "truth.json"
     if not truth_path.exists():
+        _check_free_for_demo(folder)
         report = progress or (lambda _t, _f: None)
         generate_session(folder, DEMO_OPTIONS, force=folder.exists(),
                          progress=lambda stage, f: report(f"making the demo session: {stage}",
                                                           0.5 * f))
     truth = json.loads(truth_path.read_text(encoding="utf-8"))
     return str(folder / truth["recording"]), str(folder / truth["audio"])
+
+
+def _check_free_for_demo(folder: Path) -> None:
+    """Refuse a folder that holds anything but an earlier demo: making the demo replaces
+    the folder, and it may be the user's (``--workdir .``)."""
+    if folder.exists() and not folder.is_dir():
+        raise DemoFolderError(f"{folder} is a file, not a folder; give --workdir a new or "
+                              f"empty folder")
+    if folder.is_dir() and any(folder.iterdir()):
+        raise DemoFolderError(
+            f"{folder} is not empty and holds no demo session (no truth.json); the demo "
+            f"would replace it. Give --workdir a new or empty folder")
