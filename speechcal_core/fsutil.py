@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import itertools
 import os
 import shutil
 import tempfile
@@ -45,15 +46,35 @@ def atomic_write_text(path: str | Path, text: str, *, keep_backup: bool = False)
         raise
 
 
+def _remove(path: Path) -> None:
+    """Remove a file, a link (not what it points to) or a folder tree; errors propagate."""
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path)
+    else:
+        path.unlink()
+
+
+def _aside(target: Path) -> Path:
+    """A free hidden sibling name to move ``target`` to while its replacement goes in."""
+    base = f".{target.name}.old-{os.getpid()}"
+    for n in itertools.count():
+        candidate = target.parent / (base if n == 0 else f"{base}-{n}")
+        if not os.path.lexists(candidate):
+            return candidate
+    raise AssertionError("unreachable")
+
+
 @contextlib.contextmanager
 def staged_directory(target: str | Path, *, force: bool = False) -> Iterator[Path]:
     """Yield a temporary sibling folder that replaces ``target`` only when the block succeeds.
 
-    An existing ``target`` is an :class:`OutputExistsError` unless ``force``; on failure the
-    partial folder is removed and ``target`` is left untouched.
+    An existing ``target`` (folder, file or link) is an :class:`OutputExistsError` unless
+    ``force``; on failure the partial folder is removed and ``target`` is left untouched.
+    A replaced ``target`` that cannot be removed afterwards is a :class:`SpeechCalError`
+    naming where it was left.
     """
     target = Path(target).absolute()
-    if target.exists() and not force:
+    if os.path.lexists(target) and not force:
         raise OutputExistsError(f"{target} already exists; choose another folder or pass --force")
     parent = target.parent
     try:
@@ -67,12 +88,36 @@ def staged_directory(target: str | Path, *, force: bool = False) -> Iterator[Pat
     try:
         yield staging
     except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
+        shutil.rmtree(staging, ignore_errors=True)  # the block's own error is the one to see
         raise
-    old = None
-    if target.exists():
-        old = parent / f".{target.name}.old-{os.getpid()}"
-        os.replace(target, old)
-    os.replace(staging, target)
+    old = _swap_in(staging, target)
     if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+        try:
+            _remove(old)
+        except OSError as exc:
+            raise SpeechCalError(
+                f"{target} is written, but what it replaced could not be removed "
+                f"({exc.strerror}) and is left at {old}; remove it by hand"
+            ) from exc
+
+
+def _swap_in(staging: Path, target: Path) -> Path | None:
+    """Rename ``staging`` to ``target``, moving an existing ``target`` aside first; returns
+    where it went. On failure the old ``target`` is put back and ``staging`` removed."""
+    old = _aside(target) if os.path.lexists(target) else None
+    try:
+        if old is not None:
+            os.replace(target, old)
+        os.replace(staging, target)
+    except OSError as exc:
+        kept = "nothing was replaced"
+        if old is not None and os.path.lexists(old):
+            try:
+                os.replace(old, target)
+            except OSError:
+                kept = f"what it held is at {old}; move it back by hand"
+        shutil.rmtree(staging, ignore_errors=True)  # the swap's error is the one to report
+        raise SpeechCalError(
+            f"{target}: cannot put the new output in place ({exc.strerror}); {kept}"
+        ) from exc
+    return old

@@ -50,3 +50,80 @@ def test_written_files_and_folders_get_ordinary_permissions(tmp_path: Path) -> N
     os.umask(mask)
     assert (tmp_path / "out").stat().st_mode & 0o777 == 0o777 & ~mask
     assert (tmp_path / "out" / "a.json").stat().st_mode & 0o777 == 0o666 & ~mask
+
+
+def _hidden(folder: Path) -> list[str]:
+    return sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
+
+
+def test_force_replaces_an_existing_file_and_leaves_nothing_hidden(tmp_path: Path) -> None:
+    target = tmp_path / "out.json"
+    target.write_text("a file")
+    with pytest.raises(OutputExistsError, match="--force"), staged_directory(target):
+        pass
+    assert target.read_text() == "a file"
+    with staged_directory(target, force=True) as staging:
+        (staging / "new.txt").write_text("x")
+    assert sorted(p.name for p in target.iterdir()) == ["new.txt"]
+    assert _hidden(tmp_path) == []
+
+
+def test_force_replaces_a_link_not_what_it_points_to(tmp_path: Path) -> None:
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "keep.txt").write_text("mine")
+    target = tmp_path / "out"
+    target.symlink_to(elsewhere, target_is_directory=True)
+    with staged_directory(target, force=True) as staging:
+        (staging / "new.txt").write_text("x")
+    assert not target.is_symlink() and sorted(p.name for p in target.iterdir()) == ["new.txt"]
+    assert (elsewhere / "keep.txt").read_text() == "mine"
+    assert _hidden(tmp_path) == []
+
+
+def test_an_old_folder_that_cannot_be_removed_is_reported(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import shutil
+
+    from speechcal_core.errors import SpeechCalError
+
+    target = tmp_path / "out"
+    target.mkdir()
+    (target / "old.txt").write_text("old")
+
+    def busy(path, *args, **kwargs) -> None:
+        if kwargs.get("ignore_errors"):
+            return
+        raise OSError(16, "Device or resource busy", str(path))
+
+    monkeypatch.setattr(shutil, "rmtree", busy)
+    with pytest.raises(SpeechCalError, match="remove it") as exc, \
+            staged_directory(target, force=True) as staging:
+        (staging / "new.txt").write_text("x")
+    left = _hidden(tmp_path)
+    assert len(left) == 1 and left[0] in str(exc.value) and str(target) in str(exc.value)
+    assert sorted(p.name for p in target.iterdir()) == ["new.txt"]
+
+
+def test_a_failed_swap_puts_the_old_target_back(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from speechcal_core.errors import SpeechCalError
+
+    target = tmp_path / "out"
+    target.mkdir()
+    (target / "old.txt").write_text("old")
+    real_replace = os.replace
+
+    def fail_into_place(src, dst) -> None:
+        if Path(src).name.startswith(".out.partial-"):
+            raise OSError(5, "Input/output error")
+        real_replace(src, dst)
+
+    monkeypatch.setattr(os, "replace", fail_into_place)
+    with pytest.raises(SpeechCalError, match=str(target)), \
+            staged_directory(target, force=True) as staging:
+        (staging / "new.txt").write_text("x")
+    assert sorted(p.name for p in target.iterdir()) == ["old.txt"]
+    assert _hidden(tmp_path) == []
