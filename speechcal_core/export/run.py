@@ -12,6 +12,7 @@ window waits for its re-scoring instead).
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -62,17 +63,33 @@ def _noop(_text: str, _fraction: float) -> None:
     pass
 
 
-def check_output(out: Path, force: bool, protected: list[Path]) -> None:
-    """Refuse an existing ``out`` without ``force``, and always one that holds the input."""
-    out = out.absolute()
-    for p in protected:
-        p = p.absolute()
-        if p == out or out in p.parents:
-            raise ExportError(
-                f"{out}: this folder holds {p.name}, which the export reads; "
-                "choose another output folder"
-            )
-    if out.exists() and not force:
+def _spellings(path: Path, *, follow_last: bool) -> set[Path]:
+    """``path`` made absolute without ``..``, and with links resolved (all of them, or
+    all but the last part): the ways one file may be named."""
+    plain = Path(os.path.normpath(path.absolute()))
+    real = plain.resolve() if follow_last else plain.parent.resolve() / plain.name
+    return {plain, real}
+
+
+def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> None:
+    """Refuse an existing ``out`` without ``force``, and always one that is, holds or lies
+    inside an input the export reads (``protected``: what it is -> its paths)."""
+    outs = _spellings(out, follow_last=False)  # replacing a link leaves what it points to
+    for what, paths in protected.items():
+        for p in paths:
+            spellings = _spellings(p, follow_last=True) | _spellings(p, follow_last=False)
+            for o, q in ((o, q) for o in outs for q in spellings):
+                if o == q:
+                    where = f"this is the session's {what} {p}"
+                elif o in q.parents:
+                    where = f"this folder holds the session's {what} {p}"
+                elif q in o.parents:
+                    where = f"this lies inside the session's {what} {p}"
+                else:
+                    continue
+                raise ExportError(f"{out.absolute()}: {where}, which the export reads; "
+                                  "choose another output folder")
+    if os.path.lexists(out) and not force:
         raise OutputExistsError(f"{out} already exists; choose another folder or pass --force")
 
 
@@ -112,9 +129,11 @@ def _preflight(session: Session, fmt: str, out: Path, *, force: bool, include_un
         raise UsageError(f"unknown export format {fmt!r}; use one of {', '.join(FORMATS)}")
     where = str(session_path) if session_path else "the session"
     sets = select_sets(session, include_undecided=include_undecided, where=where)
-    protected = [Path(p) for p in session.recording]
+    protected = {"recording": [Path(p) for p in session.recording]}
+    if session.audio:
+        protected["audio"] = [Path(session.audio)]
     if session_path:
-        protected.append(Path(session_path))
+        protected["session file"] = [Path(session_path)]
     check_output(out, force, protected)
     return sets
 
