@@ -7,12 +7,13 @@ corners, and check a calibration per camera.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from speechcal_core.session.model import Session, Trigger
+from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
 from speechcal_core.sync.model import SyncModel
 
 if TYPE_CHECKING:
@@ -29,12 +30,18 @@ def _noop(_text: str, _fraction: float) -> None:
 
 
 def detect_trigger_words(audio, trigger_words: Sequence[str],
-                         transcript: str | None = None) -> tuple[list[Trigger], list[str]]:
+                         transcript: str | None = None, *,
+                         pronunciations: Mapping[str, str] | None = None,
+                         sensitivity: float = DEFAULT_SENSITIVITY,
+                         ) -> tuple[list[Trigger], list[str]]:
     """Trigger words in ``audio`` (an :class:`~speechcal_core.audio.Audio`), or in a
-    transcript file when one is given; returns the triggers and the detector's notes."""
+    transcript file when one is given; returns the triggers and the detector's notes.
+    ``pronunciations`` gives words missing from the dictionary (WORD -> ARPAbet phones);
+    a higher ``sensitivity`` (0..1) finds more words and more false alarms."""
     from speechcal_core.speech import detect_triggers
 
-    detection = detect_triggers(audio, tuple(trigger_words), transcript=transcript)
+    detection = detect_triggers(audio, tuple(trigger_words), transcript=transcript,
+                                pronunciations=pronunciations, sensitivity=sensitivity)
     triggers = [Trigger(w.word, w.start_s, w.end_s, w.score, w.source or detection.backend)
                 for w in detection.triggers]
     return triggers, list(detection.notes)
@@ -46,6 +53,8 @@ def process_recording(
     *,
     trigger_words: Sequence[str] = ("capture",),
     transcript: str | None = None,
+    pronunciations: Mapping[str, str] | None = None,
+    sensitivity: float = DEFAULT_SENSITIVITY,
     offset_ns: int | None = None,
     target: Target | None = None,
     frame_options: FrameSetOptions | None = None,
@@ -66,7 +75,8 @@ def process_recording(
         sound = load_audio(audio)
         return process_loaded(
             source, sound, recording, audio, trigger_words=trigger_words,
-            transcript=transcript, offset_ns=offset_ns, target=target,
+            transcript=transcript, pronunciations=pronunciations, sensitivity=sensitivity,
+            offset_ns=offset_ns, target=target,
             frame_options=frame_options, progress=report,
         )
 
@@ -79,6 +89,8 @@ def process_loaded(
     *,
     trigger_words: Sequence[str] = ("capture",),
     transcript: str | None = None,
+    pronunciations: Mapping[str, str] | None = None,
+    sensitivity: float = DEFAULT_SENSITIVITY,
     offset_ns: int | None = None,
     target: Target | None = None,
     frame_options: FrameSetOptions | None = None,
@@ -102,7 +114,9 @@ def process_loaded(
         evidence = {k: v for k, v in result.to_dict().items()
                     if k not in ("offset_ns", "drift", "source")}
     report("finding the trigger words", 0.45)
-    triggers, notes = detect_trigger_words(sound, trigger_words, transcript)
+    triggers, notes = detect_trigger_words(sound, trigger_words, transcript,
+                                           pronunciations=pronunciations,
+                                           sensitivity=sensitivity)
 
     def frames_progress(stage: str, fraction: float) -> None:
         start, span = {"windows": (0.6, 0.2), "corners": (0.8, 0.1)}.get(stage, (0.9, 0.1))

@@ -5,6 +5,11 @@ from __future__ import annotations
 import argparse
 
 from speechcal_core.cli._output import emit_json, progress
+from speechcal_core.cli._speech_options import (
+    add_trigger_options,
+    pronunciations,
+    sensitivity,
+)
 from speechcal_core.errors import UsageError
 
 
@@ -12,15 +17,11 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("detect", help="find trigger words in an audio file")
     p.add_argument("audio", metavar="AUDIO")
-    p.add_argument("--trigger", action="append", metavar="W", help="trigger word (repeatable)")
+    add_trigger_options(p)
     p.add_argument("--backend", default="pocketsphinx",
                    help="pocketsphinx (default), faster-whisper, whisperx or example")
     p.add_argument("--transcript", metavar="F", help="take words from a transcript file")
     p.add_argument("--json", action="store_true", help="print one JSON document")
-    p.add_argument("--sensitivity", type=float, default=0.5, metavar="S",
-                   help="0..1; higher finds more words and more false alarms (default 0.5)")
-    p.add_argument("--pronounce", action="append", default=[], metavar="WORD=PHONES",
-                   help="ARPAbet pronunciation of a word missing from the dictionary")
     p.add_argument("--model-dir", metavar="DIR", help="local model folder for Whisper backends")
     p.add_argument("--example", action="append", default=[], metavar="START:END",
                    help="a marked instance (audio seconds) for --backend example")
@@ -33,8 +34,8 @@ def run(args: argparse.Namespace) -> int:
 
     detection = detect_triggers(
         args.audio, args.trigger or ["capture"], backend=args.backend,
-        transcript=args.transcript, sensitivity=args.sensitivity,
-        pronunciations=_pairs(args.pronounce), model_dir=args.model_dir,
+        transcript=args.transcript, sensitivity=sensitivity(args),
+        pronunciations=pronunciations(args), model_dir=args.model_dir,
         examples=[_span(s) for s in args.example],
     )
     for note in detection.notes:
@@ -45,18 +46,6 @@ def run(args: argparse.Namespace) -> int:
         for w in detection.triggers:
             print(f"{w.t:10.3f}  {w.word:<12} {w.start_s:.3f}-{w.end_s:.3f}  score {w.score:.2f}")
     return 0
-
-
-def _pairs(items: list[str]) -> dict[str, str]:
-    out = {}
-    for item in items:
-        word, sep, phones = item.partition("=")
-        if not sep or not word.strip() or not phones.strip():
-            raise UsageError(
-                f"--pronounce {item!r}: write WORD=PHONES, e.g. 'kalibr=K AE L IH B ER'"
-            )
-        out[word.strip()] = phones.strip()
-    return out
 
 
 def _span(text: str) -> tuple[float, float]:

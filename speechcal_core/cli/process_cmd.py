@@ -6,6 +6,11 @@ import argparse
 from pathlib import Path
 
 from speechcal_core.cli._output import progress
+from speechcal_core.cli._speech_options import (
+    add_trigger_options,
+    pronunciations,
+    sensitivity,
+)
 from speechcal_core.fsutil import OutputExistsError
 
 
@@ -15,7 +20,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("recording", metavar="RECORDING", nargs="+")
     p.add_argument("--audio", required=True, metavar="AUDIO")
     p.add_argument("--target", metavar="TARGET.yaml", help="Kalibr target yaml")
-    p.add_argument("--trigger", action="append", metavar="W")
+    add_trigger_options(p)
     p.add_argument("--transcript", metavar="F")
     p.add_argument("--offset-ns", type=int, metavar="N")
     p.add_argument("-o", "--output", required=True, metavar="SESSION.json")
@@ -28,7 +33,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand: progress lines on stderr, the session file written atomically."""
     from speechcal_core.pipeline import process_recording
-    from speechcal_core.session.store import save_session
+    from speechcal_core.session.store import check_session_target, save_session
     from speechcal_core.target import TargetSpec
 
     if Path(args.output).exists() and not args.force:
@@ -36,6 +41,8 @@ def run(args: argparse.Namespace) -> int:
             f"{args.output} already exists and may hold review decisions; "
             "choose another -o or pass --force"
         )
+    check_session_target(args.output)  # a bad -o fails now, not after all the work
+    words, level = pronunciations(args), sensitivity(args)
     target = TargetSpec.from_kalibr_yaml(args.target) if args.target else TargetSpec()
     last = [-1]
 
@@ -50,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
         args.audio,
         trigger_words=tuple(args.trigger or ("capture",)),
         transcript=args.transcript,
+        pronunciations=words,
+        sensitivity=level,
         offset_ns=args.offset_ns,
         target=target,
         progress=report,

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import os
+import tempfile
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +29,8 @@ def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
         "recording": [_relative(p, base) for p in session.recording],
         "audio": _relative(session.audio, base) if session.audio else None,
         "trigger_words": session.triggers_word,
-        "sync": {**session.sync_evidence, **session.sync.to_dict()},
+        "sync": {**_with_audio_path(session.sync_evidence, lambda a: _relative(a, base)),
+                 **session.sync.to_dict()},
         "sets": [s.to_dict() for s in session.sets],
         "calibration": session.calibration,
         **session.extra,
@@ -41,10 +44,29 @@ def save_session(session: Session, path: str | Path) -> None:
     try:
         atomic_write_text(path, text, keep_backup=True)
     except OSError as exc:
-        raise SessionFileError(
-            f"{path}: cannot save the session ({exc.strerror}); "
-            "free disk space or choose a writable folder"
-        ) from exc
+        raise _save_error(path, exc) from exc
+
+
+def check_session_target(path: str | Path) -> None:
+    """Raise SessionFileError now if a session cannot be saved at ``path`` (its folder is
+    missing or not writable), before any long work that would end in saving it."""
+    path = Path(path)
+    folder = path.absolute().parent
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=f".{path.name}.check-"):
+            pass
+    except OSError as exc:
+        raise _save_error(path, exc) from exc
+
+
+def _save_error(path: Path, exc: OSError) -> SessionFileError:
+    """The operator's message for a session that cannot be written."""
+    folder = path.absolute().parent
+    if not folder.is_dir():
+        return SessionFileError(f"{path}: cannot save the session: the folder {folder} does "
+                                f"not exist; create it or choose another path")
+    return SessionFileError(f"{path}: cannot save the session ({exc.strerror}); "
+                            "free disk space or choose a writable folder")
 
 
 def load_session(path: str | Path) -> Session:
@@ -76,8 +98,10 @@ def load_session(path: str | Path) -> Session:
             recording=[str(base / p) for p in data["recording"]],
             audio=str(base / data["audio"]) if data.get("audio") else None,
             sync=SyncModel.from_dict(data["sync"]),
-            sync_evidence={k: v for k, v in data["sync"].items()
-                           if k not in ("offset_ns", "drift", "source")},
+            sync_evidence=_with_audio_path(
+                {k: v for k, v in data["sync"].items()
+                 if k not in ("offset_ns", "drift", "source")},
+                lambda a: str(base / a)),
             sets=[FrameSet.from_dict(s) for s in data.get("sets", [])],
             triggers_word=list(data.get("trigger_words", ["capture"])),
             calibration=dict(data.get("calibration", {})),
@@ -94,6 +118,15 @@ def _migrate(data: dict[str, Any]) -> dict[str, Any]:
     if isinstance(data.get("recording"), str):
         data["recording"] = [data["recording"]]
     return data
+
+
+def _with_audio_path(evidence: dict[str, Any], convert: Callable[[str], str]
+                     ) -> dict[str, Any]:
+    """``evidence`` with the path of the sync's audio (``sync.audio.path``) converted."""
+    audio = evidence.get("audio")
+    if not isinstance(audio, dict) or not isinstance(audio.get("path"), str):
+        return evidence
+    return {**evidence, "audio": {**audio, "path": convert(audio["path"])}}
 
 
 def _relative(path: str, base: Path) -> str:

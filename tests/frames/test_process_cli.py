@@ -79,3 +79,33 @@ def test_process_command_writes_the_session_with_progress_on_stderr(synth, tmp_p
         for f in s["frames"]:
             assert hold[0] <= f["stamp_ns"] - offsets[f["stream"]] <= hold[1]
         assert s["frames"][0]["corners"] > 0
+
+
+def test_process_refuses_an_output_folder_that_does_not_exist_before_any_work(
+        synth, tmp_path: Path, capsys) -> None:
+    out, truth = synth
+    target = tmp_path / "no" / "such" / "session.json"
+    code = main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+                 "-o", str(target)])
+    err = capsys.readouterr().err
+    assert code == 1
+    assert f"the folder {target.parent} does not exist" in err
+    assert "indexing" not in err and "%]" not in err  # no progress: nothing was started
+
+
+@pytest.mark.slow
+def test_process_takes_the_pronunciation_of_a_word_missing_from_the_dictionary(
+        synth, tmp_path: Path, capsys) -> None:
+    out, truth = synth
+    args = ["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+            "--offset-ns", str(truth["sync"]["offset_ns"]), "--trigger", "kaptchur",
+            "-o", str(tmp_path / "session.json")]
+    assert main(args) == 1
+    assert "--pronounce 'kaptchur=" in capsys.readouterr().err  # the advice names the option
+    assert main([*args, "--pronounce", "kaptchur=K AE P CH ER"]) == 0
+    doc = json.loads((tmp_path / "session.json").read_text())
+    assert doc["trigger_words"] == ["kaptchur"]
+    # the operator said "capture": its sets are at the spoken triggers
+    assert len(doc["sets"]) >= len(truth["triggers"]) // 2
+    assert all(_hold_of(truth, s["trigger"]["start_s"], s["trigger"]["end_s"])
+               for s in doc["sets"])

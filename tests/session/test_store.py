@@ -8,7 +8,13 @@ from pathlib import Path
 import pytest
 
 from speechcal_core.session.model import FrameChoice, FrameSet, Session, Trigger
-from speechcal_core.session.store import SCHEMA, SessionFileError, load_session, save_session
+from speechcal_core.session.store import (
+    SCHEMA,
+    SessionFileError,
+    check_session_target,
+    load_session,
+    save_session,
+)
 from speechcal_core.sync.model import SyncModel
 
 
@@ -47,6 +53,31 @@ def test_file_starts_with_schema_and_stores_relative_paths(tmp_path: Path) -> No
     assert data["audio"] == "data/audio.ogg"
     assert data["sets"][0]["frames"][0]["corners"] == 144
     assert set(data["sync"]) >= {"offset_ns", "drift"}
+
+
+def test_the_sync_audio_path_is_relative_to_the_session_file_too(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    session = _session(tmp_path)
+    monkeypatch.chdir(tmp_path / "..")  # the sync ran with a path relative to elsewhere
+    given = str(Path(tmp_path.name) / "data" / "audio.ogg")
+    session.sync_evidence = {"audio": {"path": given, "rate": 48000}, "claps": []}
+    path = tmp_path / "review" / "session.json"
+    path.parent.mkdir()
+    save_session(session, path)
+    stored = json.loads(path.read_text())["sync"]["audio"]
+    assert stored == {"path": "../data/audio.ogg", "rate": 48000}
+    loaded = load_session(path).sync_evidence["audio"]["path"]
+    assert Path(loaded).resolve() == (tmp_path / "data" / "audio.ogg").resolve()
+
+
+def test_a_missing_folder_is_named_when_saving(tmp_path: Path) -> None:
+    path = tmp_path / "gone" / "session.json"
+    for attempt in (lambda: save_session(_session(tmp_path), path),
+                    lambda: check_session_target(path)):
+        with pytest.raises(SessionFileError, match=f"the folder {path.parent} does not exist"):
+            attempt()
+    check_session_target(tmp_path / "session.json")  # a writable folder passes
+    assert list(tmp_path.iterdir()) == []  # and the check leaves nothing behind
 
 
 def test_second_save_keeps_previous_version_as_bak(tmp_path: Path) -> None:

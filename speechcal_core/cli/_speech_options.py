@@ -1,0 +1,38 @@
+"""Trigger-word options shared by ``detect`` and ``process``."""
+
+from __future__ import annotations
+
+import argparse
+
+from speechcal_core.errors import UsageError
+from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
+
+
+def add_trigger_options(p: argparse.ArgumentParser) -> None:
+    """``--trigger``, ``--sensitivity`` and ``--pronounce``."""
+    p.add_argument("--trigger", action="append", metavar="W", help="trigger word (repeatable)")
+    p.add_argument("--sensitivity", type=float, default=DEFAULT_SENSITIVITY, metavar="S",
+                   help="0..1; higher finds more words and more false alarms "
+                        f"(default {DEFAULT_SENSITIVITY:g})")
+    p.add_argument("--pronounce", action="append", default=[], metavar="WORD=PHONES",
+                   help="ARPAbet pronunciation of a word missing from the dictionary")
+
+
+def pronunciations(args: argparse.Namespace) -> dict[str, str]:
+    """``--pronounce WORD=PHONES`` options as a mapping; UsageError for a malformed one."""
+    out = {}
+    for item in args.pronounce:
+        word, sep, phones = item.partition("=")
+        if not sep or not word.strip() or not phones.strip():
+            raise UsageError(
+                f"--pronounce {item!r}: write WORD=PHONES, e.g. 'kalibr=K AE L IH B ER'"
+            )
+        out[word.strip()] = phones.strip()
+    return out
+
+
+def sensitivity(args: argparse.Namespace) -> float:
+    """``--sensitivity``, checked to lie in 0..1."""
+    if not 0.0 <= args.sensitivity <= 1.0:
+        raise UsageError(f"--sensitivity {args.sensitivity:g}: give a value from 0 to 1")
+    return args.sensitivity
