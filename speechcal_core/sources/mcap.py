@@ -81,8 +81,9 @@ class McapFile(IndexedFile):
             self.f.close()
             raise SourceError(
                 f"{self.name}: MCAP file is truncated (no footer; recording was interrupted); "
-                f"open it with --scan to read the complete chunks, or run "
-                f"`mcap recover {self.name} -o fixed.mcap`"
+                f"run `speechcal index {self.path} --scan` to read the complete chunks "
+                f"(the other commands then use the recovered index), or "
+                f"`mcap recover {self.path} -o fixed.mcap`"
             )
         self.schemas: dict[int, tuple[str, str]] = {}
         self.channels: dict[int, dict[str, str]] = {}

@@ -113,7 +113,8 @@ class Ros1Bag(IndexedFile):
     def _unindexed(self, why: str) -> SourceError:
         return SourceError(
             f"{self.name}: ROS1 bag is not indexed ({why}; recording was interrupted); "
-            f"run `rosbag reindex {self.name}` or open it with --scan"
+            f"run `rosbag reindex {self.path}`, or `speechcal index {self.path} --scan` "
+            f"(the other commands then use the recovered index)"
         )
 
     def _add_conn(self, cid: int, data: bytes | memoryview, topic: str) -> None:
@@ -243,7 +244,8 @@ class Ros1Bag(IndexedFile):
         if rec is None or rec[0].get("op") != bytes([OP_CHUNK]):
             raise SourceError(
                 f"{self.name}: chunk at byte {chunk_pos} is damaged; "
-                f"run `rosbag reindex {self.name}` or open it with --scan"
+                f"run `rosbag reindex {self.path}`, or `speechcal index {self.path} --scan` "
+            f"(the other commands then use the recovered index)"
             )
         fields, dpos, dlen = rec
         compression = fields.get("compression", b"none").decode()

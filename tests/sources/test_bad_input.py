@@ -31,10 +31,13 @@ def test_unindexed_bag_names_reindex_command_and_scan_recovers(make_bag, fmt: st
     with pytest.raises(SourceError) as err:
         open_recording([path])
     msg = str(err.value)
-    assert path.name in msg and f"rosbag reindex {path.name}" in msg and "--scan" in msg
+    assert f"rosbag reindex {path}" in msg and f"speechcal index {path} --scan" in msg
     with open_recording([path], scan=True) as src:
         assert [s.count for s in src.streams] == [20, 20]
         assert src.frame("/cam0/image_raw", 19).shape == (12, 16, 3)
+    # as the message says: after the scan, the other commands open it from its index
+    with open_recording([path]) as src:
+        assert [s.count for s in src.streams] == [20, 20]
 
 
 def test_bag_with_zero_index_pos_and_cut_in_a_chunk_recovers_complete_messages(make_bag) -> None:
