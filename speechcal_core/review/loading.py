@@ -45,12 +45,13 @@ def load_for_review(
     session_path: str | Path | None = None,
     recording: Sequence[str] | None = None,
     audio: str | None = None,
+    new_session_path: str | Path | None = None,
     progress: Progress | None = None,
 ) -> ReviewInputs:
     """Open a session file, or process ``recording`` + ``audio`` into a new session.
 
-    A new session is saved beside the recording (or next to an existing session of the
-    same name, which is then opened instead of being overwritten).
+    A new session is saved at ``new_session_path``, by default beside the recording; an
+    existing session there is opened instead of being overwritten.
     """
     from speechcal_core.audio import EnvelopePyramid, load_audio
     from speechcal_core.audio.file_samples import FileSamples
@@ -66,14 +67,19 @@ def load_for_review(
     elif recording:
         if audio is None:
             raise UsageError("a recording needs its audio file: pass --audio AUDIO")
-        path = default_session_path(recording)
+        path = Path(new_session_path) if new_session_path else default_session_path(recording)
         if path.exists():
             report(f"reading existing session {path.name}", 0.05)
             session = load_session(path)
             note = f"opened the existing {path.name} (review work kept)"
+            if session.audio and not _same_file(audio, session.audio):
+                note += (f"; it uses the audio {session.audio}, not {audio}: to process "
+                         f"with {Path(audio).name}, move {path.name} away or give another "
+                         f"session file")
         else:
             from speechcal_core.pipeline import process_loaded
 
+            _check_new_session_path(path)
             report("indexing the recording", 0.02)
             source = open_recording(list(recording))
             try:
@@ -111,3 +117,20 @@ def load_for_review(
     report("ready", 1.0)
     return ReviewInputs(session, source, pyramid, path,
                         float(clap) if clap is not None else None, note)
+
+
+def _same_file(a: str | Path, b: str | Path) -> bool:
+    """Whether two paths name the same file (both resolved; a missing one compares by
+    path)."""
+    return Path(a).resolve() == Path(b).resolve()
+
+
+def _check_new_session_path(path: Path) -> None:
+    """Fail before processing if the new session cannot be saved at ``path``."""
+    from speechcal_core.session.store import SessionFileError, check_session_target
+
+    try:
+        check_session_target(path)
+    except SessionFileError as exc:
+        raise SessionFileError(f"{exc}; or save the session elsewhere: speechcal review "
+                               f"RECORDING --audio AUDIO --session PATH") from exc

@@ -1,0 +1,57 @@
+"""Opening a recording for review: where its new session goes, and what an existing one
+means for the audio given."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from speechcal_core.review.loading import default_session_path, load_for_review
+from speechcal_core.session.store import SessionFileError, load_session
+
+
+def _copy_of(tiny_synth: tuple[Path, dict], tmp_path: Path) -> tuple[str, str]:
+    """The tiny session's recording and audio, copied so each test has its own folder."""
+    folder, truth = tiny_synth
+    out = tmp_path / "rec"
+    shutil.copytree(folder, out)
+    return str(out / truth["recording"]), str(out / truth["audio"])
+
+
+def test_a_new_session_goes_where_asked(tiny_synth, tmp_path: Path) -> None:
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    target = tmp_path / "elsewhere" / "mine.json"
+    target.parent.mkdir()
+    inputs = load_for_review(recording=[recording], audio=audio, new_session_path=target)
+    inputs.close()
+    assert inputs.session_path == target and target.exists()
+    assert not default_session_path([recording]).exists()
+    assert load_session(target).sets
+
+
+def test_an_unwritable_session_folder_fails_before_processing_and_says_what_to_do(
+        tiny_synth, tmp_path: Path) -> None:
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    target = tmp_path / "missing" / "session.json"
+    steps: list[str] = []
+    with pytest.raises(SessionFileError, match="--session PATH"):
+        load_for_review(recording=[recording], audio=audio, new_session_path=target,
+                        progress=lambda text, _f: steps.append(text))
+    assert not any("clap" in s or "frames" in s for s in steps)  # nothing was processed
+
+
+def test_an_existing_session_with_other_audio_is_opened_with_a_note(
+        tiny_synth, tmp_path: Path) -> None:
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    load_for_review(recording=[recording], audio=audio).close()
+    other = Path(tmp_path / "other.ogg")
+    shutil.copy(audio, other)
+    inputs = load_for_review(recording=[recording], audio=str(other))
+    inputs.close()
+    assert "review work kept" in inputs.note
+    assert f"not {other}" in inputs.note and Path(inputs.session.audio) == Path(audio)
+    again = load_for_review(recording=[recording], audio=audio)
+    again.close()
+    assert "not " not in again.note.split("kept")[-1]  # the same audio: no warning
