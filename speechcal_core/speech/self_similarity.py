@@ -29,6 +29,11 @@ ROUNDS = 1  # searches; >1 makes found instances templates too (little gain, mor
 #: seeds whose closest sibling costs more than this times the median closest cost are dropped
 VERIFY_FACTOR = 1.7  # the backend sets its own (SEED_CHECK there)
 VERIFY_MIN_SEEDS = 4  # fewer seeds give no reliable median: all are kept
+#: seeds whose typical closest cost is above this do not sound alike (different voices,
+#: each heard once, as in a short recording): no search. Benchmark sessions lie at
+#: 0.19-0.32 (MFCC, 20 and 10 dB) and 0.24-0.31 (posteriorgram, 5 dB); a 12 s session
+#: with one trigger each from two voices at 0.61 found two false ones
+MAX_MUTUAL_COST = 0.45
 #: a span heard less clearly than the seeds costs more even when it is the same word: the
 #: limit grows by this fraction of the seeds' mutual cost per dB the span's level lies
 #: below the seeds' median level (and shrinks for louder spans), within MAX_LEVEL_GAP_DB
@@ -66,7 +71,8 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     other triggers, while the real ones have close siblings. All comparisons are DTW
     costs over the same features, so unlike recogniser scores they compare across spans.
     ``checked`` (one flag per seed) limits the check to some seeds; the others are kept.
-    A new instance is accepted below ``factor`` times the kept seeds' median closest cost,
+    A new instance is accepted below ``factor`` times the kept seeds' median closest cost
+    (no search where that cost exceeds MAX_MUTUAL_COST: the seeds do not sound alike),
     plus ``level_slope`` times that cost per dB it is heard less clearly than the seeds
     (``level_slope``, default LEVEL_SLOPE). The check always compares MFCCs: on
     posteriorgrams a voice with few seeds has no close sibling and loses them (seeds 1-3,
@@ -97,7 +103,7 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
                                       representation=search)
             matches, closest = _seed_matches(index, kept)
     mutual = closest[np.isfinite(closest)]
-    if mutual.size == 0:
+    if mutual.size == 0 or float(np.median(mutual)) > MAX_MUTUAL_COST:
         return kept, []
     idx = index.frames
     best = _BestMatch(idx.size)

@@ -62,6 +62,25 @@ def test_a_single_seed_is_not_enough_to_judge_similarity(tmp_path: Path) -> None
                                 blocked=[]) == []
 
 
+def test_seeds_in_two_voices_heard_once_each_lead_to_no_search(tmp_path: Path) -> None:
+    items = [("capture", "awb/capture_1"), ("okay", "slt/okay_1"),
+             ("capture", "kal16/capture_2"), ("rapture", "slt/rapture_1"),
+             ("picture", "rms/picture_1"), ("hold on", "awb/hold_on_1")]
+    scene = make_scene(tmp_path / "two.wav", items, snr_db=20.0, seed=5)
+    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in scene.spans("capture")]
+    activity = voice_activity(scene.samples, 16000)
+    assert expand_by_similarity(scene.samples, 16000, seeds, activity, blocked=[]) == []
+    # the same seeds in one voice do search, and find its third instance
+    items[2] = ("capture", "awb/capture_2")
+    scene = make_scene(tmp_path / "one.wav", [*items, ("capture", "awb/capture_3")],
+                       snr_db=20.0, seed=5)
+    spans = scene.spans("capture")
+    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in spans[:2]]
+    extra = expand_by_similarity(scene.samples, 16000, seeds,
+                                 voice_activity(scene.samples, 16000), blocked=[])
+    assert [round(w.t - sum(spans[2]) / 2, 1) for w in extra] == [0.0]
+
+
 def test_a_seed_unlike_the_other_seeds_is_dropped_the_real_ones_stay(tmp_path: Path) -> None:
     items = [("capture", "rms/capture_1"), ("rapture", "rms/rapture_1"),
              ("capture", "rms/capture_2"), ("capture", "rms/capture_3"),
