@@ -96,7 +96,7 @@ def open_audio(path: str | Path, channel: int | None = None) -> sf.SoundFile:
     """The opened file, after the checks :func:`load_audio` makes (:class:`AudioError`)."""
     p = Path(path)
     if not p.exists():
-        raise AudioError(f"{p}: audio file not found; check the path given with --audio")
+        raise AudioError(f"{p}: audio file not found; check the path")
     if p.is_dir():
         raise AudioError(f"{p}: is a folder, not an audio file; give the audio file itself")
     if p.stat().st_size == 0:

@@ -138,11 +138,12 @@ def _from_csv(p: Path, text: str) -> Transcript:
     rows = list(csv.reader(io.StringIO(text)))
     header = [c.strip().lower() for c in rows[0]] if rows else []
     cols = (0, 1, 2)
+    other_header = False
     if {"word", "start", "end"} <= set(header):
         cols = (header.index("word"), header.index("start"), header.index("end"))
         rows = rows[1:]
     elif rows and _number(rows[0][1] if len(rows[0]) > 1 else None) is None:
-        rows = rows[1:]  # some other header
+        rows, other_header = rows[1:], True  # some other header
     for n, row in enumerate(rows, 1):
         if not row or not "".join(row).strip():
             continue
@@ -154,6 +155,10 @@ def _from_csv(p: Path, text: str) -> Transcript:
             out.untimed.append(word)
         else:
             out.words.append(Word(word, t0, t1, 1.0, "csv"))
+    if other_header and not out.words and not out.untimed:
+        raise SpeechError(
+            f"{p}: not a transcript (no rows of word,start,end); give a WhisperX or "
+            f"faster-whisper JSON, an Audacity label track or a CSV of word,start,end")
     return out
 
 

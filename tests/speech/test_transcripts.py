@@ -65,6 +65,7 @@ def test_audacity_labels_and_csv_are_read(tmp_path: Path) -> None:
     ("{not json", "broken JSON"),
     ('{"text": "capture"}', "without word timings"),
     ("1.0\tcapture\n", "start<TAB>end<TAB>label"),
+    ("hello\n", "not a transcript"),  # one word of plain text: no header, no rows
 ])
 def test_bad_transcripts_name_the_file_and_the_fix(tmp_path: Path, text: str, fix: str) -> None:
     p = _write(tmp_path, "bad.txt", text)
