@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from speechcal_core.cli._output import progress
 from speechcal_core.cli._speech_options import (
@@ -12,6 +13,9 @@ from speechcal_core.cli._speech_options import (
     sensitivity,
 )
 from speechcal_core.fsutil import OutputExistsError
+
+if TYPE_CHECKING:
+    from speechcal_core.session.model import Session
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -64,7 +68,17 @@ def run(args: argparse.Namespace) -> int:
         progress=report,
     )
     save_session(session, args.output)
-    flagged = sum(1 for s in session.sets if any(f.flags for f in s.frames))
-    progress(f"{len(session.sets)} frame sets ({flagged} flagged), "
-             f"{len(session.calibration)} cameras checked; wrote {args.output}")
+    progress(f"{_summary(session)}; wrote {args.output}")
     return 0
+
+
+def _summary(session: Session) -> str:
+    """Frame sets found and flagged, and the calibration check in the window's words."""
+    from speechcal_core.review.checks import check_summary
+
+    n = len(session.sets)
+    flagged = sum(1 for s in session.sets if any(f.flags for f in s.frames))
+    text = f"{n} frame set{'' if n == 1 else 's'} ({flagged} flagged)"
+    streams = sorted({f.stream for s in session.sets for f in s.frames})
+    check = check_summary(session, streams) if streams else None
+    return f"{text}; {check.line}" if check else text

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from dataclasses import asdict
@@ -68,6 +69,8 @@ def test_process_command_writes_the_session_with_progress_on_stderr(synth, tmp_p
     assert code == 0
     captured = capsys.readouterr()
     assert captured.out == "" and "choosing frames" in captured.err
+    assert re.search(r"\d+ frame sets \(\d+ flagged\); calibration check over \d+ sets not "
+                     r"rejected: 2 of 2 cameras fit", captured.err)
     doc = json.loads(session_path.read_text())
     assert {"sets", "calibration", "frame_details", "coverage"} <= set(doc)
     assert doc["target"] == asdict(TargetSpec())  # what export describes to Kalibr
