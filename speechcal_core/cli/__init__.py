@@ -37,14 +37,16 @@ def build_parser() -> argparse.ArgumentParser:
     for name, module_name in COMMANDS.items():
         module = importlib.import_module(f"speechcal_core.cli.{module_name}")
         sub = module.register(subparsers)
-        sub.set_defaults(_run=module.run, _name=name)
+        sub.set_defaults(_run=module.run, _name=name, _parser=sub)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the process exit code."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:  # the subcommand's usage says which options it does take
+        args._parser.error(f"unrecognized arguments: {' '.join(unknown)}")
     try:
         return int(args._run(args) or 0)
     except UsageError as exc:

@@ -21,3 +21,13 @@ def test_unknown_subcommand_is_a_usage_error(capsys: pytest.CaptureFixture[str])
         main(["no-such-command"])
     assert exc.value.code == 2
     assert "invalid choice" in capsys.readouterr().err
+
+
+def test_an_option_the_subcommand_lacks_is_reported_with_its_usage(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["process", "rec.bag", "--audio", "a.wav", "-o", "s.json", "--scan"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "usage: speechcal process" in err
+    assert "speechcal process: error: unrecognized arguments: --scan" in err
