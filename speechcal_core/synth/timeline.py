@@ -229,7 +229,12 @@ def _make_camera(i: int, options: SynthOptions, rng: np.random.Generator) -> Cam
     fisheye = i >= options.cameras - options.fisheye
     w, h = options.width, options.height
     if fisheye:
-        f = w / 3.2 * rng.uniform(0.95, 1.05)
+        # equidistant, about 145 degrees across the diagonal and 115 across the width: a
+        # full-frame fisheye (every pixel sees), not a circular one. The board, placed for the
+        # pinholes, looks about half as wide here as there, its tags mostly 17-27 px, which
+        # detection needs. (w / 3.2 was 230 degrees across the diagonal, wider than any
+        # full-frame fisheye: the board about 110 px wide, tags of 9-17 px, mostly missed.)
+        f = w / 2.0 * rng.uniform(0.95, 1.05)
         dist: tuple[float, ...] = tuple(float(x) for x in (
             rng.uniform(-0.05, 0.05), rng.uniform(-0.02, 0.02),
             rng.uniform(-0.01, 0.01), rng.uniform(-0.005, 0.005)))
@@ -263,9 +268,15 @@ def _make_camera(i: int, options: SynthOptions, rng: np.random.Generator) -> Cam
 
 
 def _random_pose(target: TargetSpec, rng: np.random.Generator, first: bool = False) -> Pose:
-    """A target pose facing the rig at 0.55-1.1 m, tilted up to ~35 degrees."""
+    """A target pose facing the rig at 0.55-0.9 m, tilted up to ~35 degrees.
+
+    As an operator holds it: as close as the pinholes (about 55 degrees wide) still see all
+    of it, and never so far that it shrinks to a small patch of a wide lens's image. Draws
+    from ``rng`` as many numbers, in the same order, whatever the ranges (the speech slots
+    drawn after them stay put).
+    """
     w, h = target.extent
-    dist = rng.uniform(0.75, 0.9) if first else rng.uniform(0.55, 1.1)
+    dist = rng.uniform(0.75, 0.9) if first else rng.uniform(0.55, 0.9)
     tilt = 0.0 if first else 0.6
     rx, ry = rng.uniform(-tilt, tilt, 2)
     rz = rng.uniform(-0.3, 0.3) if not first else 0.0

@@ -8,8 +8,9 @@ import cv2
 import numpy as np
 import pytest
 
+from speechcal_core.frames.detect import TargetDetector
 from speechcal_core.synth import scene
-from speechcal_core.synth.camera_model import project_points
+from speechcal_core.synth.camera_model import pixel_rays, project_points
 from speechcal_core.synth.options import SynthOptions
 from speechcal_core.synth.render import FrameRenderer, render_frame, renderer_for
 from speechcal_core.synth.timeline import Timeline, plan_session
@@ -128,6 +129,43 @@ def test_checkerboard_is_found_where_the_truth_projects_it_in_pinhole_and_fishey
         assert dist.min(axis=1).max() < 1.0
 
 
+def test_a_fisheye_is_a_full_frame_fisheye_that_sees_the_board_large() -> None:
+    """The board, held for the pinholes, still fills a fair part of a fisheye's image.
+
+    (A fisheye of 230 degrees across the diagonal saw it about 110 px wide, with tags of
+    9-17 px that detection mostly missed.) The lens stays a fisheye: wider than 120 degrees
+    across the diagonal, every pixel seeing.
+    """
+    for seed in range(10):
+        tl = plan_session(SynthOptions(cameras=4, fisheye=1, duration=30.0, seed=seed))
+        index, cam = next((i, c) for i, c in enumerate(tl.cameras) if c.model == "fisheye")
+        fx = cam.intrinsics[0]  # equidistant: angle = radius / f
+        assert 2 * np.degrees(np.hypot(cam.width / 2, cam.height / 2) / fx) > 120
+        if seed == 0:
+            assert pixel_rays(cam, step=8)[1].all()
+        for hold in tl.holds:
+            t = (hold.start_ns + hold.end_ns) // 2
+            px = _projected_corners(tl, index, t).reshape(-1, 4, 2)
+            edge = np.linalg.norm(np.roll(px, -1, axis=1) - px, axis=2).mean(axis=1)
+            assert np.median(edge) > 14.0, f"seed {seed}: tags of {np.median(edge):.1f} px"
+            assert np.ptp(px[..., 0]) > 0.18 * cam.width
+            assert (px >= 0).all() and (px[..., 0] < cam.width).all() \
+                and (px[..., 1] < cam.height).all(), "all of the board in the fisheye's view"
+
+
+@pytest.mark.parametrize("seed", [2, 3, 7])
+def test_a_fisheye_finds_the_board_at_most_holds(seed: int) -> None:
+    tl = plan_session(SynthOptions(cameras=2, fisheye=1, duration=30.0, seed=seed))
+    detector = TargetDetector(tl.target)
+    found = []
+    for hold in tl.holds:
+        detection = detector.detect(render_frame(tl, 1, (hold.start_ns + hold.end_ns) // 2))
+        found.append(detection.count if detection is not None else 0)
+    # 8 corners: fewer and a set is flagged "no target"
+    assert sum(n >= 8 for n in found) >= 0.75 * len(found), found
+    assert max(found) >= 130, found
+
+
 def test_frames_blur_while_the_target_moves_fast() -> None:
     tl = plan_session(SynthOptions(cameras=1, duration=16.0, seed=7))
     e_ns = int(tl.cameras[0].exposure_s * NS)
@@ -194,15 +232,21 @@ def test_still_frames_repeat_the_target_while_fan_and_light_keep_moving(
 ) -> None:
     tl = grid_timeline
     cam = tl.cameras[0]
-    hold = next(s for s in tl.segments if s.kind == "hold")
+    fx0, fy0, fx1, fy1 = scene.fan_region(cam.width, cam.height)
+    lx0, ly0, lx1, ly1 = scene.light_region(cam.width, cam.height)
+
+    def hides_fan_or_light(t: int) -> bool:  # the board is in front of them
+        card = _card_mask(tl, 0, t, shrink_px=0)
+        return bool(card[fy0:fy1, fx0:fx1].any() or card[ly0:ly1, lx0:lx1].any())
+
+    hold = next(s for s in tl.segments
+                if s.is_hold and not hides_fan_or_light(s.start_ns + int(0.3 * NS)))
     a = render_frame(tl, 0, hold.start_ns + int(0.3 * NS)).astype(int)
     b = render_frame(tl, 0, hold.start_ns + int(0.3 * NS) + NS // 10).astype(int)
     card = _card_mask(tl, 0, hold.start_ns + int(0.3 * NS))
     assert np.abs(a - b)[card].mean() < 3.0, "only sensor noise on the held target"
-    fx0, fy0, fx1, fy1 = scene.fan_region(cam.width, cam.height)
     assert np.abs(a - b)[fy0:fy1, fx0:fx1].mean() > 5.0, "the fan turns"
     # the light blinks: some frames of the hold differ there
-    lx0, ly0, lx1, ly1 = scene.light_region(cam.width, cam.height)
     levels = [render_frame(tl, 0, hold.start_ns + k * NS // 10)[ly0:ly1, lx0:lx1].mean()
               for k in range(8)]
     assert max(levels) - min(levels) > 40
