@@ -4,9 +4,16 @@ from __future__ import annotations
 
 import os
 import sys
+import tempfile
 import time
 from collections.abc import Sequence
 from pathlib import Path
+
+from speechcal_core.errors import SpeechCalError
+
+
+class ScreenshotError(SpeechCalError):
+    """The ``--screenshot`` file cannot be written (the CLI prints one line, exit 1)."""
 
 
 def has_display() -> bool:
@@ -27,6 +34,8 @@ def run_review(
     offer_demo: bool = True,
 ) -> int:
     """Open the window on the given input; with ``screenshot`` render it to PNG and exit."""
+    if screenshot:
+        check_screenshot_path(screenshot)  # before minutes of loading, not after
     if screenshot and not has_display():
         os.environ["QT_QPA_PLATFORM"] = "offscreen"
     from PySide6.QtWidgets import QApplication
@@ -69,9 +78,40 @@ def wait_until_settled(window, app, timeout_s: float = 60.0) -> bool:
     return False
 
 
-def save_screenshot(window, path: str) -> None:
-    """Render the whole window to a PNG file."""
+def _screenshot_error(target: Path, reason: str) -> ScreenshotError:
+    return ScreenshotError(f"{target}: cannot write the screenshot ({reason}); "
+                           "give --screenshot a file name in a writable folder")
+
+
+def check_screenshot_path(path: str) -> None:
+    """Raise ScreenshotError now if no file can be written at ``path``."""
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    if not window.grab().save(str(target)):
-        raise OSError(f"{target}: could not write the screenshot")
+    if target.is_dir():
+        raise _screenshot_error(target, "it is a folder")
+    if target.parent.exists() and not target.parent.is_dir():
+        raise _screenshot_error(target, f"{target.parent} is not a folder")
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=target.parent, prefix=f".{target.name}.check-"):
+            pass
+    except OSError as exc:
+        raise _screenshot_error(target, exc.strerror or str(exc)) from exc
+
+
+def save_screenshot(window, path: str) -> None:
+    """Render the whole window to a PNG file (or the format the suffix names)."""
+    from PySide6.QtCore import QBuffer, QByteArray, QIODevice
+
+    target = Path(path)
+    check_screenshot_path(path)
+    data = QByteArray()
+    buffer = QBuffer(data)
+    buffer.open(QIODevice.OpenModeFlag.WriteOnly)
+    fmt = target.suffix.lstrip(".").upper() or "PNG"
+    if not window.grab().save(buffer, fmt):
+        raise _screenshot_error(target, f"no {fmt} image writer; use a .png name")
+    buffer.close()
+    try:
+        target.write_bytes(data.data())
+    except OSError as exc:
+        raise _screenshot_error(target, exc.strerror or str(exc)) from exc
