@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from PySide6.QtCore import Qt, QTimer
@@ -26,10 +27,12 @@ from PySide6.QtWidgets import (
 
 from app.audio_player import AudioPlayer
 from app.checks_action import ChecksAction
+from app.elided_label import ElidedLabel
 from app.export_action import ExportAction
 from app.frame_grid import FrameGrid
 from app.frame_loader import FrameLoader
 from app.rescore_action import RescoreAction
+from app.session_saver import SessionSaver
 from app.set_table import SetTable
 from app.similar_action import SimilarAction
 from app.status_line import StatusLine
@@ -41,13 +44,24 @@ from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
 from speechcal_core.review.summary import FILTERS
-from speechcal_core.session.store import save_session
+from speechcal_core.session.store import SessionFileError
 
 EMPTY_TEXT = (
     "<h2>Open a calibration session</h2>"
     "<p>Drag a recording (ROS bag, bag folder, .mcap, .db3) and its audio file here,<br>"
     "or open a session file (SESSION.json).</p>"
 )
+#: the key hints under the waveform: one line at 1400 px (the tooltip says it in full)
+HINTS = ("Space play · W hear word · ←/→ frame · J/K set · F filter · A/R/U decide · "
+         "T add · Del remove · S more like this · [ ] { } audio ±1 ms/frame · "
+         "double-click a camera: enlarge, Esc back · waveform: wheel zoom, click seek")
+HINTS_TIP = (
+    "Space play / pause · W hear the trigger word · ←/→ previous / next frame · "
+    "J/K previous / next set · F next filter · A/R/U accept / reject / undo\n"
+    "T add a set at the playhead · Del remove the set · S find more like this\n"
+    "[ ] audio ±1 ms, { } audio ±1 frame, or drag the clap handle on the waveform\n"
+    "double-click a camera to enlarge it, Esc back to the grid\n"
+    "waveform: the wheel zooms, a click moves the playhead")
 
 
 class ReviewWindow(QMainWindow):
@@ -61,7 +75,10 @@ class ReviewWindow(QMainWindow):
         self.inputs: ReviewInputs | None = None
         self.loader: FrameLoader | None = None
         self.task: BackgroundTask | None = None
-        self.last_saved: float | None = None
+        self.saver = SessionSaver()
+        #: asks what to do with decisions not saved: "save_as", "discard" or "cancel"
+        #: (a dialog; tests put a function here)
+        self.ask_unsaved: Callable[[str], str] = self._ask_unsaved
         self.load_error = ""
         self._pending_tiles: set[str] = set()
         self._playing = False
@@ -146,6 +163,12 @@ class ReviewWindow(QMainWindow):
         self.export_action.triggered.connect(self.exporter.choose)
         self.export_action.setEnabled(False)
         menu.addAction(self.export_action)
+        self.save_as_action = QAction("Save session &as…", self)
+        self.save_as_action.setShortcut(QKeySequence("Ctrl+Shift+S"))
+        self.save_as_action.triggered.connect(self.choose_save_as)
+        self.save_as_action.setEnabled(False)
+        self.addAction(self.save_as_action)  # its shortcut works with the menu closed
+        menu.addAction(self.save_as_action)
         self.export_button = QPushButton("Export…")
         self.export_button.setToolTip("Write the accepted frame sets for Kalibr, per-camera "
                                       "folders or a bag  (Ctrl+E)")
@@ -237,14 +260,8 @@ class ReviewWindow(QMainWindow):
             ("+1 frame", "offset_plus_frame", "audio one frame later  (})"),
         ):
             sync_row.addWidget(self._action_button(label, action, tip))
-        self.help_line = QLabel(
-            "Space play · W hear the word · ←/→ frame · J/K set · F filter · A/R/U decide · "
-            "T add · Del remove · S more like this · "
-            "[ ] { } audio ±1 ms / ±1 frame · drag the clap handle · "
-            "double-click a camera to enlarge, Esc back · "
-            "waveform: wheel zooms, click moves the playhead")
+        self.help_line = ElidedLabel(HINTS, HINTS_TIP)
         self.help_line.setStyleSheet("color: gray")
-        self.help_line.setWordWrap(True)  # never the reason the window is wider
         bottom_layout.addLayout(sync_row)
         bottom_layout.addWidget(self.help_line)
         split.addWidget(bottom)
@@ -280,6 +297,8 @@ class ReviewWindow(QMainWindow):
             "opening…")
 
     def _start(self, work, text: str) -> None:
+        if not self._may_drop_unsaved():
+            return
         self.load_error = ""
         self.task = BackgroundTask(work, owner=self)
         self.task.signals.progress.connect(
@@ -366,6 +385,10 @@ class ReviewWindow(QMainWindow):
         if self.inputs is not None:
             self._retired.append(self.inputs)
         self.inputs = inputs
+        self.saver.reset(inputs.session_path)
+        self.status.end("save")
+        self.save_as_action.setEnabled(True)
+        self._update_saved_label()
         self.model = ReviewModel(inputs.session, inputs.source, autosave=self._autosave)
         self.loader = FrameLoader(inputs.source, parent=self)
         self.loader.loaded.connect(self._on_frame)
@@ -575,19 +598,73 @@ class ReviewWindow(QMainWindow):
             f"{sync.drift * 1e6:.1f} ppm · {how}{worst}")
 
     def _autosave(self, session) -> None:
-        if self.inputs is None or self.inputs.session_path is None:
-            return
-        save_session(session, self.inputs.session_path)
-        self.last_saved = time.monotonic()
+        """Save after every change; a failure is warned about, never raised."""
+        was_unsaved = self.saver.unsaved
+        if self.saver.save(session):
+            if was_unsaved:
+                self.status.end("save")
+        else:
+            self.status.end("save", f"not saved: {self.saver.error}")
         self._update_saved_label()
 
     def _update_saved_label(self) -> None:
-        if self.last_saved is None:
-            path = self.inputs.session_path if self.inputs else None
-            self.saved_label.setText(f"session: {Path(path).name}" if path else "")
-            return
-        ago = int(time.monotonic() - self.last_saved)
-        self.saved_label.setText("saved just now" if ago < 2 else f"saved {ago} s ago")
+        """When the session was last saved, or (amber) that its last save failed."""
+        text, tip = self.saver.label(time.time())
+        warn = self.saver.unsaved
+        self.saved_label.setText(f"{WARNING_SYMBOL} {text}" if warn else text)
+        self.saved_label.setStyleSheet(f"color: {WARNING_COLOUR.name()}" if warn else "")
+        self.saved_label.setToolTip(tip)
+
+    # -- saving elsewhere ---------------------------------------------------------------
+    def choose_save_as(self) -> bool:
+        """Ctrl+Shift+S: save the session to a file the operator picks; True if saved."""
+        if self.model is None:
+            return False
+        current = self.saver.path or Path("session.json")
+        # a failing save's folder is likely to fail again: start from home then
+        start_at = str(Path.home() / current.name if self.saver.unsaved else current)
+        path, _ = QFileDialog.getSaveFileName(self, "Save session as", start_at,
+                                              "SpeechCal sessions (*.json)")
+        return bool(path) and self.save_session_as(Path(path))
+
+    def save_session_as(self, path: Path) -> bool:
+        """Save to ``path`` (``.json`` added) and autosave there from now on."""
+        assert self.model is not None and self.inputs is not None
+        path = path if path.suffix == ".json" else path.with_name(path.name + ".json")
+        try:
+            self.saver.save_as(self.model.session, path)
+        except SessionFileError as exc:
+            self.status.end("save", f"not saved: {exc}")
+            if not self.property("headless"):
+                QMessageBox.warning(self, "SpeechCal", str(exc))
+            return False
+        self.inputs.session_path = path
+        self.status.end("save", f"session saved as {path}")
+        self._update_saved_label()
+        return True
+
+    def _may_drop_unsaved(self) -> bool:
+        """True when nothing is unsaved, or the operator saved it elsewhere or lets it go."""
+        if not self.saver.unsaved:
+            return True
+        choice = self.ask_unsaved(f"The latest decisions are not saved: {self.saver.error}")
+        if choice == "save_as":
+            return self.choose_save_as()
+        return choice == "discard"
+
+    def _ask_unsaved(self, text: str) -> str:
+        """The dialog behind :attr:`ask_unsaved` (none in a headless window: discard)."""
+        if self.property("headless"):
+            return "discard"
+        box = QMessageBox(QMessageBox.Icon.Warning, "SpeechCal", text, parent=self)
+        box.setInformativeText("Save them to another file before they are lost?")
+        save = box.addButton("Save as…", QMessageBox.ButtonRole.AcceptRole)
+        discard = box.addButton("Discard", QMessageBox.ButtonRole.DestructiveRole)
+        box.addButton(QMessageBox.StandardButton.Cancel)
+        box.setDefaultButton(save)
+        box.exec()
+        clicked = box.clickedButton()
+        return "save_as" if clicked is save else "discard" if clicked is discard else "cancel"
 
     # -- playback -----------------------------------------------------------------------
     def toggle_play(self) -> None:
@@ -703,6 +780,9 @@ class ReviewWindow(QMainWindow):
             self.status.say("Drop a recording together with its audio file, or a session file")
 
     def closeEvent(self, event) -> None:
+        if not self._may_drop_unsaved():
+            event.ignore()
+            return
         if self.task is not None:
             self.task.cancel()
         self._play_timer.stop()

@@ -1,0 +1,87 @@
+"""Where the window saves its session, when that last worked, and why it last failed.
+
+A failed save is never raised into Qt: the decisions stay in memory, the window warns
+until a later save (autosave or "Save session as…") succeeds.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from speechcal_core.session.model import Session
+from speechcal_core.session.store import SessionFileError, save_session
+
+SAVE_AS_HINT = "File ▸ Save session as… (Ctrl+Shift+S) writes them to another file"
+
+
+def saved_text(saved_at: float, now: float) -> str:
+    """ "saved 42 s ago", "saved 10 min ago", "saved at 11:00" or with the date."""
+    ago = int(now - saved_at)
+    if ago < 2:
+        return "saved just now"
+    if ago < 60:
+        return f"saved {ago} s ago"
+    if ago < 3600:
+        return f"saved {ago // 60} min ago"
+    then, today = time.localtime(saved_at), time.localtime(now)
+    if then[:3] == today[:3]:
+        return time.strftime("saved at %H:%M", then)
+    return time.strftime("saved %Y-%m-%d %H:%M", then)
+
+
+def short_reason(exc: SessionFileError) -> str:
+    """What went wrong in a few words (the OS's reason when there is one)."""
+    cause = exc.__cause__
+    if isinstance(cause, OSError) and cause.strerror:
+        return cause.strerror
+    return str(exc).split("; ")[0]
+
+
+class SessionSaver:
+    """Saves the open session to its file; remembers the last success and failure."""
+
+    def __init__(self) -> None:
+        self.path: Path | None = None
+        self.saved_at: float | None = None  # wall-clock time of the file's last save
+        self.error: SessionFileError | None = None  # the last save's failure, if it failed
+
+    @property
+    def unsaved(self) -> bool:
+        """Whether the window holds changes its file does not have."""
+        return self.error is not None
+
+    def reset(self, path: Path | None) -> None:
+        """A session was opened from (or processed into) ``path``."""
+        self.path, self.error = path, None
+        try:
+            self.saved_at = path.stat().st_mtime if path is not None else None
+        except OSError:
+            self.saved_at = None
+
+    def save(self, session: Session) -> bool:
+        """Autosave to :attr:`path`; False (and :attr:`error` set) when it failed."""
+        if self.path is None:
+            return True
+        try:
+            save_session(session, self.path)
+        except SessionFileError as exc:
+            self.error = exc
+            return False
+        self.saved_at, self.error = time.time(), None
+        return True
+
+    def save_as(self, session: Session, path: Path) -> None:
+        """Save to ``path`` and autosave there from now on; raises SessionFileError."""
+        save_session(session, path)
+        self.path, self.saved_at, self.error = path, time.time(), None
+
+    def label(self, now: float) -> tuple[str, str]:
+        """The status line's text and tooltip: the last save, or a warning."""
+        if self.error is not None:
+            return (f"not saved: {short_reason(self.error)} · Ctrl+Shift+S saves elsewhere",
+                    f"{self.error}\nThe decisions are kept in this window; {SAVE_AS_HINT}.")
+        if self.path is None or self.saved_at is None:
+            return "", ""
+        stamp = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(self.saved_at))
+        return saved_text(self.saved_at, now), f"{self.path}\nlast saved {stamp}"

@@ -1,0 +1,167 @@
+"""Autosave as the operator sees it: when the session was last saved, a save that fails
+(warned, decisions kept, Save as… elsewhere), and closing with unsaved decisions."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import pytest
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QFileDialog
+
+from app.main_window import ReviewWindow
+from app.session_saver import saved_text
+from app.set_table import column
+from app.style import WARNING_COLOUR, WARNING_SYMBOL
+from speechcal_core.session.store import load_session, save_session
+
+
+@pytest.fixture
+def session_in_folder(truth_session_file: Path) -> Path:
+    """The truth session in a folder of its own (which a test can take away)."""
+    folder = truth_session_file.parent / "sessions"
+    folder.mkdir()
+    path = folder / "review.json"
+    save_session(load_session(truth_session_file), path)  # its paths relative to there
+    return path
+
+
+def block_saving(path: Path) -> None:
+    """Make saving ``path`` really fail: its folder becomes a plain file (even for root)."""
+    folder = path.parent
+    folder.rename(folder.with_name(folder.name + "-moved"))
+    folder.write_text("not a folder")
+
+
+def unblock_saving(path: Path) -> None:
+    folder = path.parent
+    folder.unlink()
+    folder.with_name(folder.name + "-moved").rename(folder)
+
+
+def assert_warned(window: ReviewWindow, reason: str) -> None:
+    label = window.saved_label
+    assert label.text().startswith(f"{WARNING_SYMBOL} not saved: {reason}")
+    assert WARNING_COLOUR.name() in label.styleSheet()
+    assert "Save session as" in label.toolTip()
+
+
+def test_saved_text_says_how_long_ago_then_the_time() -> None:
+    now = time.mktime((2026, 11, 20, 15, 0, 0, 0, 0, -1))
+    assert saved_text(now - 1, now) == "saved just now"
+    assert saved_text(now - 42, now) == "saved 42 s ago"
+    assert saved_text(now - 600, now) == "saved 10 min ago"
+    assert saved_text(now - 4 * 3600, now) == "saved at 11:00"
+    assert saved_text(now - 3 * 86400, now) == "saved 2026-11-17 15:00"
+
+
+def test_opened_session_says_when_it_was_last_saved(qtbot, truth_session_file) -> None:
+    stamp = time.time() - 600
+    os.utime(truth_session_file, (stamp, stamp))
+    window = ReviewWindow()
+    window.setProperty("headless", True)
+    qtbot.addWidget(window)
+    window.show()
+    window.open(session_path=str(truth_session_file))
+    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    assert window.saved_label.text() == "saved 10 min ago"  # before anything saves it again
+    assert str(truth_session_file) in window.saved_label.toolTip()
+
+
+def test_failed_autosave_warns_keeps_decisions_and_clears_after_a_later_save(
+    qtbot, open_window, session_in_folder: Path
+) -> None:
+    window = open_window(session_in_folder)
+    block_saving(session_in_folder)
+    with qtbot.captureExceptions() as raised:
+        qtbot.keyClick(window, Qt.Key.Key_A)
+    assert raised == []
+    assert window.model.session.sets[0].decision == "accepted"
+    assert "accepted" in window.table.item(0, column("decision")).text()
+    assert_warned(window, "Not a directory")
+    window._update_saved_label()  # the clock's tick keeps the warning
+    assert_warned(window, "Not a directory")
+    unblock_saving(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    qtbot.keyClick(window, Qt.Key.Key_R)
+    assert window.saved_label.text() == "saved just now"
+    assert window.saved_label.styleSheet() == ""
+    saved = load_session(session_in_folder)
+    assert [s.decision for s in saved.sets[:2]] == ["accepted", "rejected"]
+
+
+def test_save_as_writes_the_decisions_elsewhere_and_autosaves_there(
+    qtbot, open_window, session_in_folder: Path, tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch
+) -> None:
+    window = open_window(session_in_folder)
+    block_saving(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    elsewhere = tmp_path / "rescued" / "copy"  # the suffix is added
+    (tmp_path / "rescued").mkdir()
+    monkeypatch.setattr(QFileDialog, "getSaveFileName",
+                        lambda *a, **k: (str(elsewhere), "SpeechCal sessions (*.json)"))
+    qtbot.keyClick(window, Qt.Key.Key_S, Qt.KeyboardModifier.ControlModifier
+                   | Qt.KeyboardModifier.ShiftModifier)
+    rescued = elsewhere.with_suffix(".json")
+    assert load_session(rescued).sets[0].decision == "accepted"
+    assert window.saved_label.text() == "saved just now"
+    assert window.inputs.session_path == rescued
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    qtbot.keyClick(window, Qt.Key.Key_R)
+    assert load_session(rescued).sets[1].decision == "rejected"
+    assert Path(load_session(rescued).recording[0]).exists()  # paths follow the new folder
+
+
+def test_closing_with_unsaved_decisions_asks_save_as_discard_or_cancel(
+    qtbot, open_window, session_in_folder: Path, tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Save as… whose file dialog is cancelled (no dialog ever blocks the test)
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", lambda *a, **k: ("", ""))
+    window = open_window(session_in_folder)
+    asked: list[str] = []
+    answers = ["cancel", "save_as", "save_as"]
+    window.ask_unsaved = lambda text: asked.append(text) or (answers or ["discard"]).pop(0)
+    block_saving(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    assert not window.close() and window.isVisible()
+    assert "not saved" in asked[0] and str(session_in_folder) in asked[0]
+    assert not window.close() and window.isVisible()  # the file dialog was cancelled
+    target = tmp_path / "rescued.json"
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", lambda *a, **k: (str(target), ""))
+    assert window.close()
+    assert load_session(target).sets[0].decision == "accepted"
+    assert len(asked) == 3
+
+
+def test_closing_after_discard_closes_and_saved_sessions_close_without_asking(
+    qtbot, open_window, session_in_folder: Path, truth_session_file: Path
+) -> None:
+    window = open_window(session_in_folder)
+    window.ask_unsaved = lambda text: "discard"
+    block_saving(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    assert window.close()
+    other = open_window(truth_session_file)
+    other.ask_unsaved = lambda text: pytest.fail("asked although everything was saved")
+    qtbot.keyClick(other, Qt.Key.Key_A)
+    assert other.close()
+
+
+def test_opening_another_session_with_unsaved_decisions_asks_first(
+    qtbot, open_window, session_in_folder: Path, truth_session_file: Path
+) -> None:
+    window = open_window(session_in_folder)
+    answers = ["cancel", "discard"]
+    window.ask_unsaved = lambda text: answers.pop(0) if answers else "discard"
+    block_saving(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    window.open(session_path=str(truth_session_file))
+    assert window.task is None  # kept: nothing is opened
+    assert window.model.session.sets[0].decision == "accepted"
+    window.open(session_path=str(truth_session_file))
+    qtbot.waitUntil(lambda: window.inputs.session_path == truth_session_file, timeout=30_000)
+    assert window.saved_label.styleSheet() == ""
