@@ -1,4 +1,4 @@
-"""The camera grid: one tile per stream, aspect kept, decision border, trigger-word overlay."""
+"""The camera grid: one tile per stream, aspect kept, decision border, the heard word."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import math
 
 from PySide6.QtCore import QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QFont, QImage, QPainter, QPen
-from PySide6.QtWidgets import QGridLayout, QSizePolicy, QWidget
+from PySide6.QtWidgets import QGridLayout, QSizePolicy, QVBoxLayout, QWidget
 
 from app.style import (
     BACKGROUND,
@@ -99,24 +99,37 @@ class CameraTile(QWidget):
 
 
 class FrameGrid(QWidget):
-    """All camera tiles in a near-square grid, with the heard word drawn large on top."""
+    """All camera tiles in a near-square grid, with the heard word large in a band below
+    them (it covers no camera's image)."""
 
     def __init__(self, streams: list[str], parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.tiles: dict[str, CameraTile] = {}
-        self._layout = QGridLayout(self)
+        outer = QVBoxLayout(self)
+        outer.setContentsMargins(0, 0, 0, 0)
+        outer.setSpacing(4)
+        self._tile_area = QWidget(self)
+        self._layout = QGridLayout(self._tile_area)
         self._layout.setContentsMargins(0, 0, 0, 0)
         self._layout.setSpacing(4)
-        self.word = ""
-        self.word_state: str | None = None
+        outer.addWidget(self._tile_area, 1)
+        self.word_band = WordBand(self)
+        outer.addWidget(self.word_band)
         self._enlarged: str | None = None
-        self._overlay = WordOverlay(self)
         self.set_streams(streams)
+
+    @property
+    def word(self) -> str:
+        return self.word_band.word
+
+    @property
+    def word_state(self) -> str | None:
+        return self.word_band.state
 
     def set_streams(self, streams: list[str]) -> None:
         for tile in self.tiles.values():
             tile.setParent(None)
-        self.tiles = {s: CameraTile(s, self) for s in streams}
+        self.tiles = {s: CameraTile(s, self._tile_area) for s in streams}
         for tile in self.tiles.values():
             tile.double_clicked.connect(self.toggle_enlarged)
         self._arrange()
@@ -137,43 +150,36 @@ class FrameGrid(QWidget):
         self._arrange()
 
     def set_word(self, word: str, state: str | None) -> None:
-        """Draw the trigger word of the set under the playhead large over the grid."""
-        self.word, self.word_state = word, state
-        self._overlay.word, self._overlay.state = word, state
-        self._overlay.raise_()
-        self._overlay.update()
-
-    def resizeEvent(self, event) -> None:
-        super().resizeEvent(event)
-        self._overlay.setGeometry(self.rect())
-        self._overlay.raise_()
+        """Show the trigger word of the set under the playhead (none: an empty band)."""
+        self.word_band.word, self.word_band.state = word, state
+        self.word_band.update()
 
 
-class WordOverlay(QWidget):
-    """Transparent layer that writes the heard word in large letters."""
+class WordBand(QWidget):
+    """A band under the tiles that writes the heard word in large letters, with the
+    set's decision as symbol and colour."""
+
+    HEIGHT = 40
 
     def __init__(self, parent: QWidget) -> None:
         super().__init__(parent)
-        self.setAttribute(Qt.WidgetAttribute.WA_TransparentForMouseEvents)
         self.word = ""
         self.state: str | None = None
+        self.setFixedHeight(self.HEIGHT)
+        self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
 
     def paintEvent(self, event) -> None:
-        if not self.word:
-            return
         p = QPainter(self)
-        font = QFont(self.font())
-        font.setPixelSize(max(24, self.height() // 9))
-        font.setBold(True)
-        p.setFont(font)
-        text = f"“{self.word.upper()}”"
-        if self.state:
-            text = f"{DECISION_SYMBOLS[self.state]} {text}"
-        box = QRectF(self.rect()).adjusted(0, 0, 0, -self.height() * 0.06)
-        flags = Qt.AlignmentFlag.AlignHCenter | Qt.AlignmentFlag.AlignBottom
-        p.setPen(QColor(0, 0, 0, 200))
-        p.drawText(box.translated(2, 2), flags, text)
-        colour = DECISION_COLOURS.get(self.state or "", QColor(255, 255, 255))
-        p.setPen(colour.lighter(130))
-        p.drawText(box, flags, text)
+        p.fillRect(self.rect(), BACKGROUND)
+        if self.word:
+            font = QFont(self.font())
+            font.setPixelSize(self.HEIGHT - 10)
+            font.setBold(True)
+            p.setFont(font)
+            text = f"“{self.word.upper()}”"
+            if self.state:
+                text = f"{DECISION_SYMBOLS[self.state]} {text}"
+            colour = DECISION_COLOURS.get(self.state or "", QColor(255, 255, 255))
+            p.setPen(colour.lighter(130))
+            p.drawText(QRectF(self.rect()), Qt.AlignmentFlag.AlignCenter, text)
         p.end()

@@ -6,8 +6,15 @@ Row ``n`` is always the session's set ``n``; a filter hides rows, it never reord
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, Signal
-from PySide6.QtGui import QBrush
-from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QTableWidget, QTableWidgetItem
+from PySide6.QtGui import QBrush, QColor, QPalette
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QHeaderView,
+    QStyledItemDelegate,
+    QStyleOptionViewItem,
+    QTableWidget,
+    QTableWidgetItem,
+)
 
 from app.style import DECISION_COLOURS, DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
 from speechcal_core.frames.sets import BLURRED_BELOW, MIN_CORNERS
@@ -38,9 +45,24 @@ PENDING_TIP = ("re-scoring: the frames nearest the trigger are shown until the b
                "frames are chosen and measured")
 
 
+#: the selected row's background: light, so the decision and warning colours stay legible
+SELECTED_ROW = QColor(196, 222, 250)
+
+
 def column(name: str) -> int:
     """The column whose header is ``name`` (line breaks read as spaces)."""
     return [h.replace("\n", " ") for h in HEADERS].index(name)
+
+
+class OwnColoursDelegate(QStyledItemDelegate):
+    """Draws a selected cell's text in its own colour (decision, warning), not the
+    highlight's, so the current set still shows whether it is accepted or rejected."""
+
+    def initStyleOption(self, option: QStyleOptionViewItem, index) -> None:
+        super().initStyleOption(option, index)
+        brush = index.data(Qt.ItemDataRole.ForegroundRole)
+        if brush is not None:
+            option.palette.setBrush(QPalette.ColorRole.HighlightedText, brush)
 
 
 class SetTable(QTableWidget):
@@ -59,6 +81,11 @@ class SetTable(QTableWidget):
         self.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
         self.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
         self.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+        palette = self.palette()
+        palette.setColor(QPalette.ColorRole.Highlight, SELECTED_ROW)
+        palette.setColor(QPalette.ColorRole.HighlightedText, QColor(0, 0, 0))
+        self.setPalette(palette)
+        self.setItemDelegate(OwnColoursDelegate(self))
         header = self.horizontalHeader()
         header.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
         header.setStretchLastSection(True)

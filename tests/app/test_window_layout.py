@@ -1,0 +1,51 @@
+"""What QA saw on the screenshot: the heard word hides no camera, the selected row keeps
+its decision colour, the key hints fit on one line."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import QPoint, QRect, Qt
+
+from app.set_table import column
+from app.style import DECISION_COLOURS
+
+
+def _area_in(widget, ancestor) -> QRect:
+    return QRect(widget.mapTo(ancestor, QPoint(0, 0)), widget.size())
+
+
+def test_heard_word_is_drawn_beside_the_tiles_not_over_them(window) -> None:
+    grid = window.grid
+    band = grid.word_band
+    assert band.isVisible() and band.height() > 20 and grid.word == "capture"
+    for tile in grid.tiles.values():
+        assert not _area_in(band, grid).intersects(_area_in(tile, grid))
+
+
+def _pixels_like(image, rect, colour, tolerance: int = 40) -> int:
+    count = 0
+    for y in range(rect.top(), rect.bottom()):
+        for x in range(rect.left(), rect.right()):
+            c = image.pixelColor(x, y)
+            if (abs(c.red() - colour.red()) + abs(c.green() - colour.green())
+                    + abs(c.blue() - colour.blue())) < tolerance:
+                count += 1
+    return count
+
+
+def test_selected_row_still_shows_its_decision_colour(qtbot, window) -> None:
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    table = window.table
+    assert [i.row() for i in table.selectedIndexes()][:1] == [0]
+    image = table.viewport().grab().toImage()
+    rect = table.visualItemRect(table.item(0, column("decision")))
+    assert _pixels_like(image, rect, DECISION_COLOURS["accepted"]) > 10
+
+
+def test_key_hints_fit_on_one_line_at_1400_px(qtbot, window) -> None:
+    window.resize(1400, 900)
+    qtbot.waitUntil(lambda: window.width() == 1400)
+    hints = window.help_line
+    assert not hints.wordWrap()
+    assert hints.text() == hints.full_text  # not elided at this width
+    assert hints.fontMetrics().horizontalAdvance(hints.text()) <= hints.contentsRect().width()
+    assert "T add · Del remove" in hints.full_text
