@@ -30,10 +30,12 @@ def run_review(
     session_path: str | None = None,
     recording: Sequence[str] | None = None,
     audio: str | None = None,
+    new_session_path: str | None = None,
     screenshot: str | None = None,
     offer_demo: bool = True,
 ) -> int:
-    """Open the window on the given input; with ``screenshot`` render it to PNG and exit."""
+    """Open the window on the given input; with ``screenshot`` render it to PNG and exit.
+    A recording's new session is saved at ``new_session_path`` (default: beside it)."""
     if screenshot:
         check_screenshot_path(screenshot)  # before minutes of loading, not after
     if screenshot and not has_display():
@@ -49,7 +51,7 @@ def run_review(
     window.demo_button.setVisible(offer_demo)
     if session_path or recording:
         window.open(session_path=session_path, recording=list(recording or []) or None,
-                    audio=audio)
+                    audio=audio, new_session_path=new_session_path)
     window.show()
     if screenshot:
         ok = wait_until_settled(window, app, timeout_s=120.0)

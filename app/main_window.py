@@ -290,11 +290,12 @@ class ReviewWindow(QMainWindow):
             self.open(session_path=path)
 
     def open(self, *, session_path: str | None = None, recording: list[str] | None = None,
-             audio: str | None = None) -> None:
-        """Load a session file, or process a recording + audio, on a worker thread."""
+             audio: str | None = None, new_session_path: str | None = None) -> None:
+        """Load a session file, or process a recording + audio (its session saved at
+        ``new_session_path``, by default beside the recording), on a worker thread."""
         self._start(lambda report: load_for_review(
-            session_path=session_path, recording=recording, audio=audio, progress=report),
-            "opening…")
+            session_path=session_path, recording=recording, audio=audio,
+            new_session_path=new_session_path, progress=report), "opening…")
 
     def _start(self, work, text: str) -> None:
         if not self._may_drop_unsaved():

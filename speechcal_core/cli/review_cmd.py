@@ -12,6 +12,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = subparsers.add_parser("review", help="open the review window")
     p.add_argument("inputs", nargs="*", metavar="SESSION.json | RECORDING")
     p.add_argument("--audio", metavar="AUDIO")
+    p.add_argument("--session", metavar="SESSION.json",
+                   help="where a recording's session is kept (default: beside the recording, "
+                        "RECORDING.speechcal.json); opened if it exists")
     p.add_argument("--screenshot", metavar="PNG", help="render the window to PNG and exit")
     return p
 
@@ -22,8 +25,9 @@ def run(args: argparse.Namespace) -> int:
     recording = None
     if len(args.inputs) == 1 and args.inputs[0].endswith(".json"):
         session_path = args.inputs[0]
-        if args.audio:
-            raise UsageError("--audio goes with a recording, not with a session file")
+        if args.audio or args.session:
+            raise UsageError("--audio and --session go with a recording, not with a session "
+                             "file")
     elif args.inputs:
         if not args.audio:
             raise UsageError("a recording needs its audio: add --audio AUDIO")
@@ -35,4 +39,4 @@ def run(args: argparse.Namespace) -> int:
             "no display (DISPLAY is not set): run it on a desktop, or use --screenshot PNG"
         )
     return run_review(session_path=session_path, recording=recording, audio=args.audio,
-                      screenshot=args.screenshot)
+                      new_session_path=args.session, screenshot=args.screenshot)

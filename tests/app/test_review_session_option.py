@@ -1,0 +1,30 @@
+"""``speechcal review RECORDING --audio AUDIO --session PATH``: the new session goes to
+PATH, e.g. when the recording lies on read-only media."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from speechcal_core.cli import main
+from speechcal_core.review.loading import default_session_path
+
+
+def test_a_recording_is_reviewed_with_its_session_kept_where_asked(
+        tiny_synth: tuple[Path, dict], tmp_path: Path) -> None:
+    folder, truth = tiny_synth
+    recording, audio = folder / truth["recording"], folder / truth["audio"]
+    target = tmp_path / "mine.json"
+    code = main(["review", str(recording), "--audio", str(audio), "--session", str(target),
+                 "--screenshot", str(tmp_path / "x.png")])
+    assert code == 0
+    assert json.loads(target.read_text())["sets"]
+    assert not default_session_path([str(recording)]).exists()
+
+
+def test_session_option_with_a_session_file_is_a_usage_error(
+        truth_session_file: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["review", str(truth_session_file), "--session", "x.json"]) == 2
+    assert "go with a recording" in capsys.readouterr().err
