@@ -19,9 +19,11 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand."""
-    from app.main import has_display, run_review
+    from app.main import check_screenshot_path, has_display, run_review
     from speechcal_core.synth.demo import default_demo_dir, ensure_demo_session
 
+    if args.screenshot:
+        check_screenshot_path(args.screenshot)  # before minutes of making the session
     workdir = Path(args.workdir) if args.workdir else default_demo_dir()
     if not (workdir / "truth.json").exists():
         progress(f"making a synthetic demo session in {workdir} …")

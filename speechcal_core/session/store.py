@@ -62,6 +62,9 @@ def check_session_target(path: str | Path) -> None:
 def _save_error(path: Path, exc: OSError) -> SessionFileError:
     """The operator's message for a session that cannot be written."""
     folder = path.absolute().parent
+    if folder.exists() and not folder.is_dir():
+        return SessionFileError(f"{path}: cannot save the session: {folder} is a file, not "
+                                f"a folder; choose another path")
     if not folder.is_dir():
         return SessionFileError(f"{path}: cannot save the session: the folder {folder} does "
                                 f"not exist; create it or choose another path")

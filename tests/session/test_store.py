@@ -76,6 +76,10 @@ def test_a_missing_folder_is_named_when_saving(tmp_path: Path) -> None:
                     lambda: check_session_target(path)):
         with pytest.raises(SessionFileError, match=f"the folder {path.parent} does not exist"):
             attempt()
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(SessionFileError, match="is a file, not a folder"):
+        save_session(_session(tmp_path), tmp_path / "file" / "session.json")
+    (tmp_path / "file").unlink()
     check_session_target(tmp_path / "session.json")  # a writable folder passes
     assert list(tmp_path.iterdir()) == []  # and the check leaves nothing behind
 

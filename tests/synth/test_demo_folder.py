@@ -37,3 +37,13 @@ def test_the_cli_reports_the_refusal_in_one_line(tmp_path: Path,
     err = capsys.readouterr().err
     assert "holds no demo session" in err and "Traceback" not in err
     assert (tmp_path / "recording.bag").read_bytes() == b"user data"
+
+
+def test_an_unwritable_screenshot_fails_before_the_demo_is_made(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "file").write_text("not a folder")
+    workdir = tmp_path / "demo"
+    assert main(["demo", "--workdir", str(workdir), "--screenshot",
+                 str(tmp_path / "file" / "x.png")]) == 1
+    assert "cannot write the screenshot" in capsys.readouterr().err
+    assert not workdir.exists()
