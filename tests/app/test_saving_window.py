@@ -57,15 +57,10 @@ def test_saved_text_says_how_long_ago_then_the_time() -> None:
     assert saved_text(now - 3 * 86400, now) == "saved 2026-11-17 15:00"
 
 
-def test_opened_session_says_when_it_was_last_saved(qtbot, truth_session_file) -> None:
+def test_opened_session_says_when_it_was_last_saved(open_window, truth_session_file) -> None:
     stamp = time.time() - 600
     os.utime(truth_session_file, (stamp, stamp))
-    window = ReviewWindow()
-    window.setProperty("headless", True)
-    qtbot.addWidget(window)
-    window.show()
-    window.open(session_path=str(truth_session_file))
-    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    window = open_window(truth_session_file)
     assert window.saved_label.text() == "saved 10 min ago"  # before anything saves it again
     assert str(truth_session_file) in window.saved_label.toolTip()
 

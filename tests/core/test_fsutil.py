@@ -56,6 +56,14 @@ def _hidden(folder: Path) -> list[str]:
     return sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
 
 
+def _old_output(folder: Path) -> Path:
+    """An earlier output folder ``out`` holding ``old.txt``."""
+    target = folder / "out"
+    target.mkdir()
+    (target / "old.txt").write_text("old")
+    return target
+
+
 def test_force_replaces_an_existing_file_and_leaves_nothing_hidden(tmp_path: Path) -> None:
     target = tmp_path / "out.json"
     target.write_text("a file")
@@ -88,9 +96,7 @@ def test_an_old_folder_that_cannot_be_removed_is_reported(
 
     from speechcal_core.errors import SpeechCalError
 
-    target = tmp_path / "out"
-    target.mkdir()
-    (target / "old.txt").write_text("old")
+    target = _old_output(tmp_path)
 
     def busy(path, *args, **kwargs) -> None:
         if kwargs.get("ignore_errors"):
@@ -111,9 +117,7 @@ def test_a_failed_swap_puts_the_old_target_back(
 ) -> None:
     from speechcal_core.errors import SpeechCalError
 
-    target = tmp_path / "out"
-    target.mkdir()
-    (target / "old.txt").write_text("old")
+    target = _old_output(tmp_path)
     real_replace = os.replace
 
     def fail_into_place(src, dst) -> None:
