@@ -77,20 +77,23 @@ class McapFile(IndexedFile):
             self.f.close()
             raise SourceError(f"{self.name}: not an MCAP file (magic missing)")
         self.truncated = self.f.size < 16 or self.f.pread(self.f.size - 8, 8) != MAGIC
-        if self.truncated and not scan:
-            self.f.close()
+        self.schemas: dict[int, tuple[str, str]] = {}
+        self.channels: dict[int, dict[str, str]] = {}
+
+
+    def scan(self) -> FileScan:
+        """Walk the data section, reading only record heads in uncompressed chunks.
+
+        A truncated file is walked only when scanning was allowed; its index, once
+        cached, then opens it without (as for an unindexed ROS1 bag).
+        """
+        if self.truncated and not self.allow_scan:
             raise SourceError(
                 f"{self.name}: MCAP file is truncated (no footer; recording was interrupted); "
                 f"run `speechcal index {self.path} --scan` to read the complete chunks "
                 f"(the other commands then use the recovered index), or "
                 f"`mcap recover {self.path} -o fixed.mcap`"
             )
-        self.schemas: dict[int, tuple[str, str]] = {}
-        self.channels: dict[int, dict[str, str]] = {}
-
-
-    def scan(self) -> FileScan:
-        """Walk the data section, reading only record heads in uncompressed chunks."""
         self.f.advise_random()
         result = FileScan(topics=[])
         collectors: dict[int, TopicCollector] = {}

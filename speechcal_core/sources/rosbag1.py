@@ -245,7 +245,7 @@ class Ros1Bag(IndexedFile):
             raise SourceError(
                 f"{self.name}: chunk at byte {chunk_pos} is damaged; "
                 f"run `rosbag reindex {self.path}`, or `speechcal index {self.path} --scan` "
-            f"(the other commands then use the recovered index)"
+                f"(the other commands then use the recovered index)"
             )
         fields, dpos, dlen = rec
         compression = fields.get("compression", b"none").decode()

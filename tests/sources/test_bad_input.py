@@ -71,6 +71,10 @@ def test_truncated_mcap_is_refused_then_recovered_by_scanning(make_bag) -> None:
         assert 17 < info.count < 40
         assert list(src.stamps("/cam0/image_raw")) == regular(info.count)
         src.frame("/cam0/image_raw", info.count - 1)
+    # as the message says: after the scan, the other commands open it from its index
+    with open_recording([mcap]) as src:
+        assert src.streams[0].count == info.count
+        src.frame("/cam0/image_raw", info.count - 1)
 
 
 def test_missing_file_is_named(tmp_path: Path) -> None:
