@@ -372,6 +372,10 @@ class ReviewWindow(QMainWindow):
     def _on_loaded(self, inputs: ReviewInputs) -> None:
         self.status.end("open")
         self.task = None
+        if not self._may_drop_unsaved():  # a save failed while it was loading
+            inputs.close()
+            self.status.say("not opened: the current session's decisions are not saved")
+            return
         if self._playing:
             self.toggle_play()
         self.player.set_source(inputs.session.audio)

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import os
+import threading
 import time
 from pathlib import Path
 
@@ -11,6 +12,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QFileDialog
 
+import app.main_window
 from app.main_window import ReviewWindow
 from app.session_saver import saved_text
 from app.set_table import column
@@ -160,3 +162,29 @@ def test_opening_another_session_with_unsaved_decisions_asks_first(
     window.open(session_path=str(truth_session_file))
     qtbot.waitUntil(lambda: window.inputs.session_path == truth_session_file, timeout=30_000)
     assert window.saved_label.styleSheet() == ""
+
+
+def test_a_save_that_fails_while_another_session_loads_is_asked_about_again(
+    qtbot, open_window, session_in_folder: Path, truth_session_file: Path,
+    monkeypatch: pytest.MonkeyPatch
+) -> None:
+    window = open_window(session_in_folder)
+    release = threading.Event()
+    load = app.main_window.load_for_review
+
+    def gated(**kw):
+        release.wait(30)
+        return load(**kw)
+
+    monkeypatch.setattr(app.main_window, "load_for_review", gated)
+    asked: list[str] = []
+    window.ask_unsaved = lambda text: asked.append(text) or "cancel"
+    window.open(session_path=str(truth_session_file))  # all saved: nothing to ask yet
+    assert window.task is not None and asked == []
+    block_saving(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_A)  # reviewing on while it loads; the save fails
+    release.set()
+    qtbot.waitUntil(lambda: window.task is None, timeout=30_000)
+    assert len(asked) == 1  # asked when the load ended, and "cancel" kept the session
+    assert window.inputs.session_path == session_in_folder
+    assert window.model.session.sets[0].decision == "accepted"
