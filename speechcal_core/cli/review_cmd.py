@@ -28,6 +28,9 @@ def run(args: argparse.Namespace) -> int:
         if args.audio or args.session:
             raise UsageError("--audio and --session go with a recording, not with a session "
                              "file")
+    elif args.session and not args.inputs:
+        raise UsageError("--session goes with a recording: RECORDING --audio AUDIO --session "
+                         "SESSION.json")
     elif args.inputs:
         if not args.audio:
             raise UsageError("a recording needs its audio: add --audio AUDIO")

@@ -72,7 +72,10 @@ def load_for_review(
             report(f"reading existing session {path.name}", 0.05)
             session = load_session(path)
             note = f"opened the existing {path.name} (review work kept)"
-            if session.audio and not _same_file(audio, session.audio):
+            if not any(_same_file(r, kept) for r in recording for kept in session.recording):
+                note += (f"; it is the session of {', '.join(session.recording)}, not of "
+                         f"{', '.join(recording)}: give another session file to process these")
+            elif session.audio and not _same_file(audio, session.audio):
                 note += (f"; it uses the audio {session.audio}, not {audio}: to process "
                          f"with {Path(audio).name}, move {path.name} away or give another "
                          f"session file")
@@ -132,5 +135,5 @@ def _check_new_session_path(path: Path) -> None:
     try:
         check_session_target(path)
     except SessionFileError as exc:
-        raise SessionFileError(f"{exc}; or save the session elsewhere: speechcal review "
-                               f"RECORDING --audio AUDIO --session PATH") from exc
+        raise SessionFileError(f"{exc} (from the command line: speechcal review RECORDING "
+                               f"--audio AUDIO --session PATH)") from exc

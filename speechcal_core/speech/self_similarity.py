@@ -9,6 +9,7 @@ the cost of a true match, so a span heard less clearly than the templates may co
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -102,8 +103,9 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
             index = SpeechIndex.build(samples, rate, activity, noise_floor,
                                       representation=search)
             matches, closest = _seed_matches(index, kept)
-    mutual = closest[np.isfinite(closest)]
-    if mutual.size == 0 or float(np.median(mutual)) > MAX_MUTUAL_COST:
+    finite = closest[np.isfinite(closest)]
+    mutual = float(np.median(finite)) if finite.size else math.inf
+    if mutual > MAX_MUTUAL_COST:
         return kept, []
     idx = index.frames
     best = _BestMatch(idx.size)
@@ -111,7 +113,7 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
         if match is not None:
             best.merge(*match)
     slope = LEVEL_SLOPE if level_slope is None else level_slope
-    limit = _Limit(float(np.median(mutual)), factor, slope, activity,
+    limit = _Limit(mutual, factor, slope, activity,
                    float(np.median([activity.level_db(w.start_s, w.end_s) for w in kept])))
     taken = [(w.start_s, w.end_s) for w in [*kept, *blocked]]
     out: list[Word] = []

@@ -28,3 +28,9 @@ def test_session_option_with_a_session_file_is_a_usage_error(
         truth_session_file: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["review", str(truth_session_file), "--session", "x.json"]) == 2
     assert "go with a recording" in capsys.readouterr().err
+
+
+def test_session_option_without_a_recording_is_a_usage_error(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["review", "--session", "x.json"]) == 2
+    assert "--session goes with a recording" in capsys.readouterr().err

@@ -55,3 +55,15 @@ def test_an_existing_session_with_other_audio_is_opened_with_a_note(
     again = load_for_review(recording=[recording], audio=audio)
     again.close()
     assert "not " not in again.note.split("kept")[-1]  # the same audio: no warning
+
+
+def test_a_given_session_of_another_recording_is_opened_with_a_note(
+        tiny_synth, tmp_path: Path) -> None:
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    target = tmp_path / "session.json"
+    load_for_review(recording=[recording], audio=audio, new_session_path=target).close()
+    other = tmp_path / "other.bag"
+    shutil.copy(recording, other)
+    inputs = load_for_review(recording=[str(other)], audio=audio, new_session_path=target)
+    inputs.close()
+    assert f"it is the session of {recording}, not of {other}" in inputs.note
