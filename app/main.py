@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
-import tempfile
 import time
 from collections.abc import Sequence
 from pathlib import Path
 
 from speechcal_core.errors import SpeechCalError
+from speechcal_core.fsutil import folder_write_problem
 
 
 class ScreenshotError(SpeechCalError):
@@ -90,14 +91,11 @@ def check_screenshot_path(path: str) -> None:
     target = Path(path)
     if target.is_dir():
         raise _screenshot_error(target, "it is a folder")
-    if target.parent.exists() and not target.parent.is_dir():
-        raise _screenshot_error(target, f"{target.parent} is not a folder")
-    try:
+    with contextlib.suppress(OSError):  # what stops it is said below
         target.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryFile(dir=target.parent, prefix=f".{target.name}.check-"):
-            pass
-    except OSError as exc:
-        raise _screenshot_error(target, exc.strerror or str(exc)) from exc
+    problem = folder_write_problem(target.parent)
+    if problem:
+        raise _screenshot_error(target, problem)
 
 
 def save_screenshot(window, path: str) -> None:

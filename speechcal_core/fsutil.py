@@ -54,6 +54,22 @@ def _remove(path: Path) -> None:
         path.unlink()
 
 
+def folder_write_problem(folder: str | Path) -> str | None:
+    """Why no file can be written in ``folder`` (None when one can): it is missing, is a
+    file, or the system's reason (read-only, no permission)."""
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        return f"{folder} is a file, not a folder"
+    if not folder.is_dir():
+        return f"the folder {folder} does not exist"
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".speechcal-write-check-"):
+            pass
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    return None
+
+
 def _aside(target: Path) -> Path:
     """A free hidden sibling name to move ``target`` to while its replacement goes in."""
     base = f".{target.name}.old-{os.getpid()}"

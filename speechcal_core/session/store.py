@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from speechcal_core.errors import SpeechCalError
-from speechcal_core.fsutil import atomic_write_text
+from speechcal_core.fsutil import atomic_write_text, folder_write_problem
 from speechcal_core.session.model import FrameSet, Session
 from speechcal_core.sync.model import SyncModel
 
@@ -44,31 +43,25 @@ def save_session(session: Session, path: str | Path) -> None:
     try:
         atomic_write_text(path, text, keep_backup=True)
     except OSError as exc:
-        raise _save_error(path, exc) from exc
+        raise _save_error(path, exc.strerror or str(exc)) from exc
 
 
 def check_session_target(path: str | Path) -> None:
     """Raise SessionFileError now if a session cannot be saved at ``path`` (its folder is
     missing or not writable), before any long work that would end in saving it."""
     path = Path(path)
-    folder = path.absolute().parent
-    try:
-        with tempfile.TemporaryFile(dir=folder, prefix=f".{path.name}.check-"):
-            pass
-    except OSError as exc:
-        raise _save_error(path, exc) from exc
+    problem = folder_write_problem(path.absolute().parent)
+    if problem:
+        raise _save_error(path, problem)
 
 
-def _save_error(path: Path, exc: OSError) -> SessionFileError:
-    """The operator's message for a session that cannot be written."""
+def _save_error(path: Path, reason: str) -> SessionFileError:
+    """The operator's message for a session that cannot be written, for ``reason``."""
     folder = path.absolute().parent
-    if folder.exists() and not folder.is_dir():
-        return SessionFileError(f"{path}: cannot save the session: {folder} is a file, not "
-                                f"a folder; choose another path")
-    if not folder.is_dir():
-        return SessionFileError(f"{path}: cannot save the session: the folder {folder} does "
-                                f"not exist; create it or choose another path")
-    return SessionFileError(f"{path}: cannot save the session ({exc.strerror}); "
+    if not folder.is_dir():  # missing, or a file: say which
+        return SessionFileError(f"{path}: cannot save the session: "
+                                f"{folder_write_problem(folder)}; choose another path")
+    return SessionFileError(f"{path}: cannot save the session ({reason}); "
                             "free disk space or choose a writable folder")
 
 

@@ -7,7 +7,12 @@ from pathlib import Path
 
 import pytest
 
-from speechcal_core.fsutil import OutputExistsError, atomic_write_text, staged_directory
+from speechcal_core.fsutil import (
+    OutputExistsError,
+    atomic_write_text,
+    folder_write_problem,
+    staged_directory,
+)
 
 
 def test_atomic_write_keeps_previous_version_as_bak(tmp_path: Path) -> None:
@@ -131,3 +136,12 @@ def test_a_failed_swap_puts_the_old_target_back(
         (staging / "new.txt").write_text("x")
     assert sorted(p.name for p in target.iterdir()) == ["old.txt"]
     assert _hidden(tmp_path) == []
+
+
+def test_folder_write_problem_says_what_stops_a_write_and_leaves_nothing(tmp_path: Path) -> None:
+    assert folder_write_problem(tmp_path) is None
+    assert list(tmp_path.iterdir()) == []
+    gone = tmp_path / "gone"
+    assert folder_write_problem(gone) == f"the folder {gone} does not exist"
+    (tmp_path / "f").write_text("x")
+    assert folder_write_problem(tmp_path / "f") == f"{tmp_path / 'f'} is a file, not a folder"
