@@ -8,6 +8,7 @@ re-scoring has chosen their frames (starting it if it was cancelled), then runs.
 
 from __future__ import annotations
 
+import os
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -67,7 +68,7 @@ class ExportAction(QObject):
               include_undecided: bool = False) -> None:
         """Export to ``out``; an existing folder is replaced only after the operator agrees."""
         out = Path(out).absolute()
-        if out.exists() and not force:
+        if os.path.lexists(out) and not force:  # a dangling link is replaced too
             self._ask_replace(fmt, out, include_undecided)
             return
         self._run(fmt, out, force, include_undecided)

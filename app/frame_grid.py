@@ -122,10 +122,6 @@ class FrameGrid(QWidget):
     def word(self) -> str:
         return self.word_band.word
 
-    @property
-    def word_state(self) -> str | None:
-        return self.word_band.state
-
     def set_streams(self, streams: list[str]) -> None:
         for tile in self.tiles.values():
             tile.setParent(None)

@@ -617,7 +617,9 @@ class ReviewWindow(QMainWindow):
         text, tip = self.saver.label(time.time())
         warn = self.saver.unsaved
         self.saved_label.setText(f"{WARNING_SYMBOL} {text}" if warn else text)
-        self.saved_label.setStyleSheet(f"color: {WARNING_COLOUR.name()}" if warn else "")
+        style = f"color: {WARNING_COLOUR.name()}" if warn else ""
+        if self.saved_label.styleSheet() != style:  # this runs every second
+            self.saved_label.setStyleSheet(style)
         self.saved_label.setToolTip(tip)
 
     # -- saving elsewhere ---------------------------------------------------------------

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import itertools
 import os
 import shutil
 import tempfile
@@ -72,12 +71,12 @@ def folder_write_problem(folder: str | Path) -> str | None:
 
 def _aside(target: Path) -> Path:
     """A free hidden sibling name to move ``target`` to while its replacement goes in."""
-    base = f".{target.name}.old-{os.getpid()}"
-    for n in itertools.count():
-        candidate = target.parent / (base if n == 0 else f"{base}-{n}")
-        if not os.path.lexists(candidate):
-            return candidate
-    raise AssertionError("unreachable")
+    base = target.parent / f".{target.name}.old-{os.getpid()}"
+    candidate, n = base, 0
+    while os.path.lexists(candidate):
+        n += 1
+        candidate = base.with_name(f"{base.name}-{n}")
+    return candidate
 
 
 @contextlib.contextmanager
