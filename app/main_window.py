@@ -669,7 +669,8 @@ class ReviewWindow(QMainWindow):
         discard = box.addButton("Discard", QMessageBox.ButtonRole.DestructiveRole)
         box.addButton(QMessageBox.StandardButton.Cancel)
         box.setDefaultButton(save)
-        box.exec()
+        run_modal = box.exec  # Qt's modal loop (QDialog.exec), not Python's exec
+        run_modal()
         clicked = box.clickedButton()
         return "save_as" if clicked is save else "discard" if clicked is discard else "cancel"
 
