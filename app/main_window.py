@@ -273,7 +273,7 @@ class ReviewWindow(QMainWindow):
         self.waveform.audio_unreadable.connect(lambda text: self.status.end("waveform", text))
         if inputs.pyramid is not None:
             self.waveform.set_audio(inputs.pyramid, model.session.sync)
-        self.waveform.set_clap(inputs.clap_audio_s)
+        self.waveform.set_claps(inputs.claps_audio_s)
         self.waveform.clap_moved.connect(model.nudge_offset)
         self.waveform.clap_dragging.connect(model.preview_offset)
         self.waveform.set_sets(model.session.sets)

@@ -1,4 +1,5 @@
-"""Audio waveform on the session clock, with clap handle, trigger markers and playhead."""
+"""Audio waveform on the session clock, with clap handle (and later claps), trigger markers and
+playhead."""
 
 from __future__ import annotations
 
@@ -11,6 +12,8 @@ from PySide6.QtCore import Qt, Signal
 from app.style import DECISION_COLOURS, DECISION_SYMBOLS, PLAYHEAD_COLOUR
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from speechcal_core.audio import EnvelopePyramid
     from speechcal_core.session.model import FrameSet
     from speechcal_core.sync.model import SyncModel
@@ -65,6 +68,9 @@ class WaveformView(pg.PlotWidget):
         self.clap.sigDragged.connect(lambda _line: self.clap_dragging.emit(self.clap_shift_ns()))
         self.clap.hide()
         self.addItem(self.clap)
+        #: later claps (the drift's), marked where the sync puts them; not handles
+        self._later_claps_audio_s: tuple[float, ...] = ()
+        self.later_claps: list[pg.InfiniteLine] = []
         self.getViewBox().sigXRangeChanged.connect(lambda *_: self.redraw())
         self.scene().sigMouseClicked.connect(self._clicked)
 
@@ -84,8 +90,30 @@ class WaveformView(pg.PlotWidget):
 
     def set_sync(self, sync: SyncModel) -> None:
         self.sync = sync
-        self.set_clap(self._clap_audio_s)
+        self.set_claps((self._clap_audio_s, *self._later_claps_audio_s)
+                       if self._clap_audio_s is not None else ())
         self.redraw()
+
+    def set_claps(self, claps_audio_s: Sequence[float]) -> None:
+        """Mark where the audio claps land on the session clock: the first as a handle to
+        drag (it sets the offset), later ones (the drift's) as plain marks."""
+        self.set_clap(claps_audio_s[0] if claps_audio_s else None)
+        self._later_claps_audio_s = tuple(claps_audio_s[1:])
+        for line in self.later_claps:
+            self.removeItem(line)
+        self.later_claps = []
+        if self.sync is None:
+            return
+        for n, audio_s in enumerate(self._later_claps_audio_s, start=2):
+            line = pg.InfiniteLine(self._to_x(int(self.sync.to_session(audio_s))),
+                                   movable=False,
+                                   pen=pg.mkPen((255, 120, 40), width=1,
+                                                style=Qt.PenStyle.DashLine),
+                                   label=f"clap {n}", labelOpts={"position": 0.9,
+                                                                 "color": (255, 160, 90)})
+            line.setZValue(15)
+            self.addItem(line)
+            self.later_claps.append(line)
 
     def set_clap(self, clap_audio_s: float | None) -> None:
         """Mark where the audio clap lands on the session clock (a handle to drag)."""

@@ -26,8 +26,15 @@ class ReviewInputs:
     source: FrameSource
     pyramid: EnvelopePyramid | None
     session_path: Path | None
-    clap_audio_s: float | None = None
+    #: the claps heard in the audio (audio seconds): the first sets the offset, a second
+    #: (at the end of the recording) the drift
+    claps_audio_s: tuple[float, ...] = ()
     note: str = ""
+
+    @property
+    def clap_audio_s(self) -> float | None:
+        """The first clap, whose handle sets the offset (None without claps)."""
+        return self.claps_audio_s[0] if self.claps_audio_s else None
 
     def close(self) -> None:
         self.source.close()
@@ -102,8 +109,8 @@ def load_for_review(
         report("indexing recording", 0.6)
         source = open_recording(session.recording)
     pyramid = None
-    claps = session.sync_evidence.get("claps") or []
-    clap = claps[0].get("audio_s") if claps and isinstance(claps[0], dict) else None
+    claps = tuple(float(c["audio_s"]) for c in session.sync_evidence.get("claps") or []
+                  if isinstance(c, dict) and isinstance(c.get("audio_s"), (int, float)))
     if session.audio:
         report("reading audio", 0.92)
         try:
@@ -118,8 +125,7 @@ def load_for_review(
         except SpeechCalError as exc:
             note = f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
     report("ready", 1.0)
-    return ReviewInputs(session, source, pyramid, path,
-                        float(clap) if clap is not None else None, note)
+    return ReviewInputs(session, source, pyramid, path, claps, note)
 
 
 def _same_file(a: str | Path, b: str | Path) -> bool:
