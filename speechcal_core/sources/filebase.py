@@ -101,7 +101,7 @@ class PFile:
         data = self.raw_pread(pos, n)
         if len(data) != n:
             raise SourceError(
-                f"{self.name}: file ends at byte {self.size} inside a record at {pos}; "
+                f"{self.path}: file ends at byte {self.size} inside a record at {pos}; "
                 "it is truncated"
             )
         return data
@@ -128,7 +128,7 @@ class PFile:
                 return self.pread(offset, size)
             data = self.chunk(chunk)
             if offset + size > len(data):
-                raise SourceError(f"{self.name}: message runs past its chunk; file is damaged")
+                raise SourceError(f"{self.path}: message runs past its chunk; file is damaged")
             return data[offset : offset + size]
 
     def head(self, offset: int, chunk: int, n: int) -> bytes:
@@ -140,7 +140,7 @@ class PFile:
                     start, length, _ = self.scan_result.chunk_rows[chunk]
                     data = StreamedChunk(self, comp, start, length).get(offset, n)
                     if data is None:
-                        raise SourceError(f"{self.name}: message runs past its chunk; damaged")
+                        raise SourceError(f"{self.path}: message runs past its chunk; damaged")
                     return data
         return self.read(offset, chunk, n)
 

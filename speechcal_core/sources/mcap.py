@@ -75,7 +75,7 @@ class McapFile(IndexedFile):
         self.name = self.f.name
         if self.f.size < 8 or self.f.pread(0, 8) != MAGIC:
             self.f.close()
-            raise SourceError(f"{self.name}: not an MCAP file (magic missing)")
+            raise SourceError(f"{self.path}: not an MCAP file (magic missing)")
         self.truncated = self.f.size < 16 or self.f.pread(self.f.size - 8, 8) != MAGIC
         self.schemas: dict[int, tuple[str, str]] = {}
         self.channels: dict[int, dict[str, str]] = {}
@@ -89,7 +89,7 @@ class McapFile(IndexedFile):
         """
         if self.truncated and not self.allow_scan:
             raise SourceError(
-                f"{self.name}: MCAP file is truncated (no footer; recording was interrupted); "
+                f"{self.path}: MCAP file is truncated (no footer; recording was interrupted); "
                 f"run `speechcal index {self.path} --scan` to read the complete chunks "
                 f"(the other commands then use the recovered index), or "
                 f"`mcap recover {self.path} -o fixed.mcap`"

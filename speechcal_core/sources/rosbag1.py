@@ -90,11 +90,11 @@ class Ros1Bag(IndexedFile):
             head = b""
         if head != MAGIC:
             self.f.close()
-            raise SourceError(f"{self.name}: not a ROS1 bag (v2.0 magic missing)")
+            raise SourceError(f"{self.path}: not a ROS1 bag (v2.0 magic missing)")
         rec = _Reader(Window(self.f).get).record(len(MAGIC))
         if rec is None or rec[0].get("op") != bytes([OP_BAGHEADER]):
             self.f.close()
-            raise SourceError(f"{self.name}: ROS1 bag header is damaged")
+            raise SourceError(f"{self.path}: ROS1 bag header is damaged")
         fields, dpos, dlen = rec
         self.index_pos = _U64.unpack(fields["index_pos"][:8])[0]
         self.first_record = dpos + dlen
@@ -112,7 +112,7 @@ class Ros1Bag(IndexedFile):
 
     def _unindexed(self, why: str) -> SourceError:
         return SourceError(
-            f"{self.name}: ROS1 bag is not indexed ({why}; recording was interrupted); "
+            f"{self.path}: ROS1 bag is not indexed ({why}; recording was interrupted); "
             f"run `rosbag reindex {self.path}`, or `speechcal index {self.path} --scan` "
             f"(the other commands then use the recovered index)"
         )
@@ -243,7 +243,7 @@ class Ros1Bag(IndexedFile):
             rec = None
         if rec is None or rec[0].get("op") != bytes([OP_CHUNK]):
             raise SourceError(
-                f"{self.name}: chunk at byte {chunk_pos} is damaged; "
+                f"{self.path}: chunk at byte {chunk_pos} is damaged; "
                 f"run `rosbag reindex {self.path}`, or `speechcal index {self.path} --scan` "
                 f"(the other commands then use the recovered index)"
             )
@@ -274,7 +274,7 @@ class Ros1Bag(IndexedFile):
             seen = self._walk_records(reader, 0, usize, key, collectors, learn, total)
         if total >= 0 and seen < total:
             result.notes.append(
-                f"{self.name}: chunk at byte {chunk_pos} is damaged; "
+                f"{self.path}: chunk at byte {chunk_pos} is damaged; "
                 f"{total - seen} of its {total} messages are unreadable"
             )
 

@@ -53,12 +53,12 @@ class Sqlite3File:
             self.con = sqlite3.connect(uri, uri=True, check_same_thread=False)
             self.con.execute("SELECT count(*) FROM sqlite_master").fetchone()
         except sqlite3.DatabaseError as exc:
-            raise SourceError(f"{self.name}: not a readable rosbag2 sqlite3 file ({exc})") from None
+            raise SourceError(f"{self.path}: not a readable rosbag2 sqlite3 file ({exc})") from None
         self.lock = threading.Lock()
 
     def _err(self, exc: Exception) -> SourceError:
         return SourceError(
-            f"{self.name}: sqlite3 database is damaged ({exc}); "
+            f"{self.path}: sqlite3 database is damaged ({exc}); "
             f"try `sqlite3 {self.name} .recover | sqlite3 fixed.db3`"
         )
 
@@ -74,7 +74,7 @@ class Sqlite3File:
         con = self.con
         tables = {r[0] for r in con.execute("SELECT name FROM sqlite_master WHERE type='table'")}
         if not {"topics", "messages"} <= tables:
-            raise SourceError(f"{self.name}: not a rosbag2 file (no topics/messages tables)")
+            raise SourceError(f"{self.path}: not a rosbag2 file (no topics/messages tables)")
         cols = {r[1] for r in con.execute("PRAGMA table_info(topics)")}
         qos = "offered_qos_profiles" if "offered_qos_profiles" in cols else "''"
         defs: dict[str, str] = {}
@@ -136,7 +136,7 @@ class Sqlite3File:
             except sqlite3.DatabaseError as exc:
                 raise self._err(exc) from None
         if row is None:
-            raise SourceError(f"{self.name}: message {offset} is missing; re-index with --no-cache")
+            raise SourceError(f"{self.path}: message {offset} is missing; re-index with --no-cache")
         return bytes(row[0])
 
     def close(self) -> None:

@@ -163,15 +163,22 @@ def test_damaged_sqlite_file_names_the_file(make_bag) -> None:
         open_recording([folder])
 
 
-def test_file_that_is_not_a_bag_is_refused(tmp_path: Path) -> None:
-    path = tmp_path / "notes.bag"
+def test_file_that_is_not_a_bag_is_refused_naming_the_path_as_given(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "data").mkdir()
+    monkeypatch.chdir(tmp_path)
+    path = Path("data") / "notes.bag"
     path.write_text("hello")
-    with pytest.raises(SourceError, match=re.escape("notes.bag: not a ROS1 bag")):
+    with pytest.raises(SourceError, match=re.escape(f"{path}: not a ROS1 bag")):
         open_recording([path])
-    db = tmp_path / "empty.db3"
+    db = Path("data") / "empty.db3"
     sqlite3.connect(db).close()
-    with pytest.raises(SourceError, match=re.escape("empty.db3: not a rosbag2 file")):
+    with pytest.raises(SourceError, match=re.escape(f"{db}: not a rosbag2 file")):
         open_recording([db])
+    mcap = Path("data") / "other.mcap"
+    mcap.write_text("hello")
+    with pytest.raises(SourceError, match=re.escape(f"{mcap}: not an MCAP file")):
+        open_recording([mcap])
 
 
 def test_jpeg_stream_dimensions_come_from_the_first_decodable_frame(make_bag) -> None:
