@@ -19,6 +19,7 @@ if TYPE_CHECKING:
 
 #: wait this long after the last edit before starting (held-down offset keys repeat)
 DELAY_MS = 250
+CANCELLED = "re-scoring cancelled: the sets keep their nearest frames until the next offset edit"
 
 
 class RescoreAction(BackgroundAction):
@@ -73,11 +74,18 @@ class RescoreAction(BackgroundAction):
             self.task.cancel()
 
     def cancel(self) -> None:
-        """The operator's cancel: stop, and keep the nearest frames until the next edit."""
+        """The operator's cancel: stop, and keep the nearest frames until the next edit
+        (also when it was only about to start)."""
+        pending = self.timer.isActive()
         self.timer.stop()
         if self.task is not None:
             self.held = True
             self.task.cancel()
+        elif pending:
+            self.held = True
+            self.window.status.end("rescore", CANCELLED)
+            self.window.refresh_rescore_marks()
+            self.window._refresh_playhead()  # tile captions: no longer re-scoring
 
     def _stopping(self) -> None:
         self.held = True
@@ -106,8 +114,7 @@ class RescoreAction(BackgroundAction):
             self.held = True  # not again until the next edit
             self._ended(f"re-scoring failed: {message}; the sets keep their nearest frames")
         elif self.held:
-            self._ended("re-scoring cancelled: the sets keep their nearest frames until the "
-                        "next offset edit")
+            self._ended(CANCELLED)
         else:
             self._ended()
         self.window.refresh_rescore_marks()

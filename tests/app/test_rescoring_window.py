@@ -75,3 +75,20 @@ def test_an_added_set_gets_figures_and_cancel_keeps_nearest_frames(
     assert model.rescore_ids() == [s.id for s in model.session.sets]
     qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # the next edit re-scores again
     qtbot.waitUntil(lambda: model.rescore_ids() == [], timeout=30_000)
+
+
+def test_cancel_before_rescoring_starts_says_so_and_keeps_nearest_frames(
+    qtbot, open_window, searched_session_file: Path
+) -> None:
+    window = open_window(searched_session_file)
+    model = window.model
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # re-scoring starts after a short delay
+    assert window.rescorer.timer.isActive() and window.rescorer.task is None
+    window.cancel_task()  # the Cancel button, pressed within that delay
+    assert "re-scoring cancelled" in window.status_text.text()
+    assert set(figures(window)) == {MISSING}  # nothing is coming until the next edit
+    assert {t.caption for t in window.grid.tiles.values()} == {"nearest frame"}
+    qtbot.wait(400)
+    assert window.rescorer.task is None and model.rescore_ids()
+    qtbot.keyClick(window, Qt.Key.Key_BracketLeft)  # the next edit re-scores again
+    qtbot.waitUntil(lambda: model.rescore_ids() == [], timeout=30_000)
