@@ -283,7 +283,11 @@ class ReviewModel:
 
     # -- sync edits ---------------------------------------------------------------------
     def nudge_offset(self, delta_ns: int) -> None:
-        """Shift the audio-to-session offset (manual clap correction) and re-pick frames."""
+        """Shift the audio-to-session offset (manual clap correction) and re-pick frames.
+        No shift (the clap handle released where it was) changes nothing."""
+        if int(delta_ns) == 0:
+            self.preview_offset(0)  # the playhead back from a drag's preview
+            return
         self.set_sync(self.session.sync.with_offset(self.session.sync.offset_ns + int(delta_ns)))
 
     def nudge_offset_frame(self, direction: int) -> None:

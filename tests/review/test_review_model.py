@@ -72,6 +72,17 @@ def test_frame_stepping_visits_every_stamp_in_order(truth_session_file: Path) ->
     assert model.playhead_ns < after
 
 
+def test_a_zero_offset_shift_changes_nothing(truth_session_file: Path) -> None:
+    model = open_model(truth_session_file)
+    events = []
+    model.connect("sync", events.append)
+    model.preview_offset(20_000_000)  # the clap handle dragged ...
+    model.nudge_offset(0)  # ... and released where it started
+    assert model.session.sync.source == "auto" and events == []
+    assert model.playhead_ns == set_time_ns(model.session.sets[model.current])
+    assert load_session(truth_session_file).sync.source == "auto"
+
+
 def test_every_key_binding_names_an_action() -> None:
     for action in KEY_BINDINGS.values():
         assert callable(getattr(ReviewModel, action))
