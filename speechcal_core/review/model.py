@@ -535,10 +535,21 @@ class ReviewModel:
             self.current = self._index_of(frame_set.id)
             self._emit("current_set", self.current)
             return
-        self.go_to_set(min(fallback, len(self.session.sets) - 1))
+        self.go_to_set(self._shown_from(fallback))
+
+    def _shown_from(self, index: int) -> int:
+        """The first set the filter shows from ``index`` on, else the last it shows before
+        it (a set the list hides is no place to land after a removal); ``index`` itself,
+        kept in range, when it shows none."""
+        shown = self.shown()
+        later = [i for i in shown if i >= index]
+        if later or shown:
+            return later[0] if later else shown[-1]
+        return min(index, len(self.session.sets) - 1)
 
     def _drop_set(self, index: int) -> object:
-        """Take the set at ``index`` out; the next one (or the last) becomes current.
+        """Take the set at ``index`` out; the next one the filter shows (or the last
+        shown) becomes current.
 
         Returns the set's frame details from the session extras (None if it had none),
         so undo can put them back.
@@ -549,7 +560,7 @@ class ReviewModel:
                    if isinstance(all_details, dict) else None)
         self._emit("sets")
         if self.session.sets:
-            self.go_to_set(min(index, len(self.session.sets) - 1))
+            self.go_to_set(self._shown_from(index))
         else:
             self.current = -1
             self._emit("current_set", self.current)

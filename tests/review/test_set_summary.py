@@ -200,3 +200,20 @@ def test_the_word_column_marks_triggers_the_operator_added_or_searched_for() -> 
         "capture", "capture · added", "capture · similar"]
     assert trigger_line(added) == "trigger 'capture' (manual), at 6.00 s in the audio"
     assert trigger_line(found) == "trigger 'capture' (similar), 9.00-9.40 s in the audio"
+
+
+def test_after_a_removal_under_a_filter_the_next_shown_set_becomes_current() -> None:
+    model = model_over(decided_sets())  # accepted, undecided, rejected, undecided, accepted
+    model.set_filter("accepted")
+    model.first_set()
+    model.remove_set()  # the next set, undecided, is hidden: the next accepted one instead
+    assert model.current_set.id == 5 and model.current in model.shown()
+    model.undo()
+    assert model.current_set.id == 1
+    model.last_set()
+    model.remove_set()  # nothing shown after it: the last shown before it
+    assert model.current_set.id == 1
+    model.set_filter("rejected")
+    model.first_set()
+    model.remove_set()  # the filter shows nothing now: the set that took its place
+    assert model.shown() == [] and model.current_set.id == 4
