@@ -471,8 +471,8 @@ class ReviewWindow(QMainWindow):
         rel = (model.playhead_ns - start_ns) / 1e9
         set_text = ""
         if current is not None:
-            idx = model.session.sets.index(current) + 1
-            set_text = (f"   set {idx}/{len(model.session.sets)}   "
+            idx = model.session.sets.index(current) + 1  # the list's # column is the id
+            set_text = (f"   set #{current.id} ({idx} of {len(model.session.sets)})   "
                         f"skew {current.skew_ns / 1e6:.1f} ms")
         self.info_line.setText(f"t = {model.playhead_ns / 1e9:.3f} s  ({rel:.3f} s from start)"
                                + set_text)
@@ -597,7 +597,9 @@ class ReviewWindow(QMainWindow):
             sync.source, sync.source)
         cams = session.sync_evidence.get("cameras") or []
         residuals = [abs(c.get("residual_ns") or 0) for c in cams if isinstance(c, dict)]
-        worst = f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms" if residuals else ""
+        # the residuals are the automatic sync's: an edited offset has none to show
+        worst = (f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms"
+                 if residuals and sync.source != "manual" else "")
         self.sync_line.setText(
             f"audio starts {lead:+.3f} s before the first frame · drift "
             f"{sync.drift * 1e6:.1f} ppm · {how}{worst}")

@@ -28,3 +28,26 @@ def test_a_second_clap_is_marked_and_follows_the_offset(
     qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # offset +1 ms
     (mark,) = wave.later_claps
     assert mark.value() == pytest.approx(expected + 0.001, abs=1e-6)
+
+
+def test_sync_line_drops_the_automatic_residuals_once_the_offset_is_edited(
+        qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    session = load_session(truth_session_file)
+    session.sync_evidence["cameras"] = [{"name": "/cam0/image_raw", "residual_ns": 1_400_000}]
+    path = tmp_path / "residuals.json"
+    save_session(session, path)
+    window = open_window(path)
+    assert "camera residuals ≤ 1.4 ms" in window.sync_line.text()
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    assert "edited" in window.sync_line.text()
+    assert "residuals" not in window.sync_line.text()
+
+
+def test_info_line_names_the_set_by_the_id_the_list_shows(
+        qtbot, open_window, truth_session_file: Path) -> None:
+    window = open_window(truth_session_file)
+    window.model.go_to_set(1)
+    window.model.remove_set()  # positions and ids part ways
+    current = window.model.current_set
+    n = len(window.model.session.sets)
+    assert f"set #{current.id} (2 of {n})" in window.info_line.text()
