@@ -551,7 +551,13 @@ class ReviewWindow(QMainWindow):
         for name, button in self.filter_buttons.items():
             button.setChecked(name == model.filter)
         total = len(model.session.sets)
-        self.shown_label.setText("" if len(shown) == total else f"{len(shown)} of {total}")
+        if len(shown) == total:
+            text = ""
+        elif shown:
+            text = f"{len(shown)} of {total}"
+        else:  # an empty list says why it is empty
+            text = f"no {model.filter} sets (of {total})"
+        self.shown_label.setText(text)
 
     def _update_counts(self) -> None:
         if self.model is None:
