@@ -39,7 +39,7 @@ class WaveformView(pg.PlotWidget):
         self.pyramid: EnvelopePyramid | None = None
         self._told_unreadable = False
         self.sync: SyncModel | None = None
-        self._clap_audio_s: float | None = None
+        self._claps_audio_s: tuple[float, ...] = ()  # audio seconds; the first is the handle
         self.setMouseEnabled(x=True, y=False)
         self.setMenuEnabled(False)
         self.hideButtons()
@@ -69,7 +69,6 @@ class WaveformView(pg.PlotWidget):
         self.clap.hide()
         self.addItem(self.clap)
         #: later claps (the drift's), marked where the sync puts them; not handles
-        self._later_claps_audio_s: tuple[float, ...] = ()
         self.later_claps: list[pg.InfiniteLine] = []
         self.getViewBox().sigXRangeChanged.connect(lambda *_: self.redraw())
         self.scene().sigMouseClicked.connect(self._clicked)
@@ -90,23 +89,24 @@ class WaveformView(pg.PlotWidget):
 
     def set_sync(self, sync: SyncModel) -> None:
         self.sync = sync
-        self.set_claps((self._clap_audio_s, *self._later_claps_audio_s)
-                       if self._clap_audio_s is not None else ())
+        self.set_claps(self._claps_audio_s)
         self.redraw()
 
     def set_claps(self, claps_audio_s: Sequence[float]) -> None:
         """Mark where the audio claps land on the session clock: the first as a handle to
         drag (it sets the offset), later ones (the drift's) as plain marks."""
-        self.set_clap(claps_audio_s[0] if claps_audio_s else None)
-        self._later_claps_audio_s = tuple(claps_audio_s[1:])
+        self._claps_audio_s = tuple(claps_audio_s)
         for line in self.later_claps:
             self.removeItem(line)
         self.later_claps = []
-        if self.sync is None:
+        if self.sync is None or not self._claps_audio_s:
+            self.clap.hide()
             return
-        for n, audio_s in enumerate(self._later_claps_audio_s, start=2):
-            line = pg.InfiniteLine(self._to_x(int(self.sync.to_session(audio_s))),
-                                   movable=False,
+        first, *later = (self._to_x(int(self.sync.to_session(a))) for a in self._claps_audio_s)
+        self.clap.setValue(first)
+        self.clap.show()
+        for n, x in enumerate(later, start=2):
+            line = pg.InfiniteLine(x, movable=False,
                                    pen=pg.mkPen((255, 120, 40), width=1,
                                                 style=Qt.PenStyle.DashLine),
                                    label=f"clap {n}", labelOpts={"position": 0.9,
@@ -115,20 +115,11 @@ class WaveformView(pg.PlotWidget):
             self.addItem(line)
             self.later_claps.append(line)
 
-    def set_clap(self, clap_audio_s: float | None) -> None:
-        """Mark where the audio clap lands on the session clock (a handle to drag)."""
-        self._clap_audio_s = clap_audio_s
-        if clap_audio_s is None or self.sync is None:
-            self.clap.hide()
-        else:
-            self.clap.setValue(self._to_x(int(self.sync.to_session(clap_audio_s))))
-            self.clap.show()
-
     def clap_shift_ns(self) -> int:
         """How far the clap handle was dragged from where the current sync puts it."""
-        if self._clap_audio_s is None or self.sync is None:
+        if not self._claps_audio_s or self.sync is None:
             return 0
-        return self._to_ns(self.clap.value()) - int(self.sync.to_session(self._clap_audio_s))
+        return self._to_ns(self.clap.value()) - int(self.sync.to_session(self._claps_audio_s[0]))
 
     def show_all(self, start_ns: int, end_ns: int) -> None:
         self.setXRange(self._to_x(start_ns), self._to_x(end_ns), padding=0.01)

@@ -31,11 +31,6 @@ class ReviewInputs:
     claps_audio_s: tuple[float, ...] = ()
     note: str = ""
 
-    @property
-    def clap_audio_s(self) -> float | None:
-        """The first clap, whose handle sets the offset (None without claps)."""
-        return self.claps_audio_s[0] if self.claps_audio_s else None
-
     def close(self) -> None:
         self.source.close()
 

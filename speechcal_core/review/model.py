@@ -543,9 +543,9 @@ class ReviewModel:
         kept in range, when it shows none."""
         shown = self.shown()
         later = [i for i in shown if i >= index]
-        if later or shown:
-            return later[0] if later else shown[-1]
-        return min(index, len(self.session.sets) - 1)
+        if later:
+            return later[0]
+        return shown[-1] if shown else min(index, len(self.session.sets) - 1)
 
     def _drop_set(self, index: int) -> object:
         """Take the set at ``index`` out; the next one the filter shows (or the last

@@ -59,7 +59,7 @@ class Sqlite3File:
     def _err(self, exc: Exception) -> SourceError:
         return SourceError(
             f"{self.path}: sqlite3 database is damaged ({exc}); "
-            f"try `sqlite3 {self.name} .recover | sqlite3 fixed.db3`"
+            f"try `sqlite3 {self.path} .recover | sqlite3 fixed.db3`"
         )
 
     def scan(self) -> FileScan:
