@@ -617,7 +617,7 @@ class ReviewWindow(QMainWindow):
             if was_unsaved:
                 self.status.end("save")
         else:
-            self.status.end("save", f"not saved: {self.saver.error}")
+            self.status.end("save", f"not saved: {self.saver.error}", warning=True)
         self._update_saved_label()
 
     def _update_saved_label(self) -> None:
@@ -649,7 +649,7 @@ class ReviewWindow(QMainWindow):
         try:
             self.saver.save_as(self.model.session, path)
         except SessionFileError as exc:
-            self.status.end("save", f"not saved: {exc}")
+            self.status.end("save", f"not saved: {exc}", warning=True)
             if not self.property("headless"):
                 QMessageBox.warning(self, "SpeechCal", str(exc))
             return False

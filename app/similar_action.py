@@ -21,6 +21,19 @@ if TYPE_CHECKING:
 
 #: a second S within this time runs one search
 DELAY_MS = 50
+#: the status line names at most this many of the sets a search added
+NAMED_SETS = 8
+
+
+def found_message(result: SimilarResult, added: list[int]) -> str:
+    """The status line's report of a finished search, naming the sets it added (by the
+    ids the list shows), so one search's result reads apart from the next one's."""
+    text = result_message(result, len(added))
+    if not added:
+        return text
+    names = ", ".join(f"#{set_id}" for set_id in added[:NAMED_SETS])
+    more = f" and {len(added) - NAMED_SETS} more" if len(added) > NAMED_SETS else ""
+    return f"{text} (added {names}{more})"
 
 
 class SimilarAction(BackgroundAction):
@@ -81,7 +94,7 @@ class SimilarAction(BackgroundAction):
             return
         added = model.apply_similar(result)
         self.last = (result, added)
-        self.window.status.end("similar", result_message(result, len(added)))
+        self.window.status.end("similar", found_message(result, added))
         self.start_if_needed()
 
     def _failed(self, message: str) -> None:

@@ -1,19 +1,27 @@
 """The window's status line, shared by everything that runs in the background.
 
-Opening, exporting and re-scoring each report as a *job*: while jobs run the line lists
-each one's text (with its percentage when more than one runs), the progress bar follows
-the job started first, and Cancel stops them all. A job that ends leaves a message, kept
-beside the other jobs' (newest first) until that job runs again, so an export's result
-is not lost when re-scoring finishes after it.
+Opening, exporting, re-scoring and searching each report as a *job*: while jobs run the
+line lists each one's text (with its percentage when more than one runs), the progress bar
+follows the job started first, and Cancel stops them all. A job that ends leaves a
+message, which replaces that job's earlier one. The messages of one spell of work stay
+side by side (newest first), so an export's result is not lost when re-scoring finishes
+after it; once the line has been quiet for :data:`QUIET_S`, whatever comes next replaces
+them, so a result from long ago does not linger beside newer ones. A warning (a save that
+failed) stays until its own job reports again. The same message from a job twice in a
+row is counted ("(×2)"), so a repeated action visibly did something.
 """
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from PySide6.QtWidgets import QLabel, QProgressBar, QPushButton
 
 SEPARATOR = "  ·  "
+#: no job ran and nothing was said for this long: the next job or message starts afresh
+QUIET_S = 3.0
 
 
 @dataclass
@@ -22,13 +30,30 @@ class _Job:
     fraction: float | None = None
 
 
+@dataclass
+class _Note:
+    """The message a job ended with."""
+
+    text: str
+    warning: bool = False  # stays until its job reports again
+    repeats: int = 1  # said this many times in a row
+
+    @property
+    def shown(self) -> str:
+        return f"{self.text} (×{self.repeats})" if self.repeats > 1 else self.text
+
+
 class StatusLine:
     """Drives the status text, progress bar and Cancel button from the running jobs."""
 
-    def __init__(self, text: QLabel, progress: QProgressBar, cancel: QPushButton) -> None:
+    def __init__(self, text: QLabel, progress: QProgressBar, cancel: QPushButton,
+                 clock: Callable[[], float] = time.monotonic) -> None:
         self.text, self.progress, self.cancel = text, progress, cancel
+        self.clock = clock
         self._jobs: dict[str, _Job] = {}  # in the order they began
-        self._notes: dict[str, str] = {}  # job -> message it ended with, newest last
+        self._notes: dict[str, _Note] = {}  # job -> message it ended with, newest last
+        self._latest: tuple[str, _Note] | None = None  # the last message a job ended with
+        self._touched = clock()  # when a job last began, reported or ended
 
     def running(self, job: str | None = None) -> bool:
         """Whether ``job`` (or any job) is running."""
@@ -36,6 +61,7 @@ class StatusLine:
 
     def begin(self, job: str, text: str) -> None:
         """``job`` starts (or says something new while waiting); its old message goes."""
+        self._start_afresh_if_quiet()
         self._notes.pop(job, None)
         self._notes.pop("", None)  # a plain message is outdated by any new work
         old = self._jobs.get(job)
@@ -48,25 +74,44 @@ class StatusLine:
             self._jobs[job] = _Job(text, fraction)
             self._show()
 
-    def end(self, job: str, message: str = "") -> None:
-        """``job`` stopped; ``message`` says how it went."""
+    def end(self, job: str, message: str = "", *, warning: bool = False) -> None:
+        """``job`` stopped; ``message`` says how it went (a ``warning`` stays beside newer
+        messages until ``job`` reports again)."""
+        if message:
+            self._start_afresh_if_quiet()
         self._jobs.pop(job, None)
         self._notes.pop(job, None)
         if message:
-            self._notes[job] = message
+            note = _Note(message, warning)
+            latest = self._latest
+            if not warning and latest is not None and latest[0] == job \
+                    and latest[1].text == message and not latest[1].warning:
+                note.repeats = latest[1].repeats + 1
+            self._notes[job] = note
+            self._latest = (job, note)
         self._show()
 
     def say(self, message: str) -> None:
-        """A plain message (not from a job): replaces every job's message."""
-        self._notes = {"": message} if message else {}
+        """A plain message (not from a job): replaces every job's message but warnings."""
+        self._notes = {job: n for job, n in self._notes.items() if n.warning}
+        if message:
+            self._notes[""] = _Note(message)
+        self._latest = None
         self._show()
 
+    def _start_afresh_if_quiet(self) -> None:
+        """New work or news on a line quiet for :data:`QUIET_S`: the messages of the
+        spell before are outdated (warnings stay)."""
+        if not self._jobs and self.clock() - self._touched >= QUIET_S:
+            self._notes = {job: n for job, n in self._notes.items() if n.warning}
+
     def _show(self) -> None:
+        self._touched = self.clock()
         jobs = list(self._jobs.values())
         several = len(jobs) > 1
         parts = [f"{j.text} {round(100 * j.fraction)}%" if several and j.fraction is not None
                  else j.text for j in jobs]
-        parts += reversed(self._notes.values())
+        parts += [n.shown for n in reversed(self._notes.values())]
         self.text.setText(SEPARATOR.join(parts))
         self.text.setToolTip("\n".join(parts))
         measured = [j.fraction for j in jobs if j.fraction is not None]

@@ -16,6 +16,7 @@ import app.main_window
 from app.main_window import ReviewWindow
 from app.session_saver import saved_text
 from app.set_table import column
+from app.status_line import QUIET_S
 from app.style import WARNING_COLOUR, WARNING_SYMBOL
 from speechcal_core.session.store import load_session, save_session
 
@@ -87,6 +88,27 @@ def test_failed_autosave_warns_keeps_decisions_and_clears_after_a_later_save(
     assert window.saved_label.styleSheet() == ""
     saved = load_session(session_in_folder)
     assert [s.decision for s in saved.sets[:2]] == ["accepted", "rejected"]
+
+
+def test_a_failed_save_stays_on_the_status_line_beside_newer_work_until_a_save_works(
+    qtbot, open_window, session_in_folder: Path
+) -> None:
+    window = open_window(session_in_folder)
+    block_saving(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    assert "not saved: " in window.status_text.text()
+    later = time.monotonic() + 10 * QUIET_S  # long after: other results give way, not it
+    window.status.clock = lambda: later
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
+    assert "not saved: " in window.status_text.text()
+    window.status.say("a plain message")
+    assert "not saved: " in window.status_text.text()
+    assert_warned(window, "Not a directory")
+    unblock_saving(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_R)  # the next decision saves
+    assert "not saved" not in window.status_text.text()
+    assert window.saved_label.text() == "saved just now"
 
 
 def test_save_as_writes_the_decisions_elsewhere_and_autosaves_there(

@@ -1,0 +1,90 @@
+"""The status line's messages as the operator reads them: each job's latest result
+replaces its earlier one, a search's result names what it added (and a repeated one says
+so), and results from long ago give way to newer work instead of lingering beside it."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+from PySide6.QtCore import Qt
+
+from app.status_line import QUIET_S
+from speechcal_core.review.similar import SIMILAR_SOURCE
+
+
+@pytest.fixture
+def clock() -> list[float]:
+    """A clock the test moves on (``clock[0] += s``) for the window's status line."""
+    return [time.monotonic()]
+
+
+def test_each_search_reports_what_it_found_and_a_repeat_is_counted(
+        qtbot, open_window, missed_voice_file) -> None:
+    path, missed = missed_voice_file
+    window = open_window(path)
+    model = window.model
+    model.set_playhead(missed[0]["session_ns"])
+    qtbot.keyClick(window, Qt.Key.Key_T)
+    marked = model.current_set.id
+
+    qtbot.keyClick(window, Qt.Key.Key_S)
+    qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
+    found = [s.id for s in model.session.sets if s.trigger.source == SIMILAR_SOURCE]
+    assert found
+    text = window.status_text.text()
+    assert f"found {len(found)} more like set {marked}" in text
+    assert f"(added {', '.join(f'#{i}' for i in found)})" in text  # the ids the list shows
+
+    qtbot.keyClick(window, Qt.Key.Key_S)  # again: what it found is covered by now
+    qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
+    text = window.status_text.text()
+    assert f"found nothing more like set {marked}" in text
+    assert "(added" not in text and f"found {len(found)} more" not in text  # replaced
+    assert "(×2)" not in text
+    qtbot.keyClick(window, Qt.Key.Key_S)  # and again: the same answer, counted
+    qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
+    text = window.status_text.text()
+    assert f"found nothing more like set {marked}" in text and "that no set covers (×2)" in text
+    assert text.count("found nothing more") == 1
+
+
+def test_a_search_result_stays_beside_the_rescoring_that_follows_it(
+        qtbot, open_window, missed_voice_file) -> None:
+    path, missed = missed_voice_file
+    window = open_window(path)
+    model = window.model
+    model.set_playhead(missed[0]["session_ns"])
+    qtbot.keyClick(window, Qt.Key.Key_T)
+    qtbot.keyClick(window, Qt.Key.Key_S)
+    qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
+    qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)  # the found sets
+    text = window.status_text.text()
+    assert text.startswith("re-scored") and f"more like set {model.current_set.id}" in text
+
+
+def test_a_result_from_long_ago_gives_way_to_newer_work(
+        qtbot, window, clock: list[float]) -> None:
+    window.status.clock = lambda: clock[0]
+    model = window.model
+    model.set_playhead(model.time_range_ns()[0])
+    qtbot.keyClick(window, Qt.Key.Key_W)  # away from any set
+    assert "no frame set at the playhead" in window.status_text.text()
+    clock[0] += QUIET_S / 2  # soon after: an offset edit's re-scoring stands beside it
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
+    assert "no frame set at the playhead" in window.status_text.text()
+    qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
+    text = window.status_text.text()
+    assert text.startswith("re-scored") and "no frame set at the playhead" in text
+
+    clock[0] += QUIET_S + 1  # long after: the next edit's work replaces both
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
+    text = window.status_text.text()
+    assert text.startswith("re-scoring") and "no frame set" not in text
+    assert "re-scored" not in text
+    qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
+    clock[0] += QUIET_S + 1
+    qtbot.keyClick(window, Qt.Key.Key_W)  # a message alone replaces them too
+    assert "re-scored" not in window.status_text.text()
