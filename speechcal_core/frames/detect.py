@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from speechcal_core.frames.grid_fill import fill_missing_tags
 from speechcal_core.target import TargetSpec
 
 #: longest image side used for the coarse search; corners are refined at full resolution
@@ -81,6 +82,7 @@ class TargetDetector:
         self.max_side = max_side
         self.object_points = target.object_points()
         self._order: np.ndarray | None = None  # AprilGrid corner order, once known
+        self._dictionary: cv2.aruco.Dictionary | None = None  # AprilGrid: the board's tags
         if isinstance(target, CharucoSpec):
             self._charuco = cv2.aruco.CharucoDetector(target.board())
         elif target.kind == "aprilgrid":
@@ -96,13 +98,15 @@ class TargetDetector:
             # only the board's own ids: identification time grows with the dictionary
             n = target.rows * target.cols
             d = cv2.aruco.Dictionary(full.bytesList[:n], full.markerSize, full.maxCorrectionBits)
+            self._dictionary = d
             self._aruco = cv2.aruco.ArucoDetector(d, params)
 
     def detect(self, image: np.ndarray) -> Detection | None:
         """Corners of the target in ``image`` (None when it is not found).
 
         The search runs on a shrunk copy first; when it finds less than most of the
-        target it looks again at full resolution (and 1.5x), around what it found.
+        target it looks again at full resolution (and 1.5x), around what it found. AprilGrid
+        tags still missing are then looked for from the tags around them (``grid_fill``).
         """
         gray = to_gray(image)
         h, w = gray.shape[:2]
@@ -136,7 +140,12 @@ class TargetDetector:
         win = max(2, round(win))
         refined = cv2.cornerSubPix(gray, points.reshape(-1, 1, 2).astype(np.float32),
                                    (win, win), (-1, -1), _SUBPIX).reshape(-1, 2)
-        return Detection(refined.astype(np.float64), ids.astype(np.int32))
+        points = refined.astype(np.float64)
+        if self._dictionary is not None:
+            assert isinstance(self.target, TargetSpec)
+            points, ids = fill_missing_tags(gray, points, ids, self.object_points,
+                                            self.target.pitch, self._dictionary, win)
+        return Detection(points, ids.astype(np.int32))
 
     def _detect_kind(self, small: np.ndarray) -> _Found | None:
         if isinstance(self.target, CharucoSpec):
