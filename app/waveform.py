@@ -19,10 +19,20 @@ if TYPE_CHECKING:
     from speechcal_core.sync.model import SyncModel
 
 
+#: the whole view's margin beyond the frames and marks, a fraction of its width
+PADDING = 0.01
+#: when a mark leaves the whole view it widens by this fraction more (small edits after
+#: it move nothing)
+WIDEN_MARGIN = 0.05
+
+
 class WaveformView(pg.PlotWidget):
     """Min/max envelope from a pyramid, redrawn for the visible range at screen resolution.
 
     The x axis is session time in seconds from ``origin_ns`` (the first camera frame).
+    The *whole* view (:meth:`show_all`) holds the frames and every clap and trigger mark;
+    when an offset edit moves a mark out of it, it widens, and so does the view unless
+    the operator has zoomed in (a wheel's zoom out reaches the mark).
     """
 
     # nanoseconds are Python ints carried as objects: Signal(int) is a 32-bit C int, which
@@ -40,6 +50,9 @@ class WaveformView(pg.PlotWidget):
         self._told_unreadable = False
         self.sync: SyncModel | None = None
         self._claps_audio_s: tuple[float, ...] = ()  # audio seconds; the first is the handle
+        self._frames_x: tuple[float, float] | None = None  # first and last frame
+        self._sets_x: tuple[float, float] | None = None  # the trigger marks' extent
+        self.whole: tuple[float, float] | None = None  # the whole view (x), once shown
         self.setMouseEnabled(x=True, y=False)
         self.setMenuEnabled(False)
         self.hideButtons()
@@ -101,6 +114,7 @@ class WaveformView(pg.PlotWidget):
         self.later_claps = []
         if self.sync is None or not self._claps_audio_s:
             self.clap.hide()
+            self._keep_marks_within_whole()
             return
         first, *later = (self._to_x(int(self.sync.to_session(a))) for a in self._claps_audio_s)
         self.clap.setValue(first)
@@ -114,6 +128,7 @@ class WaveformView(pg.PlotWidget):
             line.setZValue(15)
             self.addItem(line)
             self.later_claps.append(line)
+        self._keep_marks_within_whole()
 
     def clap_shift_ns(self) -> int:
         """How far the clap handle was dragged from where the current sync puts it."""
@@ -122,7 +137,37 @@ class WaveformView(pg.PlotWidget):
         return self._to_ns(self.clap.value()) - int(self.sync.to_session(self._claps_audio_s[0]))
 
     def show_all(self, start_ns: int, end_ns: int) -> None:
-        self.setXRange(self._to_x(start_ns), self._to_x(end_ns), padding=0.01)
+        """Show the whole session: the frames from ``start_ns`` to ``end_ns`` and every
+        clap and trigger mark (one an earlier offset edit put beyond them too)."""
+        self._frames_x = (self._to_x(start_ns), self._to_x(end_ns))
+        lo, hi = self.extent()
+        pad = PADDING * (hi - lo)
+        self.whole = (lo - pad, hi + pad)
+        self.setXRange(*self.whole, padding=0)
+
+    def extent(self) -> tuple[float, float]:
+        """The x range from the first to the last of the frames and marks (claps, words)."""
+        xs = [*(self._frames_x or ()), *(self._sets_x or ()),
+              *(line.value() for line in self.later_claps)]
+        if self.sync is not None and self._claps_audio_s:
+            xs.append(self.clap.value())
+        return (min(xs), max(xs)) if xs else (0.0, 0.0)
+
+    def _keep_marks_within_whole(self) -> None:
+        """A mark moved out of the whole view: widen it (with a margin, so further small
+        edits move nothing), and the view with it unless the operator zoomed in."""
+        if self.whole is None:
+            return  # not shown yet: show_all takes every mark in
+        lo, hi = self.extent()
+        w0, w1 = self.whole
+        if w0 <= lo and hi <= w1:
+            return
+        margin = WIDEN_MARGIN * (max(hi, w1) - min(lo, w0))
+        self.whole = (lo - margin if lo < w0 else w0, hi + margin if hi > w1 else w1)
+        v0, v1 = self.getViewBox().viewRange()[0]
+        tolerance = 1e-3 * (w1 - w0)
+        if v0 <= w0 + tolerance and v1 >= w1 - tolerance:  # it showed the whole
+            self.setXRange(min(v0, self.whole[0]), max(v1, self.whole[1]), padding=0)
 
     def redraw(self) -> None:
         if self.pyramid is None or self.sync is None:
@@ -148,12 +193,15 @@ class WaveformView(pg.PlotWidget):
         for item in self._markers:
             self.removeItem(item)
         self._markers = []
+        self._sets_x = None
         if self.sync is None:
             return
-        for s in sets:
+        spans = [(self._to_x(int(self.sync.to_session(s.trigger.start_s))),
+                  self._to_x(int(self.sync.to_session(s.trigger.end_s)))) for s in sets]
+        if spans:
+            self._sets_x = (min(a for a, _ in spans), max(b for _, b in spans))
+        for s, (start, end) in zip(sets, spans, strict=True):
             colour = DECISION_COLOURS[s.decision]
-            start = self._to_x(int(self.sync.to_session(s.trigger.start_s)))
-            end = self._to_x(int(self.sync.to_session(s.trigger.end_s)))
             brush = pg.mkBrush(colour.red(), colour.green(), colour.blue(), 70)
             region = pg.LinearRegionItem((start, end), movable=False, brush=brush,
                                          pen=pg.mkPen(colour))
@@ -164,6 +212,7 @@ class WaveformView(pg.PlotWidget):
             for item in (region, label):
                 self.addItem(item)
                 self._markers.append(item)
+        self._keep_marks_within_whole()
 
     def set_playhead(self, t_ns: int) -> None:
         self.playhead.setValue(self._to_x(t_ns))

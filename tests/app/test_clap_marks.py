@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pyqtgraph as pg
 import pytest
 from PySide6.QtCore import Qt
 
@@ -51,3 +52,87 @@ def test_info_line_names_the_set_by_the_id_the_list_shows(
     current = window.model.current_set
     n = len(window.model.session.sets)
     assert f"set #{current.id} (2 of {n})" in window.info_line.text()
+
+
+def _two_claps_file(truth_session_file: Path, tmp_path: Path, shift_s: float = 0.0) -> Path:
+    """The truth session with a second clap late in the recording (the drift's), its
+    offset ``shift_s`` later than the truth's (as a manual edit saved earlier leaves it)."""
+    session = load_session(truth_session_file)
+    first = session.sync_evidence["claps"][0]
+    session.sync_evidence["claps"] = [first, {"audio_s": first["audio_s"] + 9.5}]
+    session.sync = session.sync.with_offset(session.sync.offset_ns + round(shift_s * 1e9))
+    path = tmp_path / "two_claps.json"
+    save_session(session, path)
+    return path
+
+
+def _marks_x(wave) -> list[float]:
+    """Where the clap handle, the later claps and both ends of every trigger mark are."""
+    regions = [m.getRegion() for m in wave._markers if isinstance(m, pg.LinearRegionItem)]
+    return [wave.clap.value(), *(line.value() for line in wave.later_claps),
+            *(x for region in regions for x in region)]
+
+
+def _view(wave) -> tuple[float, float]:
+    x0, x1 = wave.getViewBox().viewRange()[0]
+    return x0, x1
+
+
+def _drag_clap(wave, by_s: float) -> None:
+    """Drag the clap handle ``by_s`` seconds and let go, as the mouse does."""
+    wave.clap.setValue(wave.clap.value() + by_s)
+    wave.clap.sigDragged.emit(wave.clap)
+    wave.clap.sigPositionChangeFinished.emit(wave.clap)
+
+
+def test_a_large_offset_edit_widens_the_view_to_every_clap_and_trigger_mark(
+        qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    window = open_window(_two_claps_file(truth_session_file, tmp_path))
+    wave = window.waveform
+    x0, x1 = _view(wave)
+    assert all(x0 <= x <= x1 for x in _marks_x(wave))
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # a small edit: the view stays
+    assert _view(wave) == (x0, x1)
+
+    _drag_clap(wave, 3.0)  # clap 2 (and the last words) beyond the session's end
+    (mark,) = wave.later_claps
+    assert mark.value() > window.waveform._to_x(window.model.time_range_ns()[1])
+    v0, v1 = _view(wave)
+    assert v0 == pytest.approx(x0) and v1 > x1
+    assert all(v0 <= x <= v1 for x in _marks_x(wave))
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # small edits after it: it stays
+    qtbot.keyClick(window, Qt.Key.Key_BraceRight)
+    assert _view(wave) == (v0, v1)
+    assert all(v0 <= x <= v1 for x in _marks_x(wave))
+
+    _drag_clap(wave, -8.0)  # far the other way: the first words before the first frame
+    w0, w1 = _view(wave)
+    assert w0 < v0 and w1 == pytest.approx(v1)  # widened, never narrowed
+    assert all(w0 <= x <= w1 for x in _marks_x(wave))
+
+
+def test_a_session_opened_with_its_offset_edited_far_shows_every_mark(
+        open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    window = open_window(_two_claps_file(truth_session_file, tmp_path, shift_s=4.0))
+    wave = window.waveform
+    (mark,) = wave.later_claps
+    assert mark.value() > wave._to_x(window.model.time_range_ns()[1])
+    x0, x1 = _view(wave)
+    assert all(x0 <= x <= x1 for x in _marks_x(wave))
+
+
+def test_a_zoomed_in_view_keeps_its_zoom_through_an_offset_edit(
+        qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    window = open_window(_two_claps_file(truth_session_file, tmp_path))
+    wave = window.waveform
+    x0, x1 = _view(wave)
+    zoom = (x0 + 0.2 * (x1 - x0), x0 + 0.5 * (x1 - x0))
+    wave.setXRange(*zoom, padding=0)
+    zoom = _view(wave)
+    _drag_clap(wave, 3.0)
+    assert _view(wave) == zoom
+    wave.setXRange(-1e6, 1e6, padding=0)  # zoomed out as far as the wheel goes
+    v0, v1 = _view(wave)
+    assert all(v0 <= x <= v1 for x in _marks_x(wave))
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # zoomed out further than the whole
+    assert _view(wave) == (v0, v1)
