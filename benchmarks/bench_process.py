@@ -119,6 +119,14 @@ def main() -> int:
         verdict = "meets" if search <= TARGET_S else "MISSES"
         print(f"  target <= {TARGET_S:.0f} s with window search: {verdict} ({search:.2f} s)")
         cams = {c["name"]: c for c in truth["cameras"]}
+        print("target corners in the chosen frames (window search), share of the board:")
+        board = len(target.object_points())
+        for stream in cams:
+            counts = [f.corners or 0 for fs in figures["search"][2].sets for f in fs.frames
+                      if f.stream == stream]
+            whole = sum(c == board for c in counts)
+            print(f"  {stream} ({cams[stream]['model']}): {np.mean(counts) / board:.2f}, "
+                  f"whole board in {whole} of {len(counts)} frames")
         print("calibration check (window search):")
         print(f"  (load average during the run: {os.getloadavg()[0]:.1f} on "
               f"{os.cpu_count()} CPUs)")
