@@ -87,6 +87,7 @@ def load_session(path: str | Path) -> Session:
             f"{SCHEMA}); update SpeechCal to open it"
         )
     data = _migrate(data)
+    _check_session_shape(path, data)
     base = path.absolute().parent
     try:
         known = {"schema", "recording", "audio", "trigger_words", "sync", "sets", "calibration"}
@@ -107,6 +108,22 @@ def load_session(path: str | Path) -> Session:
         raise SessionFileError(
             f"{path}: damaged session file ({exc!r} is missing or wrong)"
         ) from exc
+
+
+def _check_session_shape(path: Path, data: dict[str, Any]) -> None:
+    """Refuse JSON that is not a session although it has a schema (a synthetic session's
+    ``truth.json``, another tool's file): opening it would autosave a session over it."""
+    if "sets" not in data and "options" in data and "triggers" in data:
+        raise SessionFileError(
+            f"{path}: the truth file of a synthetic session, not a review session; open its "
+            f"recording with its audio instead (speechcal review RECORDING --audio AUDIO)")
+    recording = data.get("recording")
+    if not (isinstance(recording, list) and recording
+            and all(isinstance(p, str) for p in recording)
+            and isinstance(data.get("sync"), dict) and isinstance(data.get("sets", []), list)):
+        raise SessionFileError(
+            f"{path}: not a SpeechCal session file (it lacks a recording list, a sync entry "
+            f"or a list of sets); a session file is what 'speechcal process' writes")
 
 
 def _migrate(data: dict[str, Any]) -> dict[str, Any]:

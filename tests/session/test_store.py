@@ -117,3 +117,30 @@ def test_broken_json_names_file_and_backup(tmp_path: Path) -> None:
 def test_missing_file_is_a_clear_error(tmp_path: Path) -> None:
     with pytest.raises(SessionFileError, match="no such session file"):
         load_session(tmp_path / "nope.json")
+
+
+def test_a_synthetic_sessions_truth_file_is_refused_and_left_alone(
+        tiny_synth: tuple[Path, dict]) -> None:
+    folder, _truth = tiny_synth
+    truth_file = folder / "truth.json"
+    before = truth_file.read_bytes()
+    with pytest.raises(SessionFileError) as err:
+        load_session(truth_file)
+    assert str(truth_file) in str(err.value)
+    assert "truth file of a synthetic session" in str(err.value)
+    assert "--audio" in str(err.value)
+    assert truth_file.read_bytes() == before
+
+
+@pytest.mark.parametrize("data", [
+    {"schema": 1, "recording": 3, "sync": {}},
+    {"schema": 1, "recording": [], "sync": {"offset_ns": 0}},
+    {"schema": 1, "recording": ["rec.bag"], "sync": [1, 2]},
+    {"schema": 1, "recording": ["rec.bag"], "sync": {"offset_ns": 0}, "sets": {}},
+])
+def test_json_with_a_schema_but_no_session_shape_is_not_a_session(tmp_path: Path,
+                                                                   data: dict) -> None:
+    path = tmp_path / "other.json"
+    path.write_text(json.dumps(data), encoding="utf-8")
+    with pytest.raises(SessionFileError, match="not a SpeechCal session file"):
+        load_session(path)
