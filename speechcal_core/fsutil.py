@@ -69,6 +69,14 @@ def folder_write_problem(folder: str | Path) -> str | None:
     return None
 
 
+def _file_in_the_way(folder: Path) -> Path | None:
+    """The closest existing ancestor of ``folder`` (or itself) when it is not a folder."""
+    for candidate in (folder, *folder.parents):
+        if os.path.lexists(candidate):
+            return None if candidate.is_dir() else candidate
+    return None
+
+
 def _aside(target: Path) -> Path:
     """A free hidden sibling name to move ``target`` to while its replacement goes in."""
     base = target.parent / f".{target.name}.old-{os.getpid()}"
@@ -97,8 +105,10 @@ def staged_directory(target: str | Path, *, force: bool = False) -> Iterator[Pat
         staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=parent))
         os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes 0700
     except OSError as exc:
+        blocking = _file_in_the_way(parent)
+        reason = f"{blocking} is a file, not a folder" if blocking else exc.strerror
         raise SpeechCalError(
-            f"{target}: cannot write there ({exc.strerror}); choose a writable folder"
+            f"{target}: cannot write there ({reason}); choose a writable folder"
         ) from exc
     try:
         yield staging

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from speechcal_core.errors import SpeechCalError
 from speechcal_core.fsutil import (
     OutputExistsError,
     atomic_write_text,
@@ -145,3 +146,14 @@ def test_folder_write_problem_says_what_stops_a_write_and_leaves_nothing(tmp_pat
     assert folder_write_problem(gone) == f"the folder {gone} does not exist"
     (tmp_path / "f").write_text("x")
     assert folder_write_problem(tmp_path / "f") == f"{tmp_path / 'f'} is a file, not a folder"
+
+
+@pytest.mark.parametrize("depth", [1, 2])
+def test_staged_directory_under_a_file_names_the_file(tmp_path: Path, depth: int) -> None:
+    blocking = tmp_path / "notes.txt"
+    blocking.write_text("mine")
+    target = blocking / "sub" / "export" if depth == 2 else blocking / "export"
+    with pytest.raises(SpeechCalError, match=f"{blocking} is a file, not a folder"), \
+            staged_directory(target):
+        pass
+    assert blocking.read_text() == "mine"
