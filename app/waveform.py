@@ -75,7 +75,9 @@ class WaveformView(pg.PlotWidget):
         self.clap = pg.InfiniteLine(0, movable=True, pen=pg.mkPen((255, 120, 40), width=2),
                                     label="clap", labelOpts={"position": 0.9,
                                                              "color": (255, 160, 90)})
-        self.clap.setZValue(15)
+        # above the playhead: a click on the clap puts the playhead on it, and the drag
+        # from there must still take the handle (the playhead is dragged anywhere else)
+        self.clap.setZValue(25)
         self.clap.sigPositionChangeFinished.connect(
             lambda _line: self.clap_moved.emit(self.clap_shift_ns()))
         self.clap.sigDragged.connect(lambda _line: self.clap_dragging.emit(self.clap_shift_ns()))
