@@ -120,6 +120,7 @@ class ReviewModel:
         self._autosave = autosave
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
         # undo/redo entries: ("decision", set id, decision to restore),
+        # ("sync", sync model to restore) for an offset edit,
         # ("add", set id) and ("remove", set, its index, its frame details or None),
         # ("add_many", set ids) and ("remove_many", [(set, index, details)...]) for the
         # sets one search added
@@ -296,11 +297,16 @@ class ReviewModel:
         self.nudge_offset(direction * (min(periods) if periods else 33_333_333))
 
     def set_sync(self, sync: SyncModel) -> None:
-        """Use another sync model: every set's time follows it.
+        """Use another sync model: every set's time follows it (one undo step).
 
         Sets that move take the frames nearest their new time, without figures, until
         re-scored (see :meth:`rescore_request`).
         """
+        self._undo.append(("sync", self.session.sync))
+        self._redo.clear()
+        self._change_sync(sync)
+
+    def _change_sync(self, sync: SyncModel) -> None:
         self.session.sync = sync
         details = self._frame_details()
         for i, s in enumerate(self.session.sets):
@@ -340,6 +346,10 @@ class ReviewModel:
     def _revert(self, entry: tuple) -> tuple:
         """Undo one stack entry; returns the entry that undoes this in turn."""
         kind = entry[0]
+        if kind == "sync":
+            previous = self.session.sync
+            self._change_sync(entry[1])
+            return ("sync", previous)
         if kind == "decision":
             _kind, set_id, decision = entry
             previous = self.session.set_by_id(set_id).decision

@@ -108,6 +108,26 @@ def test_offset_nudge_moves_sets_marks_sync_manual_and_saves(truth_session_file:
                 assert abs(f.stamp_ns - s.t_ns) <= 1e9 / 15 / 2 + 1
 
 
+def test_an_offset_edit_is_undone_and_redone_in_turn_with_decisions(
+        truth_session_file: Path) -> None:
+    model = open_model(truth_session_file)
+    auto = model.session.sync
+    before = [s.t_ns for s in model.session.sets]
+    model.accept()  # an older step the undo must not reach first
+    model.nudge_offset(100_000_000)
+    assert model.session.sync.source == "manual"
+    model.undo()  # the offset edit, not the decision
+    assert model.session.sync == auto
+    assert [s.t_ns for s in model.session.sets] == before
+    assert model.session.sets[0].decision == "accepted"
+    assert load_session(truth_session_file).sync == auto
+    model.redo()
+    assert model.session.sync.offset_ns == auto.offset_ns + 100_000_000
+    model.undo()
+    model.undo()  # now the decision
+    assert model.session.sync == auto and model.session.sets[0].decision == "undecided"
+
+
 def test_at_a_set_the_tiles_show_its_chosen_frames_and_their_warnings(
     truth_session_file: Path,
 ) -> None:
