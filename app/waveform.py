@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import QToolButton
 
 from app.style import DECISION_COLOURS, DECISION_SYMBOLS, PLAYHEAD_COLOUR
 
@@ -24,6 +25,9 @@ PADDING = 0.01
 #: when a mark leaves the whole view it widens by this fraction more (small edits after
 #: it move nothing)
 WIDEN_MARGIN = 0.05
+#: the narrowest view the wheel zooms in to, seconds (a few ms of samples on each side of
+#: a clap, enough to place it to the millisecond)
+MIN_SPAN_S = 0.02
 
 
 class WaveformView(pg.PlotWidget):
@@ -32,7 +36,9 @@ class WaveformView(pg.PlotWidget):
     The x axis is session time in seconds from ``origin_ns`` (the first camera frame).
     The *whole* view (:meth:`show_all`) holds the frames and every clap and trigger mark;
     when an offset edit moves a mark out of it, it widens, and so does the view unless
-    the operator has zoomed in (a wheel's zoom out reaches the mark).
+    the operator has zoomed in (a wheel's zoom out reaches the mark). Zoom and pan stay
+    within the whole view, down to :data:`MIN_SPAN_S`; a double-click on the waveform or
+    the "whole session" button (shown while zoomed in) goes back to it.
     """
 
     # nanoseconds are Python ints carried as objects: Signal(int) is a 32-bit C int, which
@@ -85,7 +91,18 @@ class WaveformView(pg.PlotWidget):
         self.addItem(self.clap)
         #: later claps (the drift's), marked where the sync puts them; not handles
         self.later_claps: list[pg.InfiniteLine] = []
-        self.getViewBox().sigXRangeChanged.connect(lambda *_: self.redraw())
+        #: back to the whole view; shown while the view is narrower than that
+        self.whole_button = QToolButton(self)
+        self.whole_button.setText("whole session")
+        self.whole_button.setStyleSheet(
+            "QToolButton { background: rgba(60, 64, 72, 220); color: rgb(225, 225, 225);"
+            " border: 1px solid rgb(110, 116, 126); border-radius: 3px; padding: 1px 6px; }"
+            "QToolButton:hover { background: rgb(80, 86, 96); }")
+        self.whole_button.setToolTip("show the whole session (or double-click the waveform)")
+        self.whole_button.setCursor(Qt.CursorShape.ArrowCursor)
+        self.whole_button.clicked.connect(self.show_whole)
+        self.whole_button.hide()
+        self.getViewBox().sigXRangeChanged.connect(lambda *_: self._range_changed())
         self.scene().sigMouseClicked.connect(self._clicked)
 
     def _to_ns(self, x: float) -> int:
@@ -145,7 +162,33 @@ class WaveformView(pg.PlotWidget):
         lo, hi = self.extent()
         pad = PADDING * (hi - lo)
         self.whole = (lo - pad, hi + pad)
-        self.setXRange(*self.whole, padding=0)
+        self._limit_to_whole()
+        self.show_whole()
+
+    def show_whole(self) -> None:
+        """Zoom out to the whole view (once :meth:`show_all` has set it)."""
+        if self.whole is not None:
+            self.setXRange(*self.whole, padding=0)
+
+    def zoomed_in(self) -> bool:
+        """Whether the view shows less than the whole (by more than a rounding error)."""
+        if self.whole is None:
+            return False
+        v0, v1 = self.getViewBox().viewRange()[0]
+        w0, w1 = self.whole
+        tolerance = 1e-3 * (w1 - w0)
+        return v0 > w0 + tolerance or v1 < w1 - tolerance
+
+    def _limit_to_whole(self) -> None:
+        """Keep zoom and pan within the whole view, and zooming in to MIN_SPAN_S."""
+        if self.whole is None:
+            return
+        lo, hi = self.whole
+        if hi - lo < MIN_SPAN_S:  # a session of one instant: room for the narrowest view
+            mid = (lo + hi) / 2
+            lo, hi = mid - MIN_SPAN_S / 2, mid + MIN_SPAN_S / 2
+        self.getViewBox().setLimits(xMin=lo, xMax=hi, minXRange=MIN_SPAN_S,
+                                    maxXRange=hi - lo)
 
     def extent(self) -> tuple[float, float]:
         """The x range from the first to the last of the frames and marks (claps, words)."""
@@ -165,13 +208,26 @@ class WaveformView(pg.PlotWidget):
         if w0 <= lo and hi <= w1:
             return
         margin = WIDEN_MARGIN * (max(hi, w1) - min(lo, w0))
+        showed_whole = not self.zoomed_in()
         self.whole = (lo - margin if lo < w0 else w0, hi + margin if hi > w1 else w1)
-        v0, v1 = self.getViewBox().viewRange()[0]
-        tolerance = 1e-3 * (w1 - w0)
-        if v0 <= w0 + tolerance and v1 >= w1 - tolerance:  # it showed the whole
-            self.setXRange(min(v0, self.whole[0]), max(v1, self.whole[1]), padding=0)
+        self._limit_to_whole()  # the limits follow, so the wheel zooms out to the mark
+        if showed_whole:
+            self.show_whole()
+
+    def _range_changed(self) -> None:
+        self.whole_button.setVisible(self.zoomed_in())
+        self.redraw()
+
+    def resizeEvent(self, event) -> None:
+        """Keep the "whole session" button in the top right corner."""
+        super().resizeEvent(event)
+        button = getattr(self, "whole_button", None)  # pyqtgraph resizes in __init__
+        if button is not None:
+            hint = button.sizeHint()
+            button.setGeometry(self.width() - hint.width() - 6, 6, hint.width(), hint.height())
 
     def redraw(self) -> None:
+        """Draw the envelope of the audio in the visible range."""
         if self.pyramid is None or self.sync is None:
             return
         x0, x1 = self.getViewBox().viewRange()[0]
@@ -228,7 +284,10 @@ class WaveformView(pg.PlotWidget):
             self.setXRange(x - span * 0.1, x + span * 0.9, padding=0)
 
     def _clicked(self, event) -> None:
-        if event.button() != Qt.MouseButton.LeftButton or event.double():
+        if event.button() != Qt.MouseButton.LeftButton:
+            return
+        if event.double():  # its first click moved the playhead already
+            self.show_whole()
             return
         pos = self.getViewBox().mapSceneToView(event.scenePos())
         self.playhead_moved.emit(self._to_ns(pos.x()))

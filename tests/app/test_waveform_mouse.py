@@ -4,12 +4,16 @@ hand would not show which line a drag grabs)."""
 
 from __future__ import annotations
 
-from PySide6.QtCore import QEvent, QPointF, Qt
-from PySide6.QtGui import QMouseEvent
+from pathlib import Path
+
+import pytest
+from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
+from PySide6.QtGui import QMouseEvent, QWheelEvent
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication
 
-from app.waveform import WaveformView
+from app.waveform import MIN_SPAN_S, WaveformView
+from speechcal_core.session.store import load_session, save_session
 
 
 def _point(wave: WaveformView, x: float, y: float = 0.0) -> QPointF:
@@ -65,6 +69,24 @@ def drag(qtbot, wave: WaveformView, x0: float, x1: float, y: float = 0.0,
     qtbot.wait(10)
 
 
+def wheel(qtbot, wave: WaveformView, x: float, steps: int) -> None:
+    """Turn the wheel ``steps`` notches at ``x`` (positive: zoom in)."""
+    pos = _point(wave, x)
+    viewport = wave.viewport()
+    for _ in range(abs(steps)):
+        event = QWheelEvent(pos, QPointF(viewport.mapToGlobal(pos.toPoint())), QPoint(0, 0),
+                            QPoint(0, 120 if steps > 0 else -120), Qt.MouseButton.NoButton,
+                            Qt.KeyboardModifier.NoModifier, Qt.ScrollPhase.NoScrollPhase,
+                            False)
+        QApplication.sendEvent(viewport, event)
+    qtbot.wait(10)
+
+
+def _view(wave: WaveformView) -> tuple[float, float]:
+    x0, x1 = wave.getViewBox().viewRange()[0]
+    return x0, x1
+
+
 def test_the_clap_handle_is_dragged_when_the_playhead_sits_on_it(window, qtbot) -> None:
     wave = window.waveform
     clap_x = wave.clap.value()
@@ -88,3 +110,66 @@ def test_the_playhead_line_is_dragged_away_from_the_clap(window, qtbot) -> None:
     pixel_s = (x1 - x0) / wave.width()
     assert abs(wave.playhead.value() - (start + 0.1 * (x1 - x0))) <= 3 * pixel_s
     assert window.model.session.sync.offset_ns == offset
+
+
+def test_zoom_and_pan_stay_within_the_whole_session(window, qtbot) -> None:
+    wave = window.waveform
+    w0, w1 = wave.whole
+    assert _view(wave) == pytest.approx((w0, w1))
+    wheel(qtbot, wave, (w0 + w1) / 2, -30)  # far out: no further than the whole
+    assert _view(wave) == pytest.approx((w0, w1))
+    wheel(qtbot, wave, (w0 + w1) / 2, 3)
+    v0, v1 = _view(wave)
+    assert w0 < v0 < v1 < w1
+    drag(qtbot, wave, v0 + 0.2 * (v1 - v0), v0 + 0.9 * (v1 - v0), y=0.8)  # pan left, far
+    drag(qtbot, wave, v0 + 0.2 * (v1 - v0), v0 + 0.9 * (v1 - v0), y=0.8)
+    drag(qtbot, wave, v0 + 0.2 * (v1 - v0), v0 + 0.9 * (v1 - v0), y=0.8)
+    p0, p1 = _view(wave)
+    assert p0 == pytest.approx(w0) and p1 - p0 == pytest.approx(v1 - v0)
+    wheel(qtbot, wave, (p0 + p1) / 2, 60)  # far in: no narrower than MIN_SPAN_S
+    z0, z1 = _view(wave)
+    assert z1 - z0 == pytest.approx(MIN_SPAN_S, rel=0.05)
+
+
+def test_a_double_click_on_the_waveform_shows_the_whole_session(window, qtbot) -> None:
+    wave = window.waveform
+    whole = wave.whole
+    assert not wave.whole_button.isVisible()
+    wave.setXRange(10.0, 12.0, padding=0)
+    double_click(qtbot, wave, 11.0, 0.8)
+    assert _view(wave) == pytest.approx(whole)
+    assert abs(wave.playhead.value() - 11.0) < 0.05  # its first click is a click
+
+
+def test_the_whole_button_shows_the_whole_session_while_zoomed_in(window, qtbot) -> None:
+    wave = window.waveform
+    whole = wave.whole
+    wheel(qtbot, wave, (whole[0] + whole[1]) / 2, 2)
+    assert wave.whole_button.isVisible()
+    assert wave.whole_button.geometry().right() <= wave.width()
+    qtbot.mouseClick(wave.whole_button, Qt.MouseButton.LeftButton)
+    assert _view(wave) == pytest.approx(whole)
+    assert not wave.whole_button.isVisible()
+
+
+def test_the_limits_follow_the_whole_view_when_an_offset_edit_widens_it(
+        qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    session = load_session(truth_session_file)
+    first = session.sync_evidence["claps"][0]
+    session.sync_evidence["claps"] = [first, {"audio_s": first["audio_s"] + 9.5}]
+    path = tmp_path / "two_claps.json"
+    save_session(session, path)
+    window = open_window(path)
+    wave = window.waveform
+    w0, w1 = wave.whole
+    wheel(qtbot, wave, (w0 + w1) / 2, 3)  # zoomed in: the edit keeps the zoom
+    zoom = _view(wave)
+    window.model.nudge_offset(5_000_000_000)  # clap 2 and the last words past the end
+    (mark,) = wave.later_claps
+    assert mark.value() > w1
+    assert _view(wave) == pytest.approx(zoom)
+    assert wave.whole[1] > mark.value()
+    wheel(qtbot, wave, (zoom[0] + zoom[1]) / 2, -30)  # the wheel reaches the new whole
+    v0, v1 = _view(wave)
+    assert v0 <= wave.clap.value() and mark.value() <= v1
+    assert (v0, v1) == pytest.approx(wave.whole)
