@@ -56,6 +56,7 @@ class ExportDialog(QDialog):
         path_row.addWidget(browse)
         self.undecided_box = QCheckBox(f"also the {counts.get('undecided', 0)} undecided sets")
         self.summary = QLabel("")
+        self.summary.setWordWrap(True)  # the notes run longer than the dialog is wide
         form = QFormLayout()
         form.addRow("Format", self.format_box)
         form.addRow("Folder", path_row)
@@ -75,9 +76,11 @@ class ExportDialog(QDialog):
 
     @property
     def format(self) -> str:
+        """The chosen export format's key (kalibr, folders, rosbag1, rosbag2)."""
         return str(self.format_box.currentData())
 
     def set_format(self, fmt: str) -> None:
+        """Choose the export format by its key."""
         self.format_box.setCurrentIndex(self.format_box.findData(fmt))
 
     def set_folder(self, folder: Path) -> None:
@@ -109,13 +112,15 @@ class ExportDialog(QDialog):
         if self.undecided_box.isChecked():
             n += self.counts.get("undecided", 0)
         out = Path(self.path_edit.text())
-        note = "  (the folder exists: you will be asked to replace it)" if out.exists() else ""
+        note = "\nIt exists: you will be asked before it is replaced" if out.exists() else ""
         later = self.waiting(self.undecided_box.isChecked())
         if later:
             note += (f"\n{later} of them still show{'s' if later == 1 else ''} the frames nearest "
                      "the trigger: the export starts once re-scoring has chosen their best "
                      "still frames")
-        self.summary.setText(f"{n} frame sets will be written to a new folder{note}")
+        sets = "frame set" if n == 1 else "frame sets"
+        folder = "the folder above" if out.exists() else "a new folder"
+        self.summary.setText(f"{n} {sets} will be written to {folder}{note}")
         ok = self.buttons.button(QDialogButtonBox.StandardButton.Ok)
         ok.setEnabled(n > 0 and bool(self.path_edit.text().strip()))
         if n == 0:

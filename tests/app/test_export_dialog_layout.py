@@ -1,0 +1,50 @@
+"""The export dialog shows its whole summary, however long the notes under it grow."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from PySide6.QtWidgets import QLabel
+
+from app.export_dialog import ExportDialog
+
+
+def _text_fits(label: QLabel) -> bool:
+    """Whether every line of the label's text is drawn whole (none cut at its edge)."""
+    area = label.contentsRect()
+    if label.wordWrap():
+        return label.heightForWidth(area.width()) <= area.height()
+    metrics = label.fontMetrics()
+    return (all(metrics.horizontalAdvance(line) <= area.width()
+                for line in label.text().splitlines())
+            and metrics.lineSpacing() * len(label.text().splitlines()) <= area.height())
+
+
+@pytest.mark.parametrize("waiting", [0, 1])
+def test_the_summary_is_readable_when_the_folder_exists(
+        qtbot, tmp_path: Path, waiting: int) -> None:
+    (tmp_path / "rec-kalibr").mkdir()
+    dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 1, "undecided": 13},
+                          waiting=lambda _include: waiting)
+    qtbot.addWidget(dialog)
+    dialog.show()
+    qtbot.waitExposed(dialog)
+    dialog.set_folder(tmp_path / "rec-kalibr")  # the longest note: asked to replace it
+    qtbot.wait(20)
+    assert "asked before it is replaced" in dialog.summary.text()
+    assert _text_fits(dialog.summary)
+    assert dialog.rect().contains(dialog.summary.geometry())
+    dialog.undecided_box.setChecked(True)
+    qtbot.wait(20)
+    assert _text_fits(dialog.summary)
+    dialog.resize(dialog.minimumWidth(), dialog.height())  # as narrow as it goes
+    qtbot.wait(20)
+    assert _text_fits(dialog.summary)
+    assert dialog.rect().contains(dialog.summary.geometry())
+
+
+def test_one_set_is_one_set(qtbot, tmp_path: Path) -> None:
+    dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 1, "undecided": 0})
+    qtbot.addWidget(dialog)
+    assert dialog.summary.text().startswith("1 frame set will be written")
