@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import math
 
-from PySide6.QtCore import QPointF, QRectF, Qt, Signal
-from PySide6.QtGui import QColor, QFont, QImage, QPainter, QPen
-from PySide6.QtWidgets import QGridLayout, QSizePolicy, QVBoxLayout, QWidget
+from PySide6.QtCore import QEvent, QPointF, QRectF, Qt, Signal
+from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter, QPen
+from PySide6.QtWidgets import QGridLayout, QSizePolicy, QToolTip, QVBoxLayout, QWidget
 
 from app.style import (
     BACKGROUND,
@@ -15,6 +15,41 @@ from app.style import (
     WARNING_COLOUR,
     WARNING_SYMBOL,
 )
+
+#: the least room between a tile's title and the caption or warning at its right, pixels
+HEADER_GAP = 12
+
+
+def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: str,
+                 decision: str | None, note: str, warning: bool) -> tuple[str, str]:
+    """The title (stream and decision, in ``bold``) and the note at the right (``plain``:
+    the warning, else the caption) a tile's header of ``width`` pixels shows, shortened so
+    they never overlap. What a reviewer needs least goes first: the caption, then the
+    warning's words (down to its symbol), then the decision's word (its symbol and the
+    border stay), and only then the end of the stream's name."""
+    symbol = f"  {DECISION_SYMBOLS[decision]}" if decision else ""
+    full, short = (f"{stream}{symbol} {decision}", f"{stream}{symbol}") if decision \
+        else (stream, stream)
+
+    def room(title: str) -> int:
+        return width - bold.horizontalAdvance(title) - HEADER_GAP
+
+    if note and plain.horizontalAdvance(note) <= room(full):
+        return full, note
+    least = ""
+    if warning:
+        for title in (full, short):
+            text = plain.elidedText(note, Qt.TextElideMode.ElideRight, room(title))
+            if len(text) >= len(WARNING_SYMBOL) + 3:  # the symbol and a letter at least
+                return title, text
+        least = WARNING_SYMBOL
+    reserve = plain.horizontalAdvance(least) + HEADER_GAP if least else 0
+    for title in (full, short):
+        if bold.horizontalAdvance(title) <= width - reserve:
+            return title, least
+    name = bold.elidedText(stream, Qt.TextElideMode.ElideRight,
+                           width - reserve - bold.horizontalAdvance(symbol))
+    return name + symbol, least
 
 
 class CameraTile(QWidget):
@@ -49,6 +84,20 @@ class CameraTile(QWidget):
     def mouseDoubleClickEvent(self, event) -> None:
         self.double_clicked.emit(self.stream)
 
+    def event(self, event: QEvent) -> bool:
+        """The header in full as the tooltip (a narrow tile shortens it)."""
+        if event.type() == QEvent.Type.ToolTip:
+            lines = [self.stream]
+            if self.decision:
+                lines.append(f"{DECISION_SYMBOLS[self.decision]} {self.decision}")
+            if self.warning:
+                lines.append(f"{WARNING_SYMBOL} {self.warning}")
+            elif self.caption:
+                lines.append(self.caption)
+            QToolTip.showText(event.globalPos(), "\n".join(lines), self)
+            return True
+        return super().event(event)
+
     def paintEvent(self, event) -> None:
         p = QPainter(self)
         p.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform)
@@ -75,26 +124,20 @@ class CameraTile(QWidget):
             pen = QPen(DECISION_COLOURS[self.decision], 3)
             p.setPen(pen)
             p.drawRect(QRectF(self.rect()).adjusted(1.5, 1.5, -1.5, -1.5))
+        bold = QFont(self.font())
+        bold.setBold(True)
+        note = f"{WARNING_SYMBOL} {self.warning}" if self.warning else self.caption
+        line = QRectF(6, 2, self.width() - 12, header - 4)
+        title, note = header_texts(QFontMetrics(bold), QFontMetrics(self.font()),
+                                   int(line.width()), self.stream, self.decision, note,
+                                   bool(self.warning))
         p.setPen(QColor(235, 235, 235))
-        font = QFont(self.font())
-        font.setBold(True)
-        p.setFont(font)
-        title = self.stream
-        if self.decision:
-            title += f"  {DECISION_SYMBOLS[self.decision]} {self.decision}"
-        p.drawText(QRectF(6, 2, self.width() - 12, header - 4), Qt.AlignmentFlag.AlignLeft
-                   | Qt.AlignmentFlag.AlignVCenter, title)
-        font.setBold(False)
-        p.setFont(font)
-        if self.warning:
-            p.setPen(WARNING_COLOUR)
-            p.drawText(QRectF(6, 2, self.width() - 12, header - 4),
-                       Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter,
-                       f"{WARNING_SYMBOL} {self.warning}")
-        elif self.caption:
-            p.setPen(QColor(170, 170, 170))
-            p.drawText(QRectF(6, 2, self.width() - 12, header - 4),
-                       Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter, self.caption)
+        p.setFont(bold)
+        p.drawText(line, Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter, title)
+        if note:
+            p.setPen(WARNING_COLOUR if self.warning else QColor(170, 170, 170))
+            p.setFont(self.font())
+            p.drawText(line, Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter, note)
         p.end()
 
 

@@ -1,0 +1,99 @@
+"""A camera tile's header: the stream and decision at the left, the caption or warning at
+the right, never drawn over each other however narrow the tile."""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import pytest
+from PySide6.QtCore import QEvent, QPoint, QRectF
+from PySide6.QtGui import QHelpEvent, QImage, QPainter
+from PySide6.QtWidgets import QApplication, QToolTip
+
+import app.frame_grid
+from app.frame_grid import CameraTile
+from app.style import DECISION_SYMBOLS, WARNING_SYMBOL
+
+HEADER_BOTTOM = 22  # the header's height in CameraTile.paintEvent
+
+
+class RecordingPainter(QPainter):
+    """A painter that keeps where each text it draws ends up."""
+
+    texts: ClassVar[list[tuple[str, QRectF]]] = []
+
+    def drawText(self, *args) -> None:
+        if len(args) == 3 and isinstance(args[0], QRectF):
+            rect, flags, text = args
+            RecordingPainter.texts.append((text, self.boundingRect(rect, flags, text)))
+        super().drawText(*args)
+
+
+def _header_texts(qtbot, monkeypatch: pytest.MonkeyPatch, width: int, decision: str | None,
+                  caption: str = "", warning: str = "") -> list[tuple[str, QRectF]]:
+    """Paint a tile ``width`` pixels wide; the texts drawn in its header, with their
+    bounding boxes."""
+    tile = CameraTile("/cam0/image_raw")
+    qtbot.addWidget(tile)
+    tile.resize(width, 200)
+    image = QImage(8, 6, QImage.Format.Format_RGB32)
+    image.fill(0)
+    tile.show_image(image, caption)
+    tile.set_state(decision, warning)
+    monkeypatch.setattr(app.frame_grid, "QPainter", RecordingPainter)
+    RecordingPainter.texts = []
+    tile.grab()
+    return [(text, rect) for text, rect in RecordingPainter.texts
+            if rect.top() < HEADER_BOTTOM and text]
+
+
+WIDTHS = [160, 200, 230, 260, 300, 360, 600]
+STATES = [("rejected", "chosen frame", ""), ("accepted", "+12.3 ms", ""),
+          ("undecided", "chosen frame", "blurred, few corners"), ("rejected", "", "no frame"),
+          (None, "chosen frame", "")]
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+@pytest.mark.parametrize(("decision", "caption", "warning"), STATES)
+def test_header_texts_never_overlap(qtbot, monkeypatch: pytest.MonkeyPatch, width: int,
+                                    decision: str | None, caption: str,
+                                    warning: str) -> None:
+    texts = _header_texts(qtbot, monkeypatch, width, decision, caption, warning)
+    assert texts, "no header drawn"
+    for n, (_, a) in enumerate(texts):
+        assert a.left() >= 0 and a.right() <= width
+        for _, b in texts[n + 1:]:
+            assert not a.intersects(b), texts
+    title = texts[0][0]
+    assert title.startswith("/cam")  # the stream is named first, shortened last
+    if decision:
+        assert DECISION_SYMBOLS[decision] in title  # the decision never goes
+    if warning:
+        assert any(WARNING_SYMBOL in text for text, _ in texts[1:])  # at least its symbol
+
+
+def test_a_wide_tile_shows_the_whole_header(qtbot, monkeypatch: pytest.MonkeyPatch) -> None:
+    texts = _header_texts(qtbot, monkeypatch, 600, "rejected", "chosen frame")
+    assert [text for text, _ in texts] == ["/cam0/image_raw  ✘ rejected", "chosen frame"]
+    texts = _header_texts(qtbot, monkeypatch, 600, "undecided", "chosen frame", "blurred")
+    assert [text for text, _ in texts] == ["/cam0/image_raw  ? undecided", "▲ blurred"]
+
+
+def test_a_narrow_tile_drops_the_caption_before_the_decision(
+        qtbot, monkeypatch: pytest.MonkeyPatch) -> None:
+    # about a tile's width in a 1024 x 700 window with four cameras
+    texts = _header_texts(qtbot, monkeypatch, 260, "rejected", "chosen frame")
+    assert [text for text, _ in texts] == ["/cam0/image_raw  ✘ rejected"]
+
+
+def test_the_tooltip_gives_the_header_in_full(qtbot) -> None:
+    tile = CameraTile("/cam0/image_raw")
+    qtbot.addWidget(tile)
+    tile.resize(160, 120)
+    tile.show()
+    tile.caption = "chosen frame"
+    tile.set_state("undecided", "blurred")
+    pos = QPoint(20, 10)
+    QApplication.sendEvent(tile, QHelpEvent(QEvent.Type.ToolTip, pos, tile.mapToGlobal(pos)))
+    assert QToolTip.text() == "/cam0/image_raw\n? undecided\n▲ blurred"
+    QToolTip.hideText()
