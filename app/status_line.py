@@ -8,7 +8,8 @@ side by side (newest first), so an export's result is not lost when re-scoring f
 after it; once the line has been quiet for :data:`QUIET_S`, whatever comes next replaces
 them, so a result from long ago does not linger beside newer ones. A warning (a save that
 failed) stays until its own job reports again. The same message from a job twice in a
-row is counted ("(×2)"), so a repeated action visibly did something.
+row is counted ("(×2)"), also when other jobs ended in between, so a repeated action
+visibly did something.
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ class StatusLine:
         self.clock = clock
         self._jobs: dict[str, _Job] = {}  # in the order they began
         self._notes: dict[str, _Note] = {}  # job -> message it ended with, newest last
-        self._latest: tuple[str, _Note] | None = None  # the last message a job ended with
+        self._last: dict[str, _Note] = {}  # job -> the last message it ended with
         self._touched = clock()  # when a job last began, reported or ended
 
     def running(self, job: str | None = None) -> bool:
@@ -83,12 +84,11 @@ class StatusLine:
         self._notes.pop(job, None)
         if message:
             note = _Note(message, warning)
-            latest = self._latest
-            if not warning and latest is not None and latest[0] == job \
-                    and latest[1].text == message and not latest[1].warning:
-                note.repeats = latest[1].repeats + 1
+            last = self._last.get(job)
+            if not warning and last is not None and last.text == message and not last.warning:
+                note.repeats = last.repeats + 1
             self._notes[job] = note
-            self._latest = (job, note)
+            self._last[job] = note
         self._show()
 
     def say(self, message: str) -> None:
@@ -96,7 +96,6 @@ class StatusLine:
         self._notes = {job: n for job, n in self._notes.items() if n.warning}
         if message:
             self._notes[""] = _Note(message)
-        self._latest = None
         self._show()
 
     def _start_afresh_if_quiet(self) -> None:

@@ -88,3 +88,20 @@ def test_a_result_from_long_ago_gives_way_to_newer_work(
     clock[0] += QUIET_S + 1
     qtbot.keyClick(window, Qt.Key.Key_W)  # a message alone replaces them too
     assert "re-scored" not in window.status_text.text()
+
+
+def test_a_repeat_is_counted_though_another_job_ended_in_between(qtbot) -> None:
+    from PySide6.QtWidgets import QLabel, QProgressBar, QPushButton
+
+    from app.status_line import StatusLine
+
+    label = QLabel()
+    status = StatusLine(label, QProgressBar(), QPushButton(), clock=lambda: 0.0)
+    status.begin("similar", "searching…")
+    status.end("similar", "found nothing more like set 3")
+    status.begin("rescore", "re-scoring 2 frame sets…")  # the sets the first search added
+    status.begin("similar", "searching…")
+    status.end("rescore", "re-scored 2 frame sets")
+    status.end("similar", "found nothing more like set 3")
+    assert "found nothing more like set 3 (×2)" in label.text()
+    assert "re-scored 2 frame sets" in label.text()
