@@ -66,12 +66,13 @@ class BackgroundAction(QObject):
         return model
 
     def shutdown(self, wait_s: float = 5.0) -> None:
-        """Stop for good (the window closes): cancel and wait for the worker to let go."""
+        """Stop for good (the window closes): cancel, and wait for the worker to let go;
+        nothing it still reports or returns is taken (the window no longer shows it)."""
         self.timer.stop()
         self._stopping()
         task = self.task
         if task is not None:
-            task.cancel()
+            task.abandon()
             task.done.wait(wait_s)
 
     def _stopping(self) -> None:

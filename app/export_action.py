@@ -157,10 +157,11 @@ class ExportAction(QObject):
 
     def shutdown(self, wait_s: float = 10.0) -> None:
         """Stop for good (the window closes): cancel and wait for the worker to let go of
-        the recording."""
+        the recording; how it ended is not reported (the window no longer shows it)."""
         task = self.task
         self.cancel()
         if task is not None:
+            task.abandon()
             task.done.wait(wait_s)
 
     def _drop_pending(self, message: str) -> None:

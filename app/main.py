@@ -8,9 +8,16 @@ import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from speechcal_core.errors import SpeechCalError
 from speechcal_core.fsutil import folder_write_problem
+
+if TYPE_CHECKING:
+    from app.main_window import ReviewWindow
+
+#: how long the exit waits for cancelled background work to stop
+STOP_WAIT_S = 30.0
 
 
 class ScreenshotError(SpeechCalError):
@@ -54,16 +61,40 @@ def run_review(
         window.open(session_path=session_path, recording=list(recording or []) or None,
                     audio=audio, new_session_path=new_session_path)
     window.show()
-    if screenshot:
-        ok = wait_until_settled(window, app, timeout_s=120.0)
-        save_screenshot(window, screenshot)
-        print(f"wrote {screenshot}", file=sys.stderr)
-        if window.load_error:
-            print(f"speechcal review: error: {window.load_error}", file=sys.stderr)
-            return 1
-        return 0 if ok else 1
-    run_event_loop = app.exec  # Qt's event loop (QApplication.exec), not Python's exec
-    return run_event_loop()
+    try:
+        if screenshot:
+            ok = wait_until_settled(window, app, timeout_s=120.0)
+            save_screenshot(window, screenshot)
+            print(f"wrote {screenshot}", file=sys.stderr)
+            if window.load_error:
+                print(f"speechcal review: error: {window.load_error}", file=sys.stderr)
+                return 1
+            return 0 if ok else 1
+        run_event_loop = app.exec  # Qt's event loop (QApplication.exec), not Python's exec
+        return run_event_loop()
+    finally:
+        shut_down(window)
+
+
+def shut_down(window: ReviewWindow, timeout_s: float = STOP_WAIT_S) -> None:
+    """Close the window (if still open) and wait for the background work it cancels, then
+    delete it: nothing may still run, or report to deleted Qt objects, as Python exits.
+
+    The session needs no saving here: every decision was saved when it was made.
+    """
+    from PySide6.QtCore import QCoreApplication, QEvent
+
+    from app.tasks import wait_for_all
+
+    if window.isVisible():
+        window.close()  # headless, or after the event loop: abandons the work
+    if not wait_for_all(timeout_s):
+        print(f"speechcal review: background work still running after {timeout_s:.0f} s "
+              "at exit", file=sys.stderr)
+    # the stopped work's last reports (queued calls; dropped, they let go of its inputs)
+    QCoreApplication.sendPostedEvents(None, QEvent.Type.MetaCall)
+    window.deleteLater()
+    QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
 
 
 def wait_until_settled(window, app, timeout_s: float = 60.0) -> bool:

@@ -795,12 +795,21 @@ class ReviewWindow(QMainWindow):
         else:
             self.status.say("Drop a recording together with its audio file, or a session file")
 
+    def background_tasks(self) -> list[BackgroundTask]:
+        """The window's work running on worker threads (opening, export, re-scoring,
+        checks, search)."""
+        tasks = [self.task, self.exporter.task, self.rescorer.task, self.checker.task,
+                 self.similar.task]
+        return [t for t in tasks if t is not None]
+
     def closeEvent(self, event) -> None:
         if not self._may_drop_unsaved():
             event.ignore()
             return
-        if self.task is not None:
-            self.task.cancel()
+        # background work stops and reports nothing more: a late result would change (and
+        # save) a session the operator has left, or start more work for it
+        for task in self.background_tasks():
+            task.abandon()
         self._play_timer.stop()
         self._restart_timer.stop()
         self.player.shutdown()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+import time
 import traceback
 from collections.abc import Callable
 from typing import Any
@@ -13,6 +14,12 @@ from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 
 class Cancelled(Exception):
     """Raised inside a task when the operator pressed cancel."""
+
+
+#: tasks started and not yet ended: kept alive here until their worker lets go (the
+#: window that started one may be deleted meanwhile), and waited for at exit
+_running: set[BackgroundTask] = set()
+_running_lock = threading.Lock()
 
 
 class TaskSignals(QObject):
@@ -27,7 +34,8 @@ class BackgroundTask(QRunnable):
     Receivers connect to :attr:`signals`, emitted on the UI thread. With an ``owner`` (the
     window or action the result is for), nothing is delivered once the owner is gone and
     the task is cancelled when it is destroyed: a window closed and deleted while its work
-    runs gets no late progress or result (its widgets no longer exist).
+    runs gets no late progress or result (its widgets no longer exist). :meth:`abandon`
+    does the same for a window that closes but still exists.
     """
 
     def __init__(self, fn: Callable[[Callable[[str, float], None]], Any],
@@ -42,17 +50,25 @@ class BackgroundTask(QRunnable):
         self._worker.finished.connect(self._relay_finished)
         self._worker.failed.connect(self._relay_failed)
         self._cancel = threading.Event()
+        self._abandoned = False  # UI thread only
         self.done = threading.Event()
         self._owner = owner
         if owner is not None:
             owner.destroyed.connect(self.cancel)
 
     def cancel(self, *_args: object) -> None:
+        """Ask the work to stop at its next progress report (it fails with "cancelled")."""
         self._cancel.set()
+
+    def abandon(self) -> None:
+        """Cancel, and tell the receivers nothing more, not even a result that comes anyway
+        (UI thread; the window closes)."""
+        self._abandoned = True
+        self.cancel()
 
     def _deliver(self) -> bool:
         """Whether the receivers may still hear of this task (UI thread)."""
-        return self._owner is None or shiboken6.isValid(self._owner)
+        return not self._abandoned and (self._owner is None or shiboken6.isValid(self._owner))
 
     def _relay_progress(self, text: str, fraction: float) -> None:
         if self._deliver() and not self._cancel.is_set():
@@ -90,6 +106,8 @@ class BackgroundTask(QRunnable):
 
     def run(self) -> None:
         try:
+            if self._cancel.is_set():
+                raise Cancelled()  # cancelled while it waited for a thread
             result = self.fn(self._report)
         except Cancelled:
             self._worker.failed.emit("cancelled")
@@ -101,10 +119,37 @@ class BackgroundTask(QRunnable):
         else:
             self._worker.finished.emit(result)
         finally:
+            with _running_lock:
+                _running.discard(self)
             self.done.set()
 
 
 def start(task: BackgroundTask, pool: QThreadPool | None = None) -> BackgroundTask:
     """Queue ``task`` on ``pool`` (default: the global pool) and return it."""
+    with _running_lock:
+        _running.add(task)
     (pool or QThreadPool.globalInstance()).start(task)
     return task
+
+
+def running() -> list[BackgroundTask]:
+    """The tasks started and not yet ended."""
+    with _running_lock:
+        return list(_running)
+
+
+def wait_for_all(timeout_s: float) -> bool:
+    """Wait until no started task runs or waits for a thread; False on timeout.
+
+    Before Python exits: work still running then would fail half-way ("cannot schedule
+    new futures after shutdown") and report to Qt objects already deleted.
+    """
+    deadline = time.monotonic() + timeout_s
+    while True:
+        tasks = running()
+        if not tasks:
+            return True
+        left = deadline - time.monotonic()
+        if left <= 0:
+            return False
+        tasks[0].done.wait(left)
