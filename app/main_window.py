@@ -64,6 +64,17 @@ HINTS_TIP = (
     "waveform: the wheel zooms, a click moves the playhead")
 
 
+def audio_start_text(lead_s: float) -> str:
+    """Where the audio starts against the first frame, ``lead_s`` seconds before it
+    (negative: after it), in words with no sign: "audio starts 1.183 s after the first
+    frame"; "with" when that is under half a millisecond."""
+    lead_ms = round(lead_s * 1000)
+    if lead_ms == 0:
+        return "audio starts with the first frame"
+    side = "before" if lead_ms > 0 else "after"
+    return f"audio starts {abs(lead_ms) / 1000:.3f} s {side} the first frame"
+
+
 class ReviewWindow(QMainWindow):
     """Main window; all state lives in a :class:`ReviewModel`, the widgets only show it."""
 
@@ -607,8 +618,7 @@ class ReviewWindow(QMainWindow):
         worst = (f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms"
                  if residuals and sync.source != "manual" else "")
         self.sync_line.setText(
-            f"audio starts {lead:+.3f} s before the first frame · drift "
-            f"{sync.drift * 1e6:.1f} ppm · {how}{worst}")
+            f"{audio_start_text(lead)} · drift {sync.drift * 1e6:.1f} ppm · {how}{worst}")
 
     def _autosave(self, session) -> None:
         """Save after every change; a failure is warned about, never raised."""

@@ -44,6 +44,20 @@ def test_sync_line_drops_the_automatic_residuals_once_the_offset_is_edited(
     assert "residuals" not in window.sync_line.text()
 
 
+def test_sync_line_says_after_when_the_audio_starts_after_the_first_frame(
+        qtbot, open_window, truth_session_file: Path) -> None:
+    window = open_window(truth_session_file)
+    model = window.model
+    lead_ns = model.time_range_ns()[0] - model.session.sync.offset_ns
+    assert lead_ns > 0  # the synthetic audio starts before the first frame
+    assert f"{lead_ns / 1e9:.3f} s before the first frame · drift " in window.sync_line.text()
+    model.nudge_offset(lead_ns + 1_183_000_000)  # the clap dragged far to the right
+    assert window.sync_line.text().startswith(
+        "audio starts 1.183 s after the first frame · drift ")
+    model.nudge_offset(-1_183_000_000)
+    assert window.sync_line.text().startswith("audio starts with the first frame · ")
+
+
 def test_info_line_names_the_set_by_the_id_the_list_shows(
         qtbot, open_window, truth_session_file: Path) -> None:
     window = open_window(truth_session_file)
