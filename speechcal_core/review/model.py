@@ -130,6 +130,7 @@ class ReviewModel:
             {s.name: source.stamps(s.name) for s in source.streams} if source else {}
         )
         self._periods = {k: frame_period_ns(v) for k, v in self._stamps.items()}
+        self._follow_sync()
         self.current = 0 if session.sets else -1
         #: which sets the list shows and J/K/Home/End step through (one of FILTERS)
         self.filter = "all"
@@ -308,11 +309,7 @@ class ReviewModel:
 
     def _change_sync(self, sync: SyncModel) -> None:
         self.session.sync = sync
-        details = self._frame_details()
-        for i, s in enumerate(self.session.sets):
-            if s.t_ns != int(sync.to_session(s.trigger.t_s)):
-                self.session.sets[i] = self._nearest_set(s)
-                details.pop(str(s.id), None)  # its corners belong to other frames
+        self._follow_sync()
         if self.current_set is not None:
             self.playhead_ns = set_time_ns(self.current_set)
         self._emit("sync", sync)
@@ -643,6 +640,20 @@ class ReviewModel:
         if not isinstance(details, dict):
             details = self.session.extra["frame_details"] = {}
         return details
+
+    def _follow_sync(self) -> None:
+        """Sets whose time does not follow the session's sync (moved by an offset edit, or
+        read from a file whose offset was edited by hand) take the frames nearest their
+        time under it, without details, until re-scored."""
+        sync = self.session.sync
+        moved = [i for i, s in enumerate(self.session.sets)
+                 if s.t_ns != int(sync.to_session(s.trigger.t_s))]
+        if not moved:
+            return
+        details = self._frame_details()
+        for i in moved:
+            details.pop(str(self.session.sets[i].id), None)  # its corners are other frames'
+            self.session.sets[i] = self._nearest_set(self.session.sets[i])
 
     def _nearest_set(self, frame_set: FrameSet) -> FrameSet:
         """``frame_set`` at its trigger's time under the current sync, with nearest frames."""

@@ -150,9 +150,10 @@ def apply_rescore(session: Session, result: RescoreResult) -> list[int]:
         if index < 0:
             continue
         old = session.sets[index]
-        if old.trigger != new.trigger or old.t_ns != new.t_ns:
+        if old.trigger != new.trigger:
             continue  # another set with a re-used id
-        session.sets[index] = replace(old, frames=new.frames)
+        # the time follows the sync (a file whose offset was edited by hand kept old times)
+        session.sets[index] = replace(old, t_ns=new.t_ns, frames=new.frames)
         if str(new.id) in result.details:
             all_details[str(new.id)] = result.details[str(new.id)]
         taken.append(new.id)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 from review_models import open_model
@@ -150,3 +151,36 @@ def test_a_session_made_without_the_search_is_rescored_whole_after_an_edit(
     model.apply_rescored(request.run(model.source))
     assert all(_figures(model, s.id) for s in model.session.sets)
     assert "frame_references" in load_session(truth_session_file).extra
+
+
+def test_a_session_whose_offset_was_edited_by_hand_is_rescored_once(
+    searched_session_file: Path,
+) -> None:
+    data = json.loads(searched_session_file.read_text(encoding="utf-8"))
+    data["sync"]["offset_ns"] += SHIFT_NS  # in a text editor: the sets keep their old times
+    searched_session_file.write_text(json.dumps(data), encoding="utf-8")
+    model = open_model(searched_session_file)
+    sync = model.session.sync
+    for s in model.session.sets:  # at once at their time under the file's offset
+        assert s.t_ns == int(sync.to_session(s.trigger.t_s))
+    ids = [s.id for s in model.session.sets]
+    assert model.rescore_ids() == ids
+    assert sorted(_rescore(model)) == sorted(ids)
+    assert model.rescore_ids() == []  # taken, so re-scoring does not run again and again
+
+
+def test_rescoring_a_hand_edited_file_outside_the_window_takes_the_new_times(
+    searched_session_file: Path,
+) -> None:
+    from speechcal_core.review.rescore import rescore_ids, rescore_waiting
+    from speechcal_core.sources import open_recording
+
+    data = json.loads(searched_session_file.read_text(encoding="utf-8"))
+    data["sync"]["offset_ns"] += SHIFT_NS
+    searched_session_file.write_text(json.dumps(data), encoding="utf-8")
+    session = load_session(searched_session_file)
+    with open_recording(session.recording) as source:  # as `speechcal export` does
+        taken = rescore_waiting(session, source)
+    assert sorted(taken) == sorted(s.id for s in session.sets)
+    assert rescore_ids(session) == []
+    assert all(s.t_ns == int(session.sync.to_session(s.trigger.t_s)) for s in session.sets)
