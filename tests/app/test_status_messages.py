@@ -19,13 +19,19 @@ def clock() -> list[float]:
     return [time.monotonic()]
 
 
-def test_each_search_reports_what_it_found_and_a_repeat_is_counted(
-        qtbot, open_window, missed_voice_file) -> None:
+def _set_added_at_a_missed_word(qtbot, open_window, missed_voice_file):
+    """The window over a session missing a voice's triggers, with T pressed at one."""
     path, missed = missed_voice_file
     window = open_window(path)
-    model = window.model
-    model.set_playhead(missed[0]["session_ns"])
+    window.model.set_playhead(missed[0]["session_ns"])
     qtbot.keyClick(window, Qt.Key.Key_T)
+    return window
+
+
+def test_each_search_reports_what_it_found_and_a_repeat_is_counted(
+        qtbot, open_window, missed_voice_file) -> None:
+    window = _set_added_at_a_missed_word(qtbot, open_window, missed_voice_file)
+    model = window.model
     marked = model.current_set.id
 
     qtbot.keyClick(window, Qt.Key.Key_S)
@@ -51,11 +57,8 @@ def test_each_search_reports_what_it_found_and_a_repeat_is_counted(
 
 def test_a_search_result_stays_beside_the_rescoring_that_follows_it(
         qtbot, open_window, missed_voice_file) -> None:
-    path, missed = missed_voice_file
-    window = open_window(path)
+    window = _set_added_at_a_missed_word(qtbot, open_window, missed_voice_file)
     model = window.model
-    model.set_playhead(missed[0]["session_ns"])
-    qtbot.keyClick(window, Qt.Key.Key_T)
     qtbot.keyClick(window, Qt.Key.Key_S)
     qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
     qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)  # the found sets
