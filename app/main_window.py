@@ -64,6 +64,28 @@ HINTS_TIP = (
     "waveform: the wheel zooms, a click moves the playhead")
 
 
+#: dropped files with these endings (any case) are audio; ``.json`` ones are session files
+AUDIO_EXTENSIONS = (".ogg", ".opus", ".wav", ".flac", ".mp3")
+
+
+def drop_request(paths: list[str]) -> dict[str, object] | None:
+    """What to open for dropped files, as :meth:`ReviewWindow.open` arguments; None if
+    nothing fits.
+
+    A recording dropped with its audio is opened (the loader picks up a session file
+    beside it), whatever JSON comes with them (``speechcal synth`` writes a truth.json
+    beside the two); a JSON is opened as a session only when there is no such pair.
+    """
+    sessions = [p for p in paths if p.lower().endswith(".json")]
+    audio = [p for p in paths if p.lower().endswith(AUDIO_EXTENSIONS)]
+    recording = [p for p in paths if p not in sessions and p not in audio]
+    if recording and audio:
+        return {"recording": recording, "audio": audio[0]}
+    if sessions:
+        return {"session_path": sessions[0]}
+    return None
+
+
 def audio_start_text(lead_s: float) -> str:
     """Where the audio starts against the first frame, ``lead_s`` seconds before it
     (negative: after it), in words with no sign: "audio starts 1.183 s after the first
@@ -793,17 +815,11 @@ class ReviewWindow(QMainWindow):
             event.acceptProposedAction()
 
     def dropEvent(self, event) -> None:
-        paths = [u.toLocalFile() for u in event.mimeData().urls()]
-        sessions = [p for p in paths if p.endswith(".json")]
-        audio_ext = (".ogg", ".opus", ".wav", ".flac", ".mp3")
-        audio = [p for p in paths if p.lower().endswith(audio_ext)]
-        rest = [p for p in paths if p not in sessions and p not in audio]
-        if sessions:
-            self.open(session_path=sessions[0])
-        elif rest and audio:
-            self.open(recording=rest, audio=audio[0])
-        else:
+        request = drop_request([u.toLocalFile() for u in event.mimeData().urls()])
+        if request is None:
             self.status.say("Drop a recording together with its audio file, or a session file")
+        else:
+            self.open(**request)
 
     def background_tasks(self) -> list[BackgroundTask]:
         """The window's work running on worker threads (opening, export, re-scoring,

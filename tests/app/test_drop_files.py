@@ -1,0 +1,73 @@
+"""Files dropped on the review window: which of them it opens, and how."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from PySide6.QtCore import QMimeData, QPointF, Qt, QUrl
+from PySide6.QtGui import QDragEnterEvent, QDragMoveEvent, QDropEvent
+from PySide6.QtWidgets import QApplication
+
+from app.main_window import ReviewWindow
+
+
+def drop(win: ReviewWindow, paths: list[Path]) -> None:
+    """Drag ``paths`` (file URLs, as from a file manager) over the middle of the shown
+    window and drop them, through its platform window as a real drop comes."""
+    data = QMimeData()
+    data.setUrls([QUrl.fromLocalFile(str(p)) for p in paths])
+    pos = QPointF(win.rect().center())
+    actions = Qt.DropAction.CopyAction | Qt.DropAction.MoveAction
+    args = (data, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier)
+    handle = win.windowHandle()
+    enter = QDragEnterEvent(pos.toPoint(), actions, *args)
+    QApplication.sendEvent(handle, enter)
+    assert enter.isAccepted()
+    move = QDragMoveEvent(pos.toPoint(), actions, *args)
+    move.setDropAction(enter.dropAction())  # as the platform carries on the enter's answer
+    move.accept()
+    QApplication.sendEvent(handle, move)
+    assert move.isAccepted()
+    QApplication.sendEvent(handle, QDropEvent(pos, actions, *args))
+
+
+@pytest.fixture
+def opened(qtbot, monkeypatch: pytest.MonkeyPatch) -> tuple[ReviewWindow, list[dict]]:
+    """An empty window whose ``open`` only records what it was asked to open."""
+    win = ReviewWindow()
+    win.setProperty("headless", True)
+    qtbot.addWidget(win)
+    win.show()
+    calls: list[dict] = []
+    monkeypatch.setattr(win, "open", lambda **kwargs: calls.append(kwargs))
+    return win, calls
+
+
+def test_what_speechcal_synth_writes_opens_the_recording_and_audio_not_truth_json(
+        opened, tmp_path: Path) -> None:
+    win, calls = opened
+    audio, bag, truth = tmp_path / "audio.ogg", tmp_path / "recording.bag", tmp_path / "truth.json"
+    drop(win, [audio, bag, truth])  # a file manager's (alphabetical) order
+    assert calls == [{"recording": [str(bag)], "audio": str(audio)}]
+
+
+def test_a_session_file_with_unrelated_files_opens_the_session(opened, tmp_path: Path) -> None:
+    win, calls = opened
+    session = tmp_path / "review.json"
+    drop(win, [tmp_path / "notes.txt", session])
+    assert calls == [{"session_path": str(session)}]
+
+
+def test_a_session_file_named_in_upper_case_is_opened(opened, tmp_path: Path) -> None:
+    win, calls = opened
+    session = tmp_path / "SESSION.JSON"
+    drop(win, [session])
+    assert calls == [{"session_path": str(session)}]
+
+
+def test_a_recording_without_audio_is_not_opened(opened, tmp_path: Path) -> None:
+    win, calls = opened
+    drop(win, [tmp_path / "recording.bag"])
+    assert calls == []
+    assert "Drop a recording together with its audio file" in win.status_text.text()
