@@ -334,7 +334,11 @@ class ReviewWindow(QMainWindow):
         if not self._may_drop_unsaved():
             return
         self.load_error = ""
-        self.task = BackgroundTask(work, owner=self)
+        if self.task is not None:  # the operator opens something else: the earlier opening
+            self.task.abandon()  # stops, and a recording it opens anyway is closed
+        # a session opened for nobody (another was opened, or the window closed, before
+        # it was ready) has its recording closed at once
+        self.task = BackgroundTask(work, owner=self, discard=ReviewInputs.close)
         self.task.signals.progress.connect(
             lambda t, f: self.status.report("open", t, f))
         self.task.signals.finished.connect(self._on_loaded)

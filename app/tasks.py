@@ -20,6 +20,11 @@ class Cancelled(Exception):
 #: window that started one may be deleted meanwhile), and waited for at exit
 _running: set[BackgroundTask] = set()
 _running_lock = threading.Lock()
+#: tasks started whose last word (result or failure) has not yet been relayed on the UI
+#: thread: kept alive here past the end of their worker, so that word is relayed (or its
+#: result discarded) even once nothing else holds the task, e.g. an opening superseded
+#: by another (UI thread only)
+_unreleased: set[BackgroundTask] = set()
 
 
 class TaskSignals(QObject):
@@ -35,13 +40,18 @@ class BackgroundTask(QRunnable):
     window or action the result is for), nothing is delivered once the owner is gone and
     the task is cancelled when it is destroyed: a window closed and deleted while its work
     runs gets no late progress or result (its widgets no longer exist). :meth:`abandon`
-    does the same for a window that closes but still exists.
+    does the same for a window that closes but still exists. A result nobody hears of is
+    handed to ``discard`` instead (e.g. to close the recording it opened).
     """
 
     def __init__(self, fn: Callable[[Callable[[str, float], None]], Any],
-                 owner: QObject | None = None) -> None:
+                 owner: QObject | None = None,
+                 discard: Callable[[Any], None] | None = None) -> None:
         super().__init__()
         self.fn = fn
+        #: called (UI thread) with a result that comes when nobody may hear of it; it must
+        #: not reach the owner, which may be gone by then
+        self._discard = discard
         self.signals = TaskSignals()  # delivered on the UI thread, while the owner lives
         # what the worker emits: Python-owned, so it outlives any window, and relayed to
         # ``signals`` on the thread ``signals`` lives in
@@ -76,9 +86,12 @@ class BackgroundTask(QRunnable):
 
     def _relay_finished(self, result: object) -> None:
         deliver = self._deliver()
+        discard = self._discard
         self._release()
         if deliver:
             self.signals.finished.emit(result)
+        elif discard is not None:
+            discard(result)
 
     def _relay_failed(self, message: str) -> None:
         deliver = self._deliver()
@@ -89,7 +102,9 @@ class BackgroundTask(QRunnable):
     def _release(self) -> None:
         """The last word is in: drop the connections that keep this task (and what its
         function holds, e.g. a recording) referenced."""
+        _unreleased.discard(self)  # freed once this relay returns (the caller holds it)
         self.fn = None  # type: ignore[assignment]
+        self._discard = None
         for signal, slot in ((self._worker.progress, self._relay_progress),
                              (self._worker.finished, self._relay_finished),
                              (self._worker.failed, self._relay_failed)):
@@ -126,6 +141,7 @@ class BackgroundTask(QRunnable):
 
 def start(task: BackgroundTask, pool: QThreadPool | None = None) -> BackgroundTask:
     """Queue ``task`` on ``pool`` (default: the global pool) and return it."""
+    _unreleased.add(task)
     with _running_lock:
         _running.add(task)
     (pool or QThreadPool.globalInstance()).start(task)
