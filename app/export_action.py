@@ -55,7 +55,8 @@ class ExportAction(QObject):
         base = Path(path).parent if path else Path(w.model.session.recording[0]).parent
         stem = Path(path).name.split(".")[0] if path else "export"
         self.dialog = ExportDialog(w, base, stem, w.model.session.counts(),
-                                   waiting=lambda include: len(w.model.export_waits_for(include)))
+                                   waiting=lambda include: len(w.model.export_waits_for(include)),
+                                   refusal=self.refusal)
         self.dialog.accepted.connect(self._dialog_accepted)
         self.dialog.open()
 
@@ -66,12 +67,41 @@ class ExportAction(QObject):
 
     def start(self, fmt: str, out: Path, *, force: bool = False,
               include_undecided: bool = False) -> None:
-        """Export to ``out``; an existing folder is replaced only after the operator agrees."""
+        """Export to ``out``; an existing folder is replaced only after the operator agrees,
+        and one the export reads (see :meth:`refusal`) is refused before asking."""
         out = Path(out).absolute()
+        why = self.refusal(out)
+        if why:
+            self.last_error = why
+            self.window.status.end("export", f"Export not written: {why}")
+            if not self.window.property("headless"):
+                QMessageBox.warning(self.window, "SpeechCal", why)
+            return
         if os.path.lexists(out) and not force:  # a dangling link is replaced too
             self._ask_replace(fmt, out, include_undecided)
             return
         self._run(fmt, out, force, include_undecided)
+
+    def refusal(self, out: Path) -> str:
+        """Why the export may never write ``out`` (it is, holds or lies inside the open
+        session's recording, audio or session file: the core's own check), "" if it may."""
+        from speechcal_core.export.errors import ExportError
+        from speechcal_core.export.run import check_output
+
+        w = self.window
+        if w.model is None or w.inputs is None:
+            return ""
+        session = w.model.session
+        protected = {"recording": [Path(p) for p in session.recording]}
+        if session.audio:
+            protected["audio"] = [Path(session.audio)]
+        if w.inputs.session_path:
+            protected["session file"] = [Path(w.inputs.session_path)]
+        try:
+            check_output(Path(out), True, protected)  # forced: an existing folder is asked
+        except ExportError as exc:
+            return str(exc)
+        return ""
 
     def _ask_replace(self, fmt: str, out: Path, include_undecided: bool) -> None:
         box = QMessageBox(QMessageBox.Icon.Warning, "SpeechCal",

@@ -34,10 +34,13 @@ class ExportDialog(QDialog):
 
     def __init__(self, parent: QWidget | None, base_folder: Path, stem: str,
                  counts: dict[str, int],
-                 waiting: Callable[[bool], int] | None = None) -> None:
+                 waiting: Callable[[bool], int] | None = None,
+                 refusal: Callable[[Path], str] | None = None) -> None:
         super().__init__(parent)
         #: how many of the sets to export (undecided too or not) wait for re-scoring
         self.waiting = waiting or (lambda _include: 0)
+        #: why a folder may not be exported into whatever the answer ("" if it may)
+        self.refusal = refusal or (lambda _out: "")
         self.setWindowTitle("Export frame sets")
         self.setMinimumWidth(560)
         self.base_folder = base_folder
@@ -111,7 +114,9 @@ class ExportDialog(QDialog):
         n = self.counts.get("accepted", 0)
         if self.undecided_box.isChecked():
             n += self.counts.get("undecided", 0)
-        out = Path(self.path_edit.text())
+        text = self.path_edit.text().strip()
+        out = Path(text).expanduser()
+        why = self.refusal(out.absolute()) if text else ""
         note = "\nIt exists: you will be asked before it is replaced" if out.exists() else ""
         later = self.waiting(self.undecided_box.isChecked())
         if later:
@@ -122,6 +127,8 @@ class ExportDialog(QDialog):
         folder = "the folder above" if out.exists() else "a new folder"
         self.summary.setText(f"{n} {sets} will be written to {folder}{note}")
         ok = self.buttons.button(QDialogButtonBox.StandardButton.Ok)
-        ok.setEnabled(n > 0 and bool(self.path_edit.text().strip()))
+        ok.setEnabled(n > 0 and bool(text) and not why)
         if n == 0:
             self.summary.setText("No accepted frame sets yet: accept sets (A) first")
+        elif why:  # said before any replace question: no answer makes it possible
+            self.summary.setText(f"Cannot export there: {why}")
