@@ -51,17 +51,20 @@ EMPTY_TEXT = (
     "<p>Drag a recording (ROS bag, bag folder, .mcap, .db3) and its audio file here,<br>"
     "or open a session file (SESSION.json).</p>"
 )
-#: the key hints under the waveform: one line at 1400 px (the tooltip says it in full)
+#: the key hints under the waveform: one line at 1400 px (the tooltip says it in full,
+#: e.g. Esc back from an enlarged camera, which double-clicking it again does too)
 HINTS = ("Space play · W hear word · ←/→ frame · J/K set · F filter · A/R/U decide · "
-         "T add · Del remove · S more like this · [ ] { } audio ±1 ms/frame · "
-         "double-click a camera: enlarge, Esc back · waveform: wheel zoom, click seek")
+         "T add · Del remove · S like this · [ ] { } audio ±1 ms/frame · "
+         "double-click a camera: enlarge · waveform: wheel zoom, click seek, "
+         "double-click: whole session")
 HINTS_TIP = (
     "Space play / pause · W hear the trigger word · ←/→ previous / next frame · "
     "J/K previous / next set · F next filter · A/R/U accept / reject / undo\n"
     "T add a set at the playhead · Del remove the set · S find more like this\n"
     "[ ] audio ±1 ms, { } audio ±1 frame, or drag the clap handle on the waveform\n"
     "double-click a camera to enlarge it, Esc back to the grid\n"
-    "waveform: the wheel zooms, a click moves the playhead")
+    "waveform: the wheel zooms, a drag pans, a click moves the playhead, a double-click "
+    "(or the 'whole session' button) shows the whole session")
 
 
 #: dropped files with these endings (any case) are audio; ``.json`` ones are session files

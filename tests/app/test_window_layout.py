@@ -49,3 +49,6 @@ def test_key_hints_fit_on_one_line_at_1400_px(qtbot, window) -> None:
     assert hints.text() == hints.full_text  # not elided at this width
     assert hints.fontMetrics().horizontalAdvance(hints.text()) <= hints.contentsRect().width()
     assert "T add · Del remove" in hints.full_text
+    assert hints.full_text.endswith("double-click: whole session")
+    assert ("a double-click (or the 'whole session' button) shows the whole session"
+            in hints.toolTip())
