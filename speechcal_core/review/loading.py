@@ -12,7 +12,7 @@ from speechcal_core.session.model import Session
 from speechcal_core.session.store import load_session, save_session
 
 if TYPE_CHECKING:
-    from speechcal_core.audio import EnvelopePyramid
+    from speechcal_core.audio import Audio, EnvelopePyramid
     from speechcal_core.sources.base import FrameSource
 
 Progress = Callable[[str, float], None]
@@ -55,8 +55,7 @@ def load_for_review(
     A new session is saved at ``new_session_path``, by default beside the recording; an
     existing session there is opened instead of being overwritten.
     """
-    from speechcal_core.audio import EnvelopePyramid, load_audio
-    from speechcal_core.audio.file_samples import FileSamples
+    from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
 
     report = progress or (lambda _t, _f: None)
@@ -103,24 +102,36 @@ def load_for_review(
     if source is None:
         report("indexing recording", 0.6)
         source = open_recording(session.recording)
-    pyramid = None
     claps = tuple(float(c["audio_s"]) for c in session.sync_evidence.get("claps") or []
                   if isinstance(c, dict) and isinstance(c.get("audio_s"), (int, float)))
-    if session.audio:
-        report("reading audio", 0.92)
-        try:
-            if sound is None:  # block by block: the samples stay in the file
-                pyramid = EnvelopePyramid.from_file(session.audio)
-            else:  # read for processing: the pyramid reads its stretches from the file
-                reader = FileSamples(sound.path or session.audio, sound.rate,
-                                     rate_in=sound.rate, size_in=sound.samples.size,
-                                     channel=sound.channel)
-                pyramid = EnvelopePyramid(sound.samples, sound.rate, source=reader)
-            sound = None
-        except SpeechCalError as exc:
-            note = f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
-    report("ready", 1.0)
+    try:  # a cancel (raised by ``progress``) from here on closes the recording too
+        pyramid, note = _waveform(session, sound, note, report)
+        report("ready", 1.0)
+    except BaseException:
+        source.close()
+        raise
     return ReviewInputs(session, source, pyramid, path, claps, note)
+
+
+def _waveform(session: Session, sound: Audio | None, note: str, report: Progress
+              ) -> tuple[EnvelopePyramid | None, str]:
+    """The session audio's envelope for the waveform (None without audio), and ``note``
+    with the reason when the audio cannot be shown."""
+    from speechcal_core.audio import EnvelopePyramid
+    from speechcal_core.audio.file_samples import FileSamples
+
+    if not session.audio:
+        return None, note
+    report("reading audio", 0.92)
+    try:
+        if sound is None:  # block by block: the samples stay in the file
+            return EnvelopePyramid.from_file(session.audio), note
+        # read for processing: the pyramid reads its stretches from the file
+        reader = FileSamples(sound.path or session.audio, sound.rate, rate_in=sound.rate,
+                             size_in=sound.samples.size, channel=sound.channel)
+        return EnvelopePyramid(sound.samples, sound.rate, source=reader), note
+    except SpeechCalError as exc:
+        return None, f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
 
 
 def _same_file(a: str | Path, b: str | Path) -> bool:

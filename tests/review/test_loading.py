@@ -3,6 +3,7 @@ means for the audio given."""
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 from pathlib import Path
 
@@ -67,3 +68,31 @@ def test_a_given_session_of_another_recording_is_opened_with_a_note(
     inputs = load_for_review(recording=[str(other)], audio=audio, new_session_path=target)
     inputs.close()
     assert f"it is the session of {recording}, not of {other}" in inputs.note
+
+
+def _open_files() -> set[str]:
+    fds = Path("/proc/self/fd")
+    out = set()
+    for fd in fds.iterdir():
+        with contextlib.suppress(OSError):  # the listing's own descriptor is gone
+            out.add(str(fd.readlink()))
+    return out
+
+
+@pytest.mark.skipif(not Path("/proc/self/fd").is_dir(), reason="needs /proc")
+@pytest.mark.parametrize("step", ["reading audio", "ready"])
+def test_a_cancel_late_in_opening_closes_the_recording(tiny_synth, tmp_path: Path,
+                                                       step: str) -> None:
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    load_for_review(recording=[recording], audio=audio).close()  # the session exists now
+
+    class Cancelled(Exception):
+        pass
+
+    def progress(text: str, _fraction: float) -> None:
+        if text == step:
+            raise Cancelled
+
+    with pytest.raises(Cancelled):
+        load_for_review(recording=[recording], audio=audio, progress=progress)
+    assert not any(p.startswith(str(Path(recording).parent)) for p in _open_files())
