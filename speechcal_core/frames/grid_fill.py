@@ -27,6 +27,8 @@ MAX_BIT_ERRORS = 3
 CELLS = 10
 BORDER = 2
 SAMPLES_PER_CELL = 3
+#: grey levels between the border's mean and the lightest code cell: less is no tag
+MIN_CONTRAST = 20.0
 #: a refined corner may move at most this fraction of the refinement window
 MAX_SHIFT = 1.0
 _SUBPIX = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 30, 0.01)
@@ -140,7 +142,7 @@ def _reads_as(gray: np.ndarray, board_corners: np.ndarray, corners: np.ndarray,
     ring[BORDER:-BORDER, BORDER:-BORDER] = False
     inner = cells[BORDER:-BORDER, BORDER:-BORDER]
     dark, light = float(cells[ring].mean()), float(inner.max())
-    if light - dark < 20.0:
+    if light - dark < MIN_CONTRAST:
         return False  # no contrast: no tag here
     threshold = (dark + light) / 2.0
     if np.mean(cells[ring] < threshold) < 0.9:
