@@ -5,8 +5,9 @@ held far away), although the operator sees them plainly. Where a missing tag has
 neighbours, their corners map the board plane locally (a homography over a small patch
 holds even under fisheye distortion); the tag's four corners are predicted through it,
 refined on the image, and kept only if the tag read there carries the expected id's code
-(all its bits bar MAX_BIT_ERRORS of 36). Newly found tags predict their own neighbours,
-so the grid fills from what was found outward.
+(all its bits bar MAX_BIT_ERRORS of 36) turned as the found tags' codes are turned (how a
+print lays the codes out is read from the found tags). Newly found tags predict their own
+neighbours, so the grid fills from what was found outward.
 """
 
 from __future__ import annotations
@@ -20,8 +21,10 @@ import numpy as np
 NEIGHBOUR_PITCHES = 1.5
 #: ... of which at least this many are needed (one tag's four corners fix a homography)
 MIN_NEIGHBOURS = 1
-#: a read tag may differ from the expected code in this many of its 36 bits; AprilTag
-#: 36h11 codes differ in at least 11, so a wrong tag or a blank patch cannot pass
+#: a read tag may differ from the expected code, turned as the board's codes are, in this
+#: many of its 36 bits; 36h11 codes differ in at least 11 however turned, so a wrong tag
+#: or a blank patch cannot pass (other turns or a mirror image of a code may differ from
+#: it in only 6: hence one turn, learnt from the found tags)
 MAX_BIT_ERRORS = 3
 #: cells across a tag with its 2-bit black border (6 data bits + 2 + 2)
 CELLS = 10
@@ -58,6 +61,9 @@ def fill_missing_tags(gray: np.ndarray, points: np.ndarray, ids: np.ndarray,
     if len(found) < MIN_NEIGHBOURS or len(found) == n_tags:
         return points, ids
     codes = _expected_codes(dictionary, n_tags)
+    turn = _board_turn(gray, board, found, codes)
+    if turn is None:
+        return points, ids
     h, w = gray.shape[:2]
     tried: set[tuple[int, frozenset[int]]] = set()
     grew = True
@@ -79,7 +85,8 @@ def fill_missing_tags(gray: np.ndarray, points: np.ndarray, ids: np.ndarray,
                                        _SUBPIX).reshape(4, 2).astype(np.float64)
             if np.linalg.norm(refined - corners, axis=1).max() > MAX_SHIFT * window:
                 continue
-            if _reads_as(gray, board[tag], refined, codes[tag]):
+            bits = _read_bits(gray, board[tag], refined)
+            if bits is not None and np.sum(bits != codes[tag, turn]) <= MAX_BIT_ERRORS:
                 found[tag] = refined
                 grew = True
     added = sorted(set(found) - set((ids // 4).tolist()))
@@ -122,9 +129,25 @@ def _codes(byte_list: bytes, n_tags: int, size: int) -> np.ndarray:
     return out
 
 
-def _reads_as(gray: np.ndarray, board_corners: np.ndarray, corners: np.ndarray,
-              codes: np.ndarray) -> bool:
-    """Whether the quad ``corners`` shows a black-bordered tag carrying one of ``codes``."""
+def _board_turn(gray: np.ndarray, board: np.ndarray, found: dict[int, np.ndarray],
+                codes: np.ndarray) -> int | None:
+    """Which of the eight turns and mirrorings of the codes the found tags show, read as
+    :func:`_read_bits` reads them (the most common; None when none reads clearly)."""
+    votes = np.zeros(codes.shape[1], int)
+    for tag, corners in list(found.items())[:8]:
+        bits = _read_bits(gray, board[tag], corners)
+        if bits is None:
+            continue
+        errors = np.sum(bits != codes[tag], axis=(1, 2))
+        if errors.min() <= MAX_BIT_ERRORS:
+            votes[int(np.argmin(errors))] += 1
+    return int(np.argmax(votes)) if votes.any() else None
+
+
+def _read_bits(gray: np.ndarray, board_corners: np.ndarray, corners: np.ndarray
+               ) -> np.ndarray | None:
+    """The 6 x 6 code bits of the tag whose board corners lie at image ``corners`` (rows
+    along the board's y), or None where no black-bordered tag shows."""
     hom = cv2.getPerspectiveTransform(board_corners.astype(np.float32),
                                       corners.astype(np.float32))
     n = CELLS * SAMPLES_PER_CELL
@@ -143,9 +166,8 @@ def _reads_as(gray: np.ndarray, board_corners: np.ndarray, corners: np.ndarray,
     inner = cells[BORDER:-BORDER, BORDER:-BORDER]
     dark, light = float(cells[ring].mean()), float(inner.max())
     if light - dark < MIN_CONTRAST:
-        return False  # no contrast: no tag here
+        return None  # no contrast: no tag here
     threshold = (dark + light) / 2.0
     if np.mean(cells[ring] < threshold) < 0.9:
-        return False  # no black border around it
-    bits = inner > threshold
-    return int(np.sum(bits != codes, axis=(1, 2)).min()) <= MAX_BIT_ERRORS
+        return None  # no black border around it
+    return inner > threshold

@@ -47,7 +47,7 @@ def test_found_tags_grow_into_the_whole_grid_on_the_true_corners() -> None:
     assert np.linalg.norm(truth.reshape(-1, 2) - points, axis=1).max() < 0.3
 
 
-@pytest.mark.parametrize("cover", ["blank", "another tag"])
+@pytest.mark.parametrize("cover", ["blank", "another tag", "itself turned", "itself mirrored"])
 def test_a_covered_tag_is_not_filled_in(cover: str) -> None:
     gray = _pinhole_view()
     full = TargetDetector(TARGET).detect(gray)
@@ -57,9 +57,14 @@ def test_a_covered_tag_is_not_filled_in(cover: str) -> None:
         centre = quad.mean(axis=0)
         cv2.fillConvexPoly(gray, np.round(centre + 0.8 * (quad - centre)).astype(np.int32),
                            200)
-    else:  # the same black border carrying tag 35's code
+    else:  # the same black border carrying another code, or its own code the wrong way
         d = cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_APRILTAG_36h11)
-        other = cv2.aruco.generateImageMarker(d, 35, 100, borderBits=2)[::-1, ::-1]
+        tag = 35 if cover == "another tag" else 21
+        other = cv2.aruco.generateImageMarker(d, tag, 100, borderBits=2)[::-1, ::-1]
+        if cover == "itself turned":
+            other = np.ascontiguousarray(np.rot90(other))
+        elif cover == "itself mirrored":
+            other = np.ascontiguousarray(other[:, ::-1])
         src = np.float32([[0, 100], [100, 100], [100, 0], [0, 0]])  # Kalibr corner order
         warp = cv2.getPerspectiveTransform(src, quad.astype(np.float32))
         patch = cv2.warpPerspective(other, warp, gray.shape[::-1], flags=cv2.INTER_AREA)
