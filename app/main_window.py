@@ -44,7 +44,7 @@ from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
 from speechcal_core.review.summary import FILTERS
-from speechcal_core.session.store import SessionFileError
+from speechcal_core.session.store import SessionFileError, load_session
 
 EMPTY_TEXT = (
     "<h2>Open a calibration session</h2>"
@@ -75,18 +75,31 @@ def drop_request(paths: list[str]) -> dict[str, object] | None:
     """What to open for dropped files, as :meth:`ReviewWindow.open` arguments; None if
     nothing fits.
 
-    A recording dropped with its audio is opened (the loader picks up a session file
-    beside it), whatever JSON comes with them (``speechcal synth`` writes a truth.json
-    beside the two); a JSON is opened as a session only when there is no such pair.
+    A dropped session file is opened (it names its recording and audio). A recording
+    dropped with its audio is opened (the loader picks up a session file beside it)
+    whatever other JSON comes with them (``speechcal synth`` writes a truth.json beside
+    the two); a JSON that is no session is opened, to say why, only when there is no pair.
     """
-    sessions = [p for p in paths if p.lower().endswith(".json")]
+    jsons = [p for p in paths if p.lower().endswith(".json")]
     audio = [p for p in paths if p.lower().endswith(AUDIO_EXTENSIONS)]
-    recording = [p for p in paths if p not in sessions and p not in audio]
-    if recording and audio:
-        return {"recording": recording, "audio": audio[0]}
+    recording = [p for p in paths if p not in jsons and p not in audio]
+    sessions = [p for p in jsons if is_session_file(p)]
     if sessions:
         return {"session_path": sessions[0]}
+    if recording and audio:
+        return {"recording": recording, "audio": audio[0]}
+    if jsons:
+        return {"session_path": jsons[0]}
     return None
+
+
+def is_session_file(path: str) -> bool:
+    """Whether ``path`` reads as a SpeechCal session file."""
+    try:
+        load_session(path)
+    except SessionFileError:
+        return False
+    return True
 
 
 def audio_start_text(lead_s: float) -> str:

@@ -71,3 +71,11 @@ def test_a_recording_without_audio_is_not_opened(opened, tmp_path: Path) -> None
     drop(win, [tmp_path / "recording.bag"])
     assert calls == []
     assert "Drop a recording together with its audio file" in win.status_text.text()
+
+
+def test_a_session_file_dropped_with_a_recording_and_audio_opens_that_session(
+        opened, tmp_path: Path, truth_session_file: Path) -> None:
+    # e.g. a session kept elsewhere with Save as, dropped with what it reviews
+    win, calls = opened
+    drop(win, [tmp_path / "audio.ogg", tmp_path / "recording.bag", truth_session_file])
+    assert calls == [{"session_path": str(truth_session_file)}]
