@@ -93,8 +93,11 @@ class ExportDialog(QDialog):
 
     def choice(self) -> tuple[str, Path, bool]:
         """Format, output folder and whether undecided sets are included."""
-        return self.format, Path(self.path_edit.text()).expanduser(), \
-            self.undecided_box.isChecked()
+        return self.format, self._output(), self.undecided_box.isChecked()
+
+    def _output(self) -> Path:
+        """The output folder as typed (surrounding spaces are not part of it)."""
+        return Path(self.path_edit.text().strip()).expanduser()
 
     def _on_edited(self, _text: str) -> None:
         self._edited = True
@@ -115,7 +118,7 @@ class ExportDialog(QDialog):
         if self.undecided_box.isChecked():
             n += self.counts.get("undecided", 0)
         text = self.path_edit.text().strip()
-        out = Path(text).expanduser()
+        out = self._output()
         why = self.refusal(out.absolute()) if text else ""
         note = "\nIt exists: you will be asked before it is replaced" if out.exists() else ""
         later = self.waiting(self.undecided_box.isChecked())

@@ -31,17 +31,21 @@ def test_the_summary_is_readable_when_the_folder_exists(
     dialog.show()
     qtbot.waitExposed(dialog)
     dialog.set_folder(tmp_path / "rec-kalibr")  # the longest note: asked to replace it
-    qtbot.wait(20)
     assert "asked before it is replaced" in dialog.summary.text()
-    assert _text_fits(dialog.summary)
+    qtbot.waitUntil(lambda: _text_fits(dialog.summary), timeout=2_000)  # laid out anew
     assert dialog.rect().contains(dialog.summary.geometry())
     dialog.undecided_box.setChecked(True)
-    qtbot.wait(20)
-    assert _text_fits(dialog.summary)
+    qtbot.waitUntil(lambda: _text_fits(dialog.summary), timeout=2_000)
     dialog.resize(dialog.minimumWidth(), dialog.height())  # as narrow as it goes
-    qtbot.wait(20)
-    assert _text_fits(dialog.summary)
+    qtbot.waitUntil(lambda: _text_fits(dialog.summary), timeout=2_000)
     assert dialog.rect().contains(dialog.summary.geometry())
+
+
+def test_the_folder_checked_is_the_folder_written(qtbot, tmp_path: Path) -> None:
+    dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 1, "undecided": 0})
+    qtbot.addWidget(dialog)
+    dialog.path_edit.setText(f"  {tmp_path / 'out'} ")  # pasted with spaces around it
+    assert dialog.choice()[1] == tmp_path / "out"
 
 
 def test_one_set_is_one_set(qtbot, tmp_path: Path) -> None:
