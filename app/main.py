@@ -80,14 +80,18 @@ def shut_down(window: ReviewWindow, timeout_s: float = STOP_WAIT_S) -> None:
     """Close the window (if still open) and wait for the background work it cancels, then
     delete it: nothing may still run, or report to deleted Qt objects, as Python exits.
 
-    The session needs no saving here: every decision was saved when it was made.
+    Decisions are saved as they are made; when the last save failed and the operator
+    declined to leave (the close was refused), stderr says they are not saved.
     """
     from PySide6.QtCore import QCoreApplication, QEvent
 
     from app.tasks import wait_for_all
 
-    if window.isVisible():
-        window.close()  # headless, or after the event loop: abandons the work
+    if window.isVisible() and not window.close():  # headless, or after the event loop
+        for task in window.background_tasks():  # the close that abandons them was refused
+            task.abandon()
+        print("speechcal review: the last review decisions are not saved (saving failed)",
+              file=sys.stderr)
     if not wait_for_all(timeout_s):
         print(f"speechcal review: background work still running after {timeout_s:.0f} s "
               "at exit", file=sys.stderr)

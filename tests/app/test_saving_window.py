@@ -210,3 +210,20 @@ def test_a_save_that_fails_while_another_session_loads_is_asked_about_again(
     assert len(asked) == 1  # asked when the load ended, and "cancel" kept the session
     assert window.inputs.session_path == session_in_folder
     assert window.model.session.sets[0].decision == "accepted"
+
+
+def test_leaving_after_a_failed_save_and_a_refused_close_says_so(
+        qtbot, session_in_folder: Path, capfd: pytest.CaptureFixture[str]) -> None:
+    from app.main import shut_down
+
+    window = ReviewWindow()  # not the fixture's: shut_down deletes it
+    window.setProperty("headless", True)
+    window.show()
+    window.open(session_path=str(session_in_folder))
+    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    block_saving(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_A)  # not saved
+    window.ask_unsaved = lambda _text: "cancel"  # the operator stays ...
+    shut_down(window)  # ... but speechcal review is ending
+    assert "decisions are not saved" in capfd.readouterr().err
+    unblock_saving(session_in_folder)
