@@ -137,24 +137,28 @@ def test_closing_the_window_while_it_opens_returns_once_the_work_has_stopped(
     monkeypatch.setattr(app.main_window, "load_for_review", slow)
     qapp = QApplication.instance()
 
+    closed: list[bool] = []
+
     def close_when_opening() -> None:  # the operator closes the window: the loop ends
         if entered.is_set():
             timer.stop()
             for widget in qapp.topLevelWidgets():
                 if isinstance(widget, ReviewWindow) and widget.isVisible():
-                    widget.close()
+                    closed.append(widget.close())
 
     timer, limit = QTimer(), QTimer()
     timer.timeout.connect(close_when_opening)
     timer.start(50)
     limit.setSingleShot(True)
     limit.timeout.connect(qapp.quit)  # never hang the test run (another window open)
+    timed_out: list[bool] = []
+    limit.timeout.connect(lambda: timed_out.append(True))
     limit.start(30_000)
     try:
         code = app.main.run_review(session_path=str(truth_session_file))
     finally:
         timer.stop()
         limit.stop()
-    assert entered.is_set() and ended.is_set()  # returned only once the work had ended
-    assert code == 0
+    assert closed == [True] and not timed_out and entered.is_set() and ended.is_set()
+    assert code == 0  # returned only once the work had ended, after the operator's close
     _no_traceback(capfd.readouterr().err)
