@@ -54,11 +54,12 @@ def _remove(path: Path) -> None:
 
 
 def folder_write_problem(folder: str | Path) -> str | None:
-    """Why no file can be written in ``folder`` (None when one can): it is missing, is a
-    file, or the system's reason (read-only, no permission)."""
+    """Why no file can be written in ``folder`` (None when one can): it or a folder above
+    it is a file, it is missing, or the system's reason (read-only, no permission)."""
     folder = Path(folder)
-    if folder.exists() and not folder.is_dir():
-        return f"{folder} is a file, not a folder"
+    in_the_way = _file_in_the_way(folder)
+    if in_the_way:
+        return in_the_way
     if not folder.is_dir():
         return f"the folder {folder} does not exist"
     try:
@@ -69,11 +70,12 @@ def folder_write_problem(folder: str | Path) -> str | None:
     return None
 
 
-def _file_in_the_way(folder: Path) -> Path | None:
-    """The closest existing ancestor of ``folder`` (or itself) when it is not a folder."""
+def _file_in_the_way(folder: Path) -> str | None:
+    """"X is a file, not a folder" when ``folder``, or the closest of its ancestors that
+    exists, is not a folder (None otherwise)."""
     for candidate in (folder, *folder.parents):
         if os.path.lexists(candidate):
-            return None if candidate.is_dir() else candidate
+            return None if candidate.is_dir() else f"{candidate} is a file, not a folder"
     return None
 
 
@@ -105,8 +107,7 @@ def staged_directory(target: str | Path, *, force: bool = False) -> Iterator[Pat
         staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=parent))
         os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes 0700
     except OSError as exc:
-        blocking = _file_in_the_way(parent)
-        reason = f"{blocking} is a file, not a folder" if blocking else exc.strerror
+        reason = _file_in_the_way(parent) or exc.strerror
         raise SpeechCalError(
             f"{target}: cannot write there ({reason}); choose a writable folder"
         ) from exc

@@ -157,3 +157,12 @@ def test_staged_directory_under_a_file_names_the_file(tmp_path: Path, depth: int
             staged_directory(target):
         pass
     assert blocking.read_text() == "mine"
+
+
+def test_a_folder_under_a_file_is_reported_as_the_file(tmp_path: Path) -> None:
+    blocking = tmp_path / "notes.txt"
+    blocking.write_text("mine")
+    assert folder_write_problem(blocking / "sessions") == f"{blocking} is a file, not a folder"
+    assert folder_write_problem(blocking) == f"{blocking} is a file, not a folder"
+    assert folder_write_problem(tmp_path / "missing") == \
+        f"the folder {tmp_path / 'missing'} does not exist"
