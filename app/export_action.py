@@ -86,17 +86,12 @@ class ExportAction(QObject):
         """Why the export may never write ``out`` (it is, holds or lies inside the open
         session's recording, audio or session file: the core's own check), "" if it may."""
         from speechcal_core.export.errors import ExportError
-        from speechcal_core.export.run import check_output
+        from speechcal_core.export.run import check_output, session_inputs
 
         w = self.window
         if w.model is None or w.inputs is None:
             return ""
-        session = w.model.session
-        protected = {"recording": [Path(p) for p in session.recording]}
-        if session.audio:
-            protected["audio"] = [Path(session.audio)]
-        if w.inputs.session_path:
-            protected["session file"] = [Path(w.inputs.session_path)]
+        protected = session_inputs(w.model.session, w.inputs.session_path)
         try:
             check_output(Path(out), True, protected)  # forced: an existing folder is asked
         except ExportError as exc:

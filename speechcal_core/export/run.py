@@ -129,13 +129,20 @@ def _preflight(session: Session, fmt: str, out: Path, *, force: bool, include_un
         raise UsageError(f"unknown export format {fmt!r}; use one of {', '.join(FORMATS)}")
     where = str(session_path) if session_path else "the session"
     sets = select_sets(session, include_undecided=include_undecided, where=where)
+    check_output(out, force, session_inputs(session, session_path))
+    return sets
+
+
+def session_inputs(session: Session, session_path: str | Path | None
+                   ) -> dict[str, list[Path]]:
+    """What an export of ``session`` reads and must never write over, for
+    :func:`check_output`: its recording, audio and session file."""
     protected = {"recording": [Path(p) for p in session.recording]}
     if session.audio:
         protected["audio"] = [Path(session.audio)]
     if session_path:
         protected["session file"] = [Path(session_path)]
-    check_output(out, force, protected)
-    return sets
+    return protected
 
 
 def export_frame_sets(
