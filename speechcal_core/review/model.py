@@ -120,7 +120,7 @@ class ReviewModel:
         self._autosave = autosave
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
         # undo/redo entries: ("decision", set id, decision to restore),
-        # ("sync", sync model to restore) for an offset edit,
+        # ("sync", sync model, sets and frame details to restore) for an offset edit,
         # ("add", set id) and ("remove", set, its index, its frame details or None),
         # ("add_many", set ids) and ("remove_many", [(set, index, details)...]) for the
         # sets one search added
@@ -303,9 +303,16 @@ class ReviewModel:
         Sets that move take the frames nearest their new time, without figures, until
         re-scored (see :meth:`rescore_request`).
         """
-        self._undo.append(("sync", self.session.sync))
+        self._undo.append(self._sync_state())
         self._redo.clear()
         self._change_sync(sync)
+
+    def _sync_state(self) -> tuple:
+        """An undo entry restoring the sync as it is now, with the sets' frames and
+        details measured for it (undoing an edit needs no re-scoring)."""
+        details = self.session.extra.get("frame_details")
+        return ("sync", self.session.sync, list(self.session.sets),
+                dict(details) if isinstance(details, dict) else None)
 
     def _change_sync(self, sync: SyncModel) -> None:
         self.session.sync = sync
@@ -344,9 +351,19 @@ class ReviewModel:
         """Undo one stack entry; returns the entry that undoes this in turn."""
         kind = entry[0]
         if kind == "sync":
-            previous = self.session.sync
-            self._change_sync(entry[1])
-            return ("sync", previous)
+            _kind, sync, sets, details = entry
+            now = self._sync_state()
+            # the stack holds no later step, so the same sets are in: only their frames
+            # (and figures) differ, measured for the other sync
+            by_id = {s.id: s for s in sets}
+            self.session.sets[:] = [replace(s, frames=by_id[s.id].frames, t_ns=by_id[s.id].t_ns)
+                                    if s.id in by_id else s for s in self.session.sets]
+            if details is None:
+                self.session.extra.pop("frame_details", None)  # a session without them
+            else:
+                self.session.extra["frame_details"] = dict(details)
+            self._change_sync(sync)
+            return now
         if kind == "decision":
             _kind, set_id, decision = entry
             previous = self.session.set_by_id(set_id).decision

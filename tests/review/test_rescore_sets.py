@@ -127,14 +127,15 @@ def test_a_set_removed_meanwhile_is_skipped_and_comes_back_to_be_rescored(
     assert model.rescore_ids() == []
     model.undo()
     assert model.session.sets[0].id == gone.id and model.rescore_ids() == [gone.id]
-    model.undo()  # the offset edit: every set moves back and waits to be re-scored
-    model.redo()  # ... and forth again
+    model.undo()  # the offset edit: every set back with the frames scored before it
+    assert model.rescore_ids() == []
+    model.redo()  # ... and forth again: the one that was not re-scored waits again
+    assert model.rescore_ids() == [gone.id]
     model.undo()
     model.undo()  # the first removal: back at the time it was scored at, with its figures
     back = model.session.set_by_id(kept.id)
     assert back.t_ns == kept.t_ns and _figures(model, kept.id)
-    assert kept.id not in model.rescore_ids()
-    _rescore(model)
+    assert model.rescore_ids() == []
     assert all(_figures(model, s.id) for s in model.session.sets)
 
 
@@ -184,3 +185,17 @@ def test_rescoring_a_hand_edited_file_outside_the_window_takes_the_new_times(
     assert sorted(taken) == sorted(s.id for s in session.sets)
     assert rescore_ids(session) == []
     assert all(s.t_ns == int(session.sync.to_session(s.trigger.t_s)) for s in session.sets)
+
+
+def test_undoing_an_offset_edit_brings_back_the_frames_scored_before_it(
+    searched_session_file: Path,
+) -> None:
+    model = open_model(searched_session_file)
+    before = list(model.session.sets)
+    model.nudge_offset(SHIFT_NS)
+    _rescore(model)
+    after = list(model.session.sets)
+    model.undo()
+    assert model.session.sets == before and model.rescore_ids() == []  # nothing to re-score
+    model.redo()
+    assert model.session.sets == after and model.rescore_ids() == []
