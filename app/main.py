@@ -18,6 +18,8 @@ if TYPE_CHECKING:
 
 #: how long the exit waits for cancelled background work to stop
 STOP_WAIT_S = 30.0
+#: how long --screenshot waits for loading, re-scoring and frames to finish
+SETTLE_S = 120.0
 
 
 class ScreenshotError(SpeechCalError):
@@ -63,12 +65,16 @@ def run_review(
     window.show()
     try:
         if screenshot:
-            ok = wait_until_settled(window, app, timeout_s=120.0)
+            ok = wait_until_settled(window, app, timeout_s=SETTLE_S)
             save_screenshot(window, screenshot)
             print(f"wrote {screenshot}", file=sys.stderr)
             if window.load_error:
                 print(f"speechcal review: error: {window.load_error}", file=sys.stderr)
                 return 1
+            if not ok:
+                print(f"speechcal review: the window was still busy after {SETTLE_S:.0f} s "
+                      f"({window.status_text.text() or 'loading'}); the screenshot shows it "
+                      "as it was then", file=sys.stderr)
             return 0 if ok else 1
         run_event_loop = app.exec  # Qt's event loop (QApplication.exec), not Python's exec
         return run_event_loop()

@@ -162,3 +162,16 @@ def test_closing_the_window_while_it_opens_returns_once_the_work_has_stopped(
     assert closed == [True] and not timed_out and entered.is_set() and ended.is_set()
     assert code == 0  # returned only once the work had ended, after the operator's close
     _no_traceback(capfd.readouterr().err)
+
+
+def test_a_screenshot_of_a_window_still_busy_says_so(
+        searched_session_file: Path, tmp_path: Path, working: SimpleNamespace,
+        monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str]) -> None:
+    _edit_offset(searched_session_file)  # re-scoring starts, and is held
+    monkeypatch.setattr(app.main, "SETTLE_S", 3.0)
+    shot = tmp_path / "shot.png"
+    code = main(["review", str(searched_session_file), "--screenshot", str(shot)])
+    err = capfd.readouterr().err
+    assert code == 1 and shot.exists()
+    assert "still busy after 3 s (re-scoring" in err and "as it was then" in err
+    _no_traceback(err)
