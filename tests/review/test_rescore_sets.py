@@ -154,12 +154,17 @@ def test_a_session_made_without_the_search_is_rescored_whole_after_an_edit(
     assert "frame_references" in load_session(truth_session_file).extra
 
 
+def _edit_offset_by_hand(path: Path) -> None:
+    """Move the session file's offset as a text editor would: its sets keep their times."""
+    data = json.loads(path.read_text(encoding="utf-8"))
+    data["sync"]["offset_ns"] += SHIFT_NS
+    path.write_text(json.dumps(data), encoding="utf-8")
+
+
 def test_a_session_whose_offset_was_edited_by_hand_is_rescored_once(
     searched_session_file: Path,
 ) -> None:
-    data = json.loads(searched_session_file.read_text(encoding="utf-8"))
-    data["sync"]["offset_ns"] += SHIFT_NS  # in a text editor: the sets keep their old times
-    searched_session_file.write_text(json.dumps(data), encoding="utf-8")
+    _edit_offset_by_hand(searched_session_file)
     model = open_model(searched_session_file)
     sync = model.session.sync
     for s in model.session.sets:  # at once at their time under the file's offset
@@ -176,9 +181,7 @@ def test_rescoring_a_hand_edited_file_outside_the_window_takes_the_new_times(
     from speechcal_core.review.rescore import rescore_ids, rescore_waiting
     from speechcal_core.sources import open_recording
 
-    data = json.loads(searched_session_file.read_text(encoding="utf-8"))
-    data["sync"]["offset_ns"] += SHIFT_NS
-    searched_session_file.write_text(json.dumps(data), encoding="utf-8")
+    _edit_offset_by_hand(searched_session_file)
     session = load_session(searched_session_file)
     with open_recording(session.recording) as source:  # as `speechcal export` does
         taken = rescore_waiting(session, source)
