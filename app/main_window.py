@@ -51,6 +51,7 @@ EMPTY_TEXT = (
     "<p>Drag a recording (ROS bag, bag folder, .mcap, .db3) and its audio file here,<br>"
     "or open a session file (SESSION.json).</p>"
 )
+PLAY_LABEL, PAUSE_LABEL = "▶ play", "❚❚ pause"
 #: the key hints under the waveform: one line at 1400 px (the tooltip says it in full,
 #: e.g. Esc back from an enlarged camera, which double-clicking it again does too)
 HINTS = ("Space play · W hear word · ←/→ frame · J/K set · F filter · A/R/U decide · "
@@ -251,8 +252,7 @@ class ReviewWindow(QMainWindow):
         left_layout.setContentsMargins(0, 0, 0, 0)
         self.grid = FrameGrid(model.streams)
         left_layout.addWidget(self.grid, 1)
-        self.info_line = QLabel("")
-        left_layout.addWidget(self.info_line)
+        left_layout.addLayout(self._build_transport_row())
         top.addWidget(left)
         right = QWidget()
         right_layout = QVBoxLayout(right)
@@ -398,6 +398,24 @@ class ReviewWindow(QMainWindow):
     def _choose_filter(self, name: str) -> None:
         if self.model is not None:
             self.model.set_filter(name)
+
+    def _build_transport_row(self) -> QHBoxLayout:
+        """Under the grid: previous set, play / pause, next set, then where the playhead is
+        (the keys J, Space, K do the same)."""
+        row = QHBoxLayout()
+        previous = self._action_button("◀◀", "previous_set", "previous frame set  (J)")
+        row.addWidget(previous)
+        self.play_button = QPushButton(PLAY_LABEL)
+        self.play_button.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+        self.play_button.setToolTip("play from the playhead, with the sound  (Space)")
+        self.play_button.clicked.connect(lambda _=False: self.toggle_play())
+        row.addWidget(self.play_button)
+        following = self._action_button("▶▶", "next_set", "next frame set  (K)")
+        row.addWidget(following)
+        self.transport_buttons = (previous, self.play_button, following)
+        self.info_line = QLabel("")
+        row.addWidget(self.info_line, 1)
+        return row
 
     def _action_button(self, label: str, action: str, tip: str = "") -> QPushButton:
         """A button that runs a review action (keyboard focus stays on the window)."""
@@ -740,6 +758,9 @@ class ReviewWindow(QMainWindow):
         if self.model is None:
             return
         self._playing = not self._playing
+        self.play_button.setText(PAUSE_LABEL if self._playing else PLAY_LABEL)
+        self.play_button.setToolTip("pause  (Space)" if self._playing else
+                                    "play from the playhead, with the sound  (Space)")
         self._restart_timer.stop()
         self._restarts.cancel()
         if self._playing:

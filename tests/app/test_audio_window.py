@@ -116,6 +116,40 @@ def test_space_moves_the_playhead_and_a_jump_plays_on_from_there(qtbot, window) 
     assert model.playhead_ns == paused
 
 
+def test_transport_buttons_under_the_grid_step_sets_and_play_and_pause(qtbot, window) -> None:
+    model = window.model
+    model.go_to_set(1)
+    previous, play, next_ = window.transport_buttons
+    qtbot.mouseClick(next_, Qt.MouseButton.LeftButton)
+    assert model.current_set.id == model.session.sets[2].id
+    qtbot.mouseClick(previous, Qt.MouseButton.LeftButton)
+    qtbot.mouseClick(previous, Qt.MouseButton.LeftButton)
+    assert model.current_set.id == model.session.sets[0].id
+    start = model.playhead_ns
+    assert play.text() == "▶ play"
+    qtbot.mouseClick(play, Qt.MouseButton.LeftButton)
+    assert play.text() == "❚❚ pause" and "Space" in play.toolTip()
+    qtbot.waitUntil(lambda: model.playhead_ns > start + 100_000_000, timeout=5_000)
+    qtbot.mouseClick(play, Qt.MouseButton.LeftButton)
+    assert play.text() == "▶ play" and not window.player.playing
+    paused = model.playhead_ns
+    qtbot.wait(150)
+    assert model.playhead_ns == paused
+    qtbot.keyClick(window, Qt.Key.Key_Space)  # the key and the button are one switch
+    assert play.text() == "❚❚ pause"
+    qtbot.keyClick(window, Qt.Key.Key_Space)
+    assert play.text() == "▶ play"
+
+
+def test_play_button_shows_play_again_when_the_session_ends(qtbot, window) -> None:
+    model = window.model
+    _, end_ns = model.time_range_ns()
+    model.set_playhead(end_ns - 200_000_000)
+    qtbot.mouseClick(window.play_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.play_button.text() == "▶ play", timeout=5_000)
+    assert not window._playing
+
+
 def test_without_qtmultimedia_the_window_says_so_and_plays_on(
         qtbot, window, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(app.audio_player, "_multimedia", None)
