@@ -21,7 +21,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--format", required=True, choices=("kalibr", "folders", "rosbag1", "rosbag2"))
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (must not exist)")
     p.add_argument("--force", action="store_true",
-                   help="replace an existing output (folder or file)")
+                   help="replace an earlier export (or an empty folder) at DIR; a file or a "
+                        "folder holding anything else is never replaced")
     p.add_argument("--include-undecided", action="store_true",
                    help="export undecided sets too (rejected sets never are)")
     p.add_argument("--target", metavar="TARGET.yaml",

@@ -12,6 +12,7 @@ window waits for its re-scoring instead).
 
 from __future__ import annotations
 
+import json
 import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -91,6 +92,35 @@ def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> No
                                   "choose another output folder")
     if os.path.lexists(out) and not force:
         raise OutputExistsError(f"{out} already exists; choose another folder or pass --force")
+    problem = _not_replaceable(out)
+    if problem:
+        raise ExportError(f"{out.absolute()}: {problem}; --force replaces only an earlier "
+                          "export or an empty folder: choose another output folder")
+
+
+def _not_replaceable(out: Path) -> str:
+    """Why an existing ``out`` must not be replaced by an export even when forced ("" if
+    it may): it is a file, or a folder holding something other than an earlier export
+    (what its ``manifest.json`` says). A link may go: replacing it leaves what it points to."""
+    if out.is_symlink() or not out.exists():
+        return ""
+    if not out.is_dir():
+        return "this is a file, not an export folder"
+    names = sorted(child.name for child in out.iterdir())
+    if not names or _is_export(out / "manifest.json"):
+        return ""
+    shown = ", ".join(names[:3]) + (", …" if len(names) > 3 else "")
+    return f"this folder holds files that are not an export ({shown})"
+
+
+def _is_export(manifest: Path) -> bool:
+    """Whether ``manifest`` is the manifest.json an export of ours wrote."""
+    try:
+        document = json.loads(manifest.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return False
+    return (isinstance(document, dict) and document.get("format") in FORMATS
+            and isinstance(document.get("sets"), list))
 
 
 def export_target(session: Session, target: TargetSpec | None) -> tuple[TargetSpec, str]:

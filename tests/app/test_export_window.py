@@ -47,21 +47,40 @@ def test_export_button_writes_the_accepted_sets_off_the_ui_thread(
     assert not window.progress.isVisible() and window.export_button.isEnabled()
 
 
-def test_existing_folder_asks_before_replacing_it(qtbot, window, tmp_path: Path) -> None:
+def test_an_earlier_export_is_replaced_after_asking(qtbot, window, tmp_path: Path) -> None:
     qtbot.keyClick(window, Qt.Key.Key_A)
     out = tmp_path / "bag"
-    out.mkdir()
-    (out / "old.txt").write_text("old")
+    _export_through_dialog(qtbot, window, "folders", out)
+    qtbot.waitUntil(lambda: window.exporter.task is None, timeout=30_000)
+    earlier = sorted(p.name for p in out.iterdir())
     _export_through_dialog(qtbot, window, "rosbag1", out)
     box = window.exporter.replace_box
     assert box is not None and box.isVisible() and str(out) in box.text()
-    assert window.exporter.task is None and (out / "old.txt").exists()
+    assert window.exporter.task is None and sorted(p.name for p in out.iterdir()) == earlier
     replace = next(b for b in box.buttons() if b.text() == "Replace")
     qtbot.mouseClick(replace, Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: (out / "calibration.bag").exists(), timeout=30_000)
     qtbot.waitUntil(lambda: window.exporter.task is None, timeout=30_000)
-    assert not (out / "old.txt").exists()
+    assert not (out / "cam0_image_raw").exists()
     assert json.loads((out / "manifest.json").read_text())["format"] == "rosbag1"
+
+
+def test_a_folder_of_other_files_is_refused_without_asking(qtbot, window, tmp_path) -> None:
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    out = tmp_path / "data"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    qtbot.mouseClick(window.export_button, Qt.MouseButton.LeftButton)
+    dialog = window.exporter.dialog
+    dialog.set_folder(out)
+    assert dialog.summary.text().startswith("Cannot export there:")
+    assert "not an export (notes.txt)" in dialog.summary.text()
+    assert not dialog.buttons.button(QDialogButtonBox.StandardButton.Ok).isEnabled()
+    dialog.reject()
+    window.exporter.start("folders", out)
+    assert window.exporter.replace_box is None and window.exporter.task is None
+    assert "not an export (notes.txt)" in window.status_text.text()
+    assert [p.name for p in out.iterdir()] == ["notes.txt"]
 
 
 def test_declining_the_replace_keeps_the_folder(qtbot, window, tmp_path: Path) -> None:

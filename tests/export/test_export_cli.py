@@ -50,17 +50,40 @@ def test_existing_folder_is_refused_naming_it_and_force(session_file, tmp_path, 
     assert [p.name for p in out.iterdir()] == ["keep.txt"]
 
 
-def test_force_replaces_the_folder_and_leaves_no_temporary_folders(
+def test_force_replaces_an_earlier_export_and_leaves_no_temporary_folders(
     session_file, tmp_path, capsys
 ) -> None:
     path = session_file()
     out = tmp_path / "exp"
-    out.mkdir()
-    (out / "old.txt").write_text("old")
+    code, _stdout, _err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out))
+    assert code == 0 and (out / "cam0").is_dir()
     code, stdout, _err = _run(capsys, str(path), "--format", "folders", "--out", str(out),
                               "--force")
     assert code == 0 and "exported 3 frame sets" in stdout
-    assert not (out / "old.txt").exists() and (out / "manifest.json").exists()
+    assert not (out / "cam0").exists() and (out / "manifest.json").exists()
+    assert _leftovers(tmp_path) == []
+
+
+def test_force_replaces_an_empty_folder(session_file, tmp_path, capsys) -> None:
+    out = tmp_path / "exp"
+    out.mkdir()
+    code, _stdout, _err = _run(capsys, str(session_file()), "--format", "folders", "--out",
+                              str(out), "--force")
+    assert code == 0 and (out / "manifest.json").exists()
+
+
+def test_force_never_replaces_a_folder_of_other_files(session_file, tmp_path, capsys) -> None:
+    """One slip (``--out ~/data --force``) must not delete someone's work."""
+    out = tmp_path / "data"
+    (out / "thesis").mkdir(parents=True)
+    (out / "thesis" / "ch1.tex").write_text("mine")
+    (out / "manifest.json").write_text('{"name": "some other tool"}')
+    code, stdout, err = _run(capsys, str(session_file()), "--format", "kalibr", "--out",
+                             str(out), "--force")
+    assert code == 1 and stdout == "" and err.count("\n") == 1
+    assert str(out) in err and "not an export (manifest.json, thesis)" in err
+    assert "choose another output folder" in err
+    assert (out / "thesis" / "ch1.tex").read_text() == "mine"
     assert _leftovers(tmp_path) == []
 
 
@@ -78,11 +101,11 @@ def test_cancelled_export_leaves_nothing_and_keeps_the_old_folder(session_file, 
         export_session_file(path, "kalibr", tmp_path / "new", progress=stop_halfway)
     assert not (tmp_path / "new").exists()
     old = tmp_path / "old"
-    old.mkdir()
-    (old / "keep.txt").write_text("mine")
+    export_session_file(path, "folders", old)
+    before = sorted(p.name for p in old.iterdir())
     with pytest.raises(Stop):
         export_session_file(path, "rosbag1", old, force=True, progress=stop_halfway)
-    assert [p.name for p in old.iterdir()] == ["keep.txt"]
+    assert sorted(p.name for p in old.iterdir()) == before
     assert _leftovers(tmp_path) == []
 
 
