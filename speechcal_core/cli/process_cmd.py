@@ -40,6 +40,7 @@ def run(args: argparse.Namespace) -> int:
     from speechcal_core.session.store import check_session_target, save_session
     from speechcal_core.target import TargetSpec
 
+    _refuse_to_write_over_inputs(args)
     if Path(args.output).exists() and not args.force:
         raise OutputExistsError(
             f"{args.output} already exists and may hold review decisions; "
@@ -70,6 +71,31 @@ def run(args: argparse.Namespace) -> int:
     save_session(session, args.output)
     progress(f"{_summary(session)}; wrote {args.output}")
     return 0
+
+
+def _refuse_to_write_over_inputs(args: argparse.Namespace) -> None:
+    """-o must name a session file, never a folder or a file ``process`` reads (the
+    recording, audio, transcript or target), --force or not: those are the operator's data."""
+    out = Path(args.output)
+    if out.is_dir():
+        raise OutputExistsError(f"{out} is a folder; give the session file's name, such as "
+                                f"-o {out / 'session.json'}")
+    inputs = {"recording": args.recording, "audio": [args.audio],
+              "transcript": [args.transcript] if args.transcript else [],
+              "target": [args.target] if args.target else []}
+    for what, paths in inputs.items():
+        for p in map(Path, paths):
+            if _same_file(out, p):
+                raise OutputExistsError(f"{out} is the {what} this reads; name the session "
+                                        "file something else, such as session.json")
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """Whether ``a`` and ``b`` name one existing file (links and ``..`` followed)."""
+    try:
+        return a.exists() and b.exists() and a.samefile(b)
+    except OSError:
+        return False
 
 
 def _summary(session: Session) -> str:

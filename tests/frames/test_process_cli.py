@@ -96,6 +96,33 @@ def test_process_refuses_an_output_folder_that_does_not_exist_before_any_work(
     assert "indexing" not in err and "%]" not in err  # no progress: nothing was started
 
 
+@pytest.mark.parametrize("which", ["recording", "audio"])
+def test_process_never_writes_the_session_over_its_own_inputs_even_with_force(
+        synth, capsys, which: str) -> None:
+    out, truth = synth
+    recording, audio = out / truth["recording"], out / "audio.ogg"
+    victim = recording if which == "recording" else audio
+    before = victim.stat()
+    code = main(["process", str(recording), "--audio", str(audio), "-o", str(victim),
+                 "--force"])
+    err = capsys.readouterr().err
+    assert code == 1 and err.count("\n") == 1
+    assert f"{victim} is the {which} this reads" in err and "%]" not in err
+    after = victim.stat()
+    assert (after.st_size, after.st_mtime_ns) == (before.st_size, before.st_mtime_ns)
+    assert not victim.with_name(victim.name + ".bak").exists()
+
+
+def test_process_output_that_is_a_folder_names_a_file_to_give_before_any_work(
+        synth, tmp_path: Path, capsys) -> None:
+    out, truth = synth
+    code = main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+                 "-o", str(tmp_path), "--force"])
+    err = capsys.readouterr().err
+    assert code == 1 and f"{tmp_path} is a folder" in err
+    assert f"-o {tmp_path / 'session.json'}" in err and "%]" not in err
+
+
 @pytest.mark.slow
 def test_process_takes_the_pronunciation_of_a_word_missing_from_the_dictionary(
         synth, tmp_path: Path, capsys) -> None:
