@@ -37,6 +37,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--search-s must be positive, got {args.search_s:g}")
     with open_recording(args.recording) as source:
         audio, stamped = load_sync_audio(args.audio, args.recording, channel=args.channel)
+        _check_hand_set_clap(args, audio.duration_s, source)
         if stamped is not None and args.audio_clap is None and args.video_clap_ns is None:
             result = stamped
         elif args.audio_clap is not None and args.video_clap_ns is not None:
@@ -60,3 +61,21 @@ def run(args: argparse.Namespace) -> int:
             print(f"{cam['name']}  clap {cam['clap_ns']} ns  "
                   f"residual {cam['residual_ns'] / 1e6:+.2f} ms")
     return 0
+
+
+def _check_hand_set_clap(args: argparse.Namespace, audio_s: float, source: object) -> None:
+    """A clap set by hand must lie inside the audio and the recording (a typo there gives an
+    offset that picks no frame at all): UsageError naming the range otherwise."""
+    from speechcal_core.errors import UsageError
+
+    if args.audio_clap is not None and not 0.0 <= args.audio_clap <= audio_s:
+        raise UsageError(f"--audio-clap {args.audio_clap:g} lies outside the audio "
+                         f"({args.audio} holds 0 to {audio_s:.3f} s)")
+    if args.video_clap_ns is not None:
+        stamps = [source.stamps(s.name) for s in source.streams]  # type: ignore[attr-defined]
+        stamps = [st for st in stamps if len(st)]
+        if stamps:
+            first, last = min(int(st[0]) for st in stamps), max(int(st[-1]) for st in stamps)
+            if not first <= args.video_clap_ns <= last:
+                raise UsageError(f"--video-clap-ns {args.video_clap_ns} lies outside the "
+                                 f"recording's header stamps ({first} to {last} ns)")

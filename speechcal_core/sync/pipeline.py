@@ -24,6 +24,9 @@ AGREE_S = 0.3  # camera clocks closer than this count as seeing the same event
 MIN_CLAP_GAP_S = 5.0  # a closing clap lies at least this long after the first
 
 Progress = Callable[[str], None]
+#: how to go on without a clap heard: ``sync`` takes it by hand, ``process`` the offset
+BY_HAND = ("set the clap by hand (speechcal sync --audio-clap SECONDS prints the offset; "
+           "process takes it as --offset-ns N)")
 
 
 def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list[str]]:
@@ -36,8 +39,7 @@ def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list
     notes: list[str] = []
     if levels.silent:
         raise SyncError(f"{name}: the audio is silent (peak {levels.peak_dbfs:.0f} dBFS); "
-                        "check the microphone and the channel, or set the clap by hand "
-                        "(--audio-clap SECONDS)")
+                        f"check the microphone and the channel, or {BY_HAND}")
     if levels.clipped:
         notes.append(f"{name}: {levels.clipped_fraction * 100:.3f}% of samples clip at full "
                      "scale; clap timing still works, but lower the input gain next time")
@@ -47,8 +49,7 @@ def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list
         best = (f"; the sharpest sound, at {cands[0].time_s:.3f} s, does not look like a "
                 "clap") if cands else ""
         raise SyncError(f"{name}: no clap found in the audio{best}; clap once, sharply, "
-                        "where camera and microphone both catch it, or set the clap by hand "
-                        "(--audio-clap SECONDS)")
+                        f"where camera and microphone both catch it, or {BY_HAND}")
     half = audio.duration_s / 2
     early = [c for c in claps if c.time_s <= half] or claps
     first = max(early, key=lambda c: c.score)

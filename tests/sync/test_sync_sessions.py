@@ -112,8 +112,15 @@ def test_bad_audio_gives_one_line_reasons_and_manual_path_works(
         assert captured.out == ""
         lines = captured.err.strip().splitlines()
         assert len(lines) == 1 and words in lines[0] and path.name in lines[0]
+        if path.exists():  # says how to go on by hand, in sync and in process
+            assert "--audio-clap SECONDS" in lines[0] and "--offset-ns N" in lines[0]
     # set by hand: both clocks, or the video side only
     clap_ns = truth["claps"][0]["session_ns"]
+    for bad in (["--audio-clap", "999"], ["--audio-clap", "-1"], ["--video-clap-ns", "0"]):
+        assert main(["sync", rec, "--audio", str(silent), "--audio-clap", "1.25",
+                     "--video-clap-ns", str(clap_ns), *bad, "--json"]) == 2
+        captured = capsys.readouterr()
+        assert captured.out == "" and "lies outside the" in captured.err
     assert main(["sync", rec, "--audio", str(silent), "--audio-clap", "1.25",
                  "--video-clap-ns", str(clap_ns), "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
