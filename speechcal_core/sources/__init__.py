@@ -72,6 +72,7 @@ def open_recording(
     for p in items:
         if not p.exists():
             raise SourceError(f"{p}: file not found")
+    items = _distinct(items)  # one file named twice (a shell glob and the name) is read once
     videos = [p for p in items if p.is_file() and p.suffix.lower() in VIDEO_SUFFIXES]
     sources: list[FrameSource] = []
     files: list[MessageFile] = []
@@ -105,6 +106,15 @@ def open_recording(
         for src in sources:
             src.close()
         raise
+
+
+def _distinct(paths: list[Path]) -> list[Path]:
+    """``paths`` in order, without the ones naming a file or folder named before."""
+    out: list[Path] = []
+    for p in paths:
+        if not any(p.samefile(q) for q in out):
+            out.append(p)
+    return out
 
 
 def _is_ros2_folder(path: Path) -> bool:

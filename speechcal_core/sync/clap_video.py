@@ -81,7 +81,9 @@ def find_video_claps(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np
         small = list(frames)
     stack = np.stack(small).astype(np.float32, copy=False)
     t = regular_times(stamps)
-    period = float(np.median(np.diff(t))) if t.size > 1 else 1 / 30
+    steps = np.diff(t)
+    steps = steps[steps > 0]  # a topic recorded twice repeats its stamps
+    period = float(np.median(steps)) if steps.size else 1 / 30
     events = _events(stack, t, period)
     out: list[VideoClap] = []
     full_res = scale < 1.0 and detail is not None

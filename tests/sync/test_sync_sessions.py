@@ -130,3 +130,16 @@ def test_bad_audio_gives_one_line_reasons_and_manual_path_works(
     doc = json.loads(capsys.readouterr().out)
     assert doc["source"] == "manual"
     assert abs(doc["claps"][0]["audio_s"] - truth["claps"][0]["audio_s"]) <= AUDIO_TOL_S
+
+
+@pytest.mark.slow
+def test_a_recording_named_twice_is_read_once(session_root: Path,
+                                               capsys: pytest.CaptureFixture[str]) -> None:
+    """A shell glob and the name together: no crash on stamps seen twice, the same sync."""
+    out, truth = make_session(session_root, seed=0)
+    rec = str(out / truth["recording"])
+    assert main(["sync", rec, "--audio", str(out / "audio.ogg"), "--json"]) == 0
+    once = json.loads(capsys.readouterr().out)
+    assert main(["sync", rec, str(Path(rec).parent / ".." / out.name / Path(rec).name),
+                 "--audio", str(out / "audio.ogg"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == once
