@@ -14,6 +14,10 @@ class TargetError(SpeechCalError):
     """A target file that cannot be read or describes no usable target."""
 
 
+#: a tag or square larger than this (metres) is a unit slip (millimetres given)
+MAX_SIZE_M = 1.0
+
+
 @dataclass(frozen=True)
 class TargetSpec:
     """A planar calibration target in Kalibr's terms.
@@ -100,6 +104,9 @@ class TargetSpec:
             text = path.read_text(encoding="utf-8")
         except OSError as exc:
             raise TargetError(f"{path}: cannot read target file ({exc.strerror})") from exc
+        except UnicodeDecodeError:
+            raise TargetError(f"{path}: not a text file in UTF-8; give a Kalibr target yaml "
+                              "(target_type: aprilgrid, tagRows, ...) saved as UTF-8") from None
         values: dict[str, str] = {}
         for line in text.splitlines():
             line = line.split("#", 1)[0].strip()
@@ -108,7 +115,12 @@ class TargetSpec:
             key, value = line.split(":", 1)
             values[key.strip()] = value.strip().strip("'\"")
         kind = values.get("target_type", "")
+        size_key = {"aprilgrid": "tagSize", "checkerboard": "rowSpacingMeters"}.get(kind, "")
         try:
+            if size_key and float(values[size_key]) > MAX_SIZE_M:
+                raise TargetError(
+                    f"{path}: {size_key} {values[size_key]} m is larger than any board; Kalibr "
+                    f"takes metres (88 mm is 0.088)")
             if kind == "aprilgrid":
                 return cls("aprilgrid", int(values["tagRows"]), int(values["tagCols"]),
                            float(values["tagSize"]), float(values["tagSpacing"]))
@@ -119,6 +131,10 @@ class TargetSpec:
             raise TargetError(f"{path}: missing key {exc.args[0]!r} for a {kind} target") from exc
         except ValueError as exc:
             raise TargetError(f"{path}: bad number in target file ({exc})") from exc
+        except TargetError as exc:
+            text = str(exc)
+            raise TargetError(text if text.startswith(f"{path}: ") else f"{path}: {text}") \
+                from None
         raise TargetError(
             f"{path}: target_type must be 'aprilgrid' or 'checkerboard', found {kind!r}"
         )

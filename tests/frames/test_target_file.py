@@ -1,0 +1,46 @@
+"""Kalibr target yaml files: read as Kalibr writes them, bad ones named with the fix."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from speechcal_core.errors import SpeechCalError
+from speechcal_core.target import TargetSpec
+
+APRILGRID = """target_type: 'aprilgrid' # grid of AprilTags
+tagCols: 6
+tagRows: 7
+tagSize: 0.088  # metres
+tagSpacing: 0.3
+"""
+
+
+def test_an_aprilgrid_file_as_kalibr_documents_it(tmp_path: Path) -> None:
+    path = tmp_path / "april.yaml"
+    path.write_text(APRILGRID)
+    spec = TargetSpec.from_kalibr_yaml(path)
+    assert (spec.kind, spec.rows, spec.cols) == ("aprilgrid", 7, 6)
+    assert spec.size == pytest.approx(0.088) and spec.spacing == pytest.approx(0.3)
+
+
+@pytest.mark.parametrize(("content", "says"), [
+    (APRILGRID.replace("tagSize: 0.088  # metres\n", ""), "missing key 'tagSize'"),
+    (APRILGRID.replace("0.088", "0,088"), "bad number"),
+    (APRILGRID.replace("0.088", "88"), "tagSize 88 m is larger than any board"),
+    (APRILGRID.replace("tagRows: 7", "tagRows: 1"), "at least 2x2 tags"),
+    ("# Gitter für die Kalibrierung\n".encode("latin-1") + APRILGRID.encode(),
+     "not a text file in UTF-8"),
+])
+def test_a_bad_target_file_is_named_with_what_is_wrong(tmp_path: Path, content,
+                                                        says: str) -> None:
+    path = tmp_path / "target.yaml"
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    else:
+        path.write_text(content)
+    with pytest.raises(SpeechCalError) as exc:
+        TargetSpec.from_kalibr_yaml(path)
+    assert str(exc.value).startswith(f"{path}: ") and says in str(exc.value)
+    assert "\n" not in str(exc.value)
