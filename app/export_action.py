@@ -208,7 +208,8 @@ class ExportAction(QObject):
 
     def _finished(self, result: ExportResult) -> None:
         self.last_result = result
-        left = f", {len(result.skipped)} frames left out (see manifest)" if result.skipped else ""
+        shown = "; ".join(result.skipped[:2]) + (" …" if len(result.skipped) > 2 else "")
+        left = f"; left out: {shown}" if result.skipped else ""
         self._done(f"Exported {result.sets} frame sets ({result.frames} frames) as "
                    f"{result.format} to {result.out}{left}")
 

@@ -22,7 +22,7 @@ from speechcal_core.errors import UsageError
 from speechcal_core.export.errors import ExportError
 from speechcal_core.export.manifest import manifest_document, write_manifest
 from speechcal_core.export.plan import Progress, make_plan
-from speechcal_core.export.selection import select_sets
+from speechcal_core.export.selection import frameless_sets, select_sets
 from speechcal_core.fsutil import OutputExistsError, staged_directory
 from speechcal_core.target import TargetSpec
 
@@ -241,7 +241,9 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
         document = manifest_document(plan, outcome, cameras, header)
         outcome.written.extend(write_manifest(root, document))
     report("done", 1.0)
-    skipped = [f"set {sid} {stream}: {why}" for (sid, stream), why in outcome.skipped.items()]
+    skipped = [f"set {s.id}: no camera has a frame at its time"
+               for s in frameless_sets(session, include_undecided=include_undecided)]
+    skipped += [f"set {sid} {stream}: {why}" for (sid, stream), why in outcome.skipped.items()]
     return ExportResult(out, fmt, len(plan.sets), len(outcome.files), len(outcome.written),
                         skipped, target_from if fmt == "kalibr" else "")
 

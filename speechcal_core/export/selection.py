@@ -34,3 +34,11 @@ def select_sets(
             "(speechcal review SESSION.json) or pass --include-undecided"
         )
     return sorted(chosen, key=lambda s: (s.t_ns, s.id))
+
+
+def frameless_sets(session: Session, *, include_undecided: bool = False) -> list[FrameSet]:
+    """The sets :func:`select_sets` leaves out although their decision asks for them: no
+    camera has a frame there (a trigger past the recording's end, say)."""
+    wanted = ("accepted", "undecided") if include_undecided else ("accepted",)
+    return [s for s in session.sets
+            if s.decision in wanted and not any(f.index >= 0 for f in s.frames)]

@@ -163,3 +163,22 @@ def test_the_recordings_own_folder_is_never_an_output_even_with_force(
                            "--force")
     assert code == 1 and "choose another output folder" in err
     assert sorted(p.name for p in folder.iterdir()) == before
+
+
+def test_an_accepted_set_without_frames_is_named_as_left_out(session_file, tmp_path,
+                                                             capsys) -> None:
+    """A trigger past the recording's end has no frame in any camera: it cannot be
+    exported, and the operator is told which set went missing."""
+    path = session_file(decisions=("accepted",))
+    doc = json.loads(path.read_text())
+    last = doc["sets"][-1]
+    for frame in last["frames"]:
+        frame["index"] = -1
+    path.write_text(json.dumps(doc))
+    code, stdout, err = _run(capsys, str(path), "--format", "folders", "--out",
+                             str(tmp_path / "o"), "--json")
+    assert code == 0
+    result = json.loads(stdout)
+    assert result["sets"] == len(doc["sets"]) - 1
+    assert result["skipped"] == [f"set {last['id']}: no camera has a frame at its time"]
+    assert f"left out: set {last['id']}: no camera has a frame" in err
