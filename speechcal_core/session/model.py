@@ -84,9 +84,10 @@ class FrameSet:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> FrameSet:
-        decision = str(data.get("decision", "undecided"))
-        if decision not in DECISIONS:
-            decision = "undecided"
+        decision = str(data.get("decision", "undecided")).strip().lower()
+        if decision not in DECISIONS:  # a hand edit: say so rather than lose the decision
+            raise ValueError(f"decision {data.get('decision')!r} is none of "
+                             f"{', '.join(DECISIONS)}")
         return cls(int(data["id"]), int(data["t_ns"]), Trigger.from_dict(data["trigger"]),
                    tuple(FrameChoice.from_dict(f) for f in data.get("frames", ())), decision)
 

@@ -69,10 +69,15 @@ def load_session(path: str | Path) -> Session:
     """Read a session file; older schemas are migrated, newer ones refused."""
     path = Path(path)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(path.read_text(encoding="utf-8-sig"))  # an editor's BOM is fine
     except FileNotFoundError:
         raise SessionFileError(f"{path}: no such session file") from None
-    except (OSError, UnicodeDecodeError) as exc:
+    except UnicodeDecodeError:
+        raise SessionFileError(
+            f"{path}: not a session file (not JSON text); a session file is what 'speechcal "
+            f"process' writes, a recording opens with its audio (speechcal review RECORDING "
+            f"--audio AUDIO)") from None
+    except OSError as exc:
         raise SessionFileError(f"{path}: cannot read the session file ({exc})") from exc
     except json.JSONDecodeError as exc:
         bak = path.with_name(path.name + ".bak")
@@ -81,7 +86,10 @@ def load_session(path: str | Path) -> Session:
     if not isinstance(data, dict) or "schema" not in data:
         raise SessionFileError(f"{path}: not a SpeechCal session file (no 'schema' key)")
     schema = data["schema"]
-    if not isinstance(schema, int) or schema > SCHEMA:
+    if not isinstance(schema, int) or isinstance(schema, bool) or schema < 1:
+        raise SessionFileError(f"{path}: damaged session file ('schema' is {schema!r}, "
+                               f"not a whole number such as {SCHEMA})")
+    if schema > SCHEMA:
         raise SessionFileError(
             f"{path}: written by a newer SpeechCal (schema {schema}, this version reads up to "
             f"{SCHEMA}); update SpeechCal to open it"
@@ -99,15 +107,33 @@ def load_session(path: str | Path) -> Session:
                 {k: v for k, v in data["sync"].items()
                  if k not in ("offset_ns", "drift", "source")},
                 lambda a: str(base / a)),
-            sets=[FrameSet.from_dict(s) for s in data.get("sets", [])],
+            sets=[_frame_set(path, k, s) for k, s in enumerate(data.get("sets", []))],
             triggers_word=list(data.get("trigger_words", ["capture"])),
             calibration=dict(data.get("calibration", {})),
             extra={k: v for k, v in data.items() if k not in known},
         )
     except (KeyError, TypeError, ValueError) as exc:
-        raise SessionFileError(
-            f"{path}: damaged session file ({exc!r} is missing or wrong)"
-        ) from exc
+        raise SessionFileError(f"{path}: damaged session file ({_reason(exc)})") from exc
+
+
+def _frame_set(path: Path, k: int, data: Any) -> FrameSet:
+    """Set ``k`` (0-based) of the file, or SessionFileError naming it and what is wrong."""
+    try:
+        return FrameSet.from_dict(data)
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:
+        name = f"set {data['id']}" if isinstance(data, dict) and "id" in data else \
+            f"set number {k + 1} in the list"
+        raise SessionFileError(f"{path}: damaged session file: {name}: {_reason(exc)}; fix it "
+                               "or go back to the .bak beside it") from exc
+
+
+def _reason(exc: Exception) -> str:
+    """What a parsing error says, in words: a missing key is named as such."""
+    if isinstance(exc, KeyError):
+        return f"the key {exc.args[0]!r} is missing"
+    if isinstance(exc, (TypeError, AttributeError)):
+        return f"a value of the wrong kind ({exc})"
+    return str(exc)
 
 
 def _check_session_shape(path: Path, data: dict[str, Any]) -> None:

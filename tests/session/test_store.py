@@ -105,6 +105,52 @@ def test_newer_schema_is_refused_with_update_hint(tmp_path: Path) -> None:
         load_session(path)
 
 
+def _edited(tmp_path: Path, edit) -> Path:
+    """A saved session file after ``edit`` (a function on its JSON document)."""
+    path = tmp_path / "session.json"
+    save_session(_session(tmp_path), path)
+    data = json.loads(path.read_text())
+    edit(data)
+    path.write_text(json.dumps(data))
+    return path
+
+
+@pytest.mark.parametrize(("edit", "says"), [
+    (lambda d: d.update(schema="1"), "'schema' is '1', not a whole number"),
+    (lambda d: d["sets"][0].update(decision="yes"),
+     "set 1: decision 'yes' is none of accepted, rejected, undecided"),
+    (lambda d: d["sets"][0].pop("trigger"), "set 1: the key 'trigger' is missing"),
+    (lambda d: d["sets"][0].pop("id"), "set number 1 in the list: the key 'id' is missing"),
+    (lambda d: d["sets"][0].update(frames=None), "set 1: a value of the wrong kind"),
+])
+def test_a_hand_edit_gone_wrong_names_the_set_and_what_is_wrong(tmp_path: Path, edit,
+                                                                 says: str) -> None:
+    path = _edited(tmp_path, edit)
+    with pytest.raises(SessionFileError) as exc:
+        load_session(path)
+    assert str(exc.value).startswith(f"{path}: damaged session file")
+    assert says in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_decisions_written_by_hand_in_capitals_are_read(tmp_path: Path) -> None:
+    path = _edited(tmp_path, lambda d: d["sets"][0].update(decision="Accepted"))
+    assert load_session(path).sets[0].decision == "accepted"
+
+
+def test_a_byte_order_mark_from_an_editor_is_read(tmp_path: Path) -> None:
+    path = tmp_path / "session.json"
+    save_session(_session(tmp_path), path)
+    path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
+    assert load_session(path).sets == _session(tmp_path).sets
+
+
+def test_a_recording_given_as_the_session_says_how_to_open_it(tmp_path: Path) -> None:
+    path = tmp_path / "rec.bag"
+    path.write_bytes(b"#ROSBAG V2.0\n\x00\xff\xfe" + bytes(range(256)))
+    with pytest.raises(SessionFileError, match=r"not a session file .*--audio AUDIO"):
+        load_session(path)
+
+
 def test_broken_json_names_file_and_backup(tmp_path: Path) -> None:
     path = tmp_path / "session.json"
     save_session(_session(tmp_path), path)
