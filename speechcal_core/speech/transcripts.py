@@ -30,8 +30,8 @@ class Transcript:
             return None
         shown = ", ".join(repr(w) for w in self.untimed[:5])
         more = f" and {len(self.untimed) - 5} more" if len(self.untimed) > 5 else ""
-        return (f"{self.path}: {len(self.untimed)} word(s) without timestamps skipped "
-                f"({shown}{more})")
+        return (f"{self.path}: {len(self.untimed)} word(s) without timestamps (none, or "
+                f"an end before the start) skipped ({shown}{more})")
 
 
 def read_transcript(path: str | Path) -> Transcript:
@@ -132,15 +132,22 @@ def _from_audacity(p: Path, text: str) -> Transcript:
     return out
 
 
+#: header names of the CSV's word, start and end columns
+CSV_COLUMNS = (("word", "text", "label"), ("start", "begin", "start_s"), ("end", "stop", "end_s"))
+
+
 def _from_csv(p: Path, text: str) -> Transcript:
-    """CSV ``word,start,end`` (a header row is optional; extra columns ignored)."""
+    """CSV ``word,start,end`` (a header row is optional and may name the columns in any
+    order, also as text/label, begin, stop; extra columns ignored)."""
     out = Transcript(p, "csv")
     rows = list(csv.reader(io.StringIO(text)))
     header = [c.strip().lower() for c in rows[0]] if rows else []
     cols = (0, 1, 2)
     other_header = False
-    if {"word", "start", "end"} <= set(header):
-        cols = (header.index("word"), header.index("start"), header.index("end"))
+    named = [next((header.index(n) for n in names if n in header), None)
+             for names in CSV_COLUMNS]
+    if all(k is not None for k in named):
+        cols = tuple(named)  # type: ignore[assignment]
         rows = rows[1:]
     elif rows and _number(rows[0][1] if len(rows[0]) > 1 else None) is None:
         rows, other_header = rows[1:], True  # some other header
@@ -155,6 +162,11 @@ def _from_csv(p: Path, text: str) -> Transcript:
             out.untimed.append(word)
         else:
             out.words.append(Word(word, t0, t1, 1.0, "csv"))
+    if out.untimed and not out.words:  # columns in another order, or no times at all
+        raise SpeechError(
+            f"{p}: no row has a word with start and end times (the first reads "
+            f"{','.join(rows[0]) if rows else ''!r}); the columns must be word,start,end, "
+            f"or name them so in a header row")
     if other_header and not out.words and not out.untimed:
         raise SpeechError(
             f"{p}: not a transcript (no rows of word,start,end); give a WhisperX or "

@@ -58,6 +58,10 @@ def test_audacity_labels_and_csv_are_read(tmp_path: Path) -> None:
     t = read_transcript(_write(tmp_path, "words.csv", csv_text))
     assert [w.start_s for w in t.words] == [1.0, 2.0]
     assert t.untimed == ["hello"]
+    reordered = "Start,End,Text,Speaker\n1.0,1.5,capture,A\n2.0,2.5,Capture!,A\n"
+    t = read_transcript(_write(tmp_path, "reordered.csv", reordered))
+    assert [(w.word, w.start_s, w.end_s) for w in t.words] == [("capture", 1.0, 1.5),
+                                                                ("Capture!", 2.0, 2.5)]
 
 
 @pytest.mark.parametrize("text, fix", [
@@ -66,6 +70,7 @@ def test_audacity_labels_and_csv_are_read(tmp_path: Path) -> None:
     ('{"text": "capture"}', "without word timings"),
     ("1.0\tcapture\n", "start<TAB>end<TAB>label"),
     ("hello\n", "not a transcript"),  # one word of plain text: no header, no rows
+    ("from,to,what\n1.0,1.5,capture\n2.0,2.5,capture\n", "columns must be word,start,end"),
 ])
 def test_bad_transcripts_name_the_file_and_the_fix(tmp_path: Path, text: str, fix: str) -> None:
     p = _write(tmp_path, "bad.txt", text)
