@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from speechcal_core.speech.backend import SpeechBackend, Word
-from speechcal_core.speech.errors import SpeechError
+from speechcal_core.speech.errors import SpeechError, SpeechUsageError
 from speechcal_core.speech.matching import (
     DEFAULT_SENSITIVITY,
     DEFAULT_TRIGGERS,
@@ -65,11 +65,11 @@ def make_backend(name: str, *, model_dir: str | Path | None = None,
         from speechcal_core.speech.query_by_example import Example, QueryByExampleBackend
 
         if not examples:
-            raise SpeechError("--backend example needs a marked instance: --example START:END")
+            raise SpeechUsageError("--backend example needs a marked instance: --example START:END")
         return QueryByExampleBackend([Example(a, b, example_word) for a, b in examples])
     if name == "transcript":
-        raise SpeechError("--backend transcript needs the file: --transcript F")
-    raise SpeechError(f"unknown backend {name!r}; use one of {', '.join(BACKENDS)}")
+        raise SpeechUsageError("--backend transcript needs the file: --transcript F")
+    raise SpeechUsageError(f"unknown backend {name!r}; use one of {', '.join(BACKENDS)}")
 
 
 def detect_triggers(audio_path: str | Path | Audio | None,

@@ -6,7 +6,7 @@ import functools
 import re
 from pathlib import Path
 
-from speechcal_core.speech.errors import SpeechError
+from speechcal_core.speech.errors import SpeechUsageError
 
 #: the phones of the bundled en-us acoustic model (CMU ARPAbet, no stress marks)
 PHONES = frozenset((
@@ -52,7 +52,7 @@ def parse_phones(word: str, phones: str) -> Pron:
     pron = tuple(re.sub(r"\d", "", p) for p in phones.upper().split())
     bad = [p for p in pron if p not in PHONES]
     if not pron or bad:
-        raise SpeechError(
+        raise SpeechUsageError(
             f"pronunciation of {word!r} ({phones!r}) uses unknown phones {bad or '(none)'}; "
             f"use ARPAbet phones: {' '.join(sorted(PHONES))}"
         )
@@ -68,7 +68,7 @@ def pronunciations(word: str, user: dict[str, str] | None = None) -> tuple[Pron,
         return (parse_phones(word, user[word]),)
     found = load_dictionary().get(word)
     if not found:
-        raise SpeechError(
+        raise SpeechUsageError(
             f"trigger word {word!r} is not in the pocketsphinx dictionary; give its "
             f"pronunciation, e.g. --pronounce '{word}=K AE P CH ER' (ARPAbet phones)"
         )

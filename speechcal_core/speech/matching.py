@@ -8,7 +8,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
 from speechcal_core.speech.backend import Word
-from speechcal_core.speech.errors import SpeechError
+from speechcal_core.speech.errors import SpeechUsageError
 
 DEFAULT_TRIGGERS = ("capture",)
 DEFAULT_SENSITIVITY = 0.5
@@ -43,14 +43,15 @@ class TriggerSpec:
     def __post_init__(self) -> None:
         words = tuple(dict.fromkeys(normalize_word(w) for w in self.words if normalize_word(w)))
         if not words:
-            raise SpeechError("no trigger word given; pass at least one, e.g. --trigger capture")
+            raise SpeechUsageError(
+                "no trigger word given; pass at least one, e.g. --trigger capture")
         bad = [w for w in words if not re.fullmatch(r"[\w']+", w)]
         if bad:
-            raise SpeechError(
+            raise SpeechUsageError(
                 f"trigger {bad[0]!r} is not a single word; give each word with its own --trigger"
             )
         if not 0.0 <= float(self.sensitivity) <= 1.0:
-            raise SpeechError(
+            raise SpeechUsageError(
                 f"sensitivity {self.sensitivity} is outside 0..1; 0.5 is the balanced default"
             )
         prons = {normalize_word(k): " ".join(v.upper().split())

@@ -53,7 +53,12 @@ def test_missing_whisper_backend_says_what_to_install(capture_scene, backend: st
 
 def test_unknown_backend_and_bad_options_are_reported(capture_scene,
                                                       capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["detect", str(capture_scene.path), "--backend", "vosk"]) == 1
+    assert main(["detect", str(capture_scene.path), "--backend", "vosk"]) == 2
     assert "unknown backend" in capsys.readouterr().err
+    for option, says in ((["--trigger", ""], "no trigger word given"),
+                         (["--trigger", "take picture"], "not a single word"),
+                         (["--pronounce", "w=ZZ", "--trigger", "w"], "unknown phones")):
+        assert main(["detect", str(capture_scene.path), *option]) == 2, option
+        assert says in capsys.readouterr().err, option
     assert main(["detect", str(capture_scene.path), "--pronounce", "kaptcha"]) == 2
     assert main(["detect", str(capture_scene.path), "--example", "3"]) == 2
