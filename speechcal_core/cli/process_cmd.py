@@ -105,6 +105,10 @@ def _summary(session: Session) -> str:
     n = len(session.sets)
     flagged = sum(1 for s in session.sets if any(f.flags for f in s.frames))
     text = f"{n} frame set{'' if n == 1 else 's'} ({flagged} flagged)"
+    frameless = sum(1 for s in session.sets if not any(f.index >= 0 for f in s.frames))
+    if frameless:
+        text += (f"; {frameless} {'has' if frameless == 1 else 'have'} no frame in any camera "
+                 "at the trigger time: check the offset (the clap, or --offset-ns)")
     streams = sorted({f.stream for s in session.sets for f in s.frames})
     check = check_summary(session, streams) if streams else None
     return f"{text}; {check.line}" if check else text

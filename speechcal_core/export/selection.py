@@ -23,6 +23,14 @@ def select_sets(
               if s.decision in wanted and any(f.index >= 0 for f in s.frames)]
     if not chosen:
         counts = session.counts()
+        frameless = frameless_sets(session, include_undecided=include_undecided)
+        if frameless:
+            n = len(frameless)
+            raise ExportError(
+                f"{where}: {n} set{'' if n == 1 else 's'} to export, but no camera has a "
+                f"frame at {'its' if n == 1 else 'their'} time; check the audio offset "
+                f"(the clap) in the review window: it puts the triggers outside the recording"
+            )
         if include_undecided:
             raise ExportError(
                 f"{where}: no accepted or undecided frame sets with frames "

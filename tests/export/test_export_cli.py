@@ -182,3 +182,21 @@ def test_an_accepted_set_without_frames_is_named_as_left_out(session_file, tmp_p
     assert result["sets"] == len(doc["sets"]) - 1
     assert result["skipped"] == [f"set {last['id']}: no camera has a frame at its time"]
     assert f"left out: set {last['id']}: no camera has a frame" in err
+
+
+def test_accepted_sets_all_without_frames_point_at_the_offset(session_file, tmp_path,
+                                                              capsys) -> None:
+    """An offset edited far off leaves every set without frames: the message says why
+    instead of claiming there are no accepted sets."""
+    path = session_file(decisions=("accepted",))
+    doc = json.loads(path.read_text())
+    for frame_set in doc["sets"]:
+        for frame in frame_set["frames"]:
+            frame["index"] = -1
+    path.write_text(json.dumps(doc))
+    code, stdout, err = _run(capsys, str(path), "--format", "kalibr", "--out",
+                             str(tmp_path / "o"))
+    assert code == 1 and stdout == "" and err.count("\n") == 1
+    n = len(doc["sets"])
+    assert f"{n} sets to export, but no camera has a frame at their time" in err
+    assert "audio offset" in err and not (tmp_path / "o").exists()

@@ -123,6 +123,16 @@ def test_process_output_that_is_a_folder_names_a_file_to_give_before_any_work(
     assert f"-o {tmp_path / 'session.json'}" in err and "%]" not in err
 
 
+def test_process_with_an_offset_far_off_says_the_sets_have_no_frames(
+        synth, tmp_path: Path, capsys) -> None:
+    out, truth = synth
+    code = main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+                 "--offset-ns", "0", "-o", str(tmp_path / "session.json")])
+    err = capsys.readouterr().err
+    assert code == 0
+    assert "have no frame in any camera at the trigger time: check the offset" in err
+
+
 @pytest.mark.slow
 def test_process_takes_the_pronunciation_of_a_word_missing_from_the_dictionary(
         synth, tmp_path: Path, capsys) -> None:
