@@ -24,6 +24,7 @@ from speechcal_core.export.manifest import manifest_document, write_manifest
 from speechcal_core.export.plan import Progress, make_plan
 from speechcal_core.export.selection import frameless_sets, select_sets
 from speechcal_core.fsutil import OutputExistsError, staged_directory
+from speechcal_core.session.store import check_recording_present
 from speechcal_core.target import TargetSpec
 
 if TYPE_CHECKING:
@@ -267,12 +268,7 @@ def export_session_file(
     session = load_session(session_path)
     sets = _preflight(session, fmt, out, force=force, include_undecided=include_undecided,
                       session_path=session_path)
-    for p in session.recording:
-        if not Path(p).exists():
-            raise ExportError(
-                f"{session_path}: its recording {p} is missing; put it back there "
-                "(paths are kept relative to the session file) or process it again"
-            )
+    check_recording_present(session, session_path)
     report = progress or _noop
     report("opening the recording", 0.0)
     with open_recording(session.recording) as source:

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.session.model import Session
-from speechcal_core.session.store import load_session, save_session
+from speechcal_core.session.store import check_recording_present, load_session, save_session
 
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio, EnvelopePyramid
@@ -100,6 +100,7 @@ def load_for_review(
         raise UsageError("nothing to open: give a session file or a recording with --audio")
 
     if source is None:
+        check_recording_present(session, path)
         report("indexing recording", 0.6)
         source = open_recording(session.recording)
     claps = tuple(float(c["audio_s"]) for c in session.sync_evidence.get("claps") or []

@@ -65,6 +65,17 @@ def _save_error(path: Path, reason: str) -> SessionFileError:
                             "free disk space or choose a writable folder")
 
 
+def check_recording_present(session: Session, session_path: str | Path) -> None:
+    """SessionFileError when a file of the session's recording is missing, saying how to
+    point the session at where it went without losing the review decisions."""
+    for p in session.recording:
+        if not Path(p).exists():
+            raise SessionFileError(
+                f"{session_path}: its recording {p} is missing; put it back there, or write "
+                "its new path into the session file's \"recording\" list (relative to the "
+                "session file) to keep the review decisions")
+
+
 def load_session(path: str | Path) -> Session:
     """Read a session file; older schemas are migrated, newer ones refused."""
     path = Path(path)

@@ -53,7 +53,9 @@ class Sqlite3File:
             self.con = sqlite3.connect(uri, uri=True, check_same_thread=False)
             self.con.execute("SELECT count(*) FROM sqlite_master").fetchone()
         except sqlite3.DatabaseError as exc:
-            raise SourceError(f"{self.path}: not a readable rosbag2 sqlite3 file ({exc})") from None
+            raise SourceError(
+                f"{self.path}: not a readable rosbag2 sqlite3 file ({exc}); if it was cut "
+                f"short, try `sqlite3 {self.path} .recover | sqlite3 fixed.db3`") from None
         self.lock = threading.Lock()
 
     def _err(self, exc: Exception) -> SourceError:

@@ -96,3 +96,17 @@ def test_a_cancel_late_in_opening_closes_the_recording(tiny_synth, tmp_path: Pat
     with pytest.raises(Cancelled):
         load_for_review(recording=[recording], audio=audio, progress=progress)
     assert not any(p.startswith(str(Path(recording).parent)) for p in _open_files())
+
+
+def test_a_moved_recording_says_how_to_keep_the_decisions(tiny_synth, tmp_path: Path) -> None:
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    load_for_review(recording=[recording], audio=audio).close()
+    session_path = default_session_path([recording])
+    moved = tmp_path / "moved" / Path(recording).name
+    moved.parent.mkdir()
+    shutil.move(recording, moved)
+    with pytest.raises(SessionFileError) as exc:
+        load_for_review(session_path=session_path)
+    text = str(exc.value)
+    assert text.startswith(f"{session_path}: its recording") and "is missing" in text
+    assert '"recording" list' in text and "keep the review decisions" in text
