@@ -109,3 +109,20 @@ def test_export_waits_for_the_sets_it_holds_that_show_nearest_frames(
     assert model.export_waits_for(include_undecided=True) == [ids[0], *ids[2:]]
     _rescore(model)
     assert model.export_waits_for(include_undecided=True) == []
+
+
+def test_no_camera_fitting_says_which_board_was_looked_for(
+        tiny_synth: tuple[Path, dict]) -> None:
+    """An AprilGrid recording processed as a checkerboard (or the other way round, with no
+    --target) fits no camera: the check line says what it looked for and what to do."""
+    from speechcal_core.pipeline import process_recording
+
+    folder, truth = tiny_synth
+    session = process_recording([str(folder / truth["recording"])],
+                                str(folder / truth["audio"]),
+                                target=TargetSpec("checkerboard", 4, 3, 0.05))
+    summary = check_summary(session, sorted({f.stream for s in session.sets
+                                             for f in s.frames}))
+    assert summary is not None and " 0 of 3 cameras fit" in summary.line
+    assert "(looked for a 3x4 checkerboard: if the board is another one" in summary.line
+    assert "--target TARGET.yaml" in summary.line
