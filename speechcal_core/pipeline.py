@@ -44,7 +44,15 @@ def detect_trigger_words(audio, trigger_words: Sequence[str],
                                 pronunciations=pronunciations, sensitivity=sensitivity)
     triggers = [Trigger(w.word, w.start_s, w.end_s, w.score, w.source or detection.backend)
                 for w in detection.triggers]
-    return triggers, list(detection.notes)
+    notes = list(detection.notes)
+    duration = getattr(audio, "duration_s", None)
+    if transcript is not None and duration is not None:
+        late = sum(1 for t in triggers if t.start_s > duration)
+        if late:
+            words = "trigger word lies" if late == 1 else "trigger words lie"
+            notes.append(f"{transcript}: {late} {words} past the audio's end "
+                         f"({duration:.1f} s); is it this audio's transcript?")
+    return triggers, notes
 
 
 def process_recording(

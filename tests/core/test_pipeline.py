@@ -29,6 +29,24 @@ def test_transcript_and_known_offset_give_one_set_per_trigger_inside_its_hold(
             assert frame.index >= 0
             assert start - 40e6 <= frame.stamp_ns <= end + 40e6
     assert "finding the clap" not in stages and stages[-1] == "done"
+    assert "detection_notes" not in session.extra
+
+
+def test_a_transcript_running_past_the_audio_is_noted(tiny_synth: tuple[Path, dict],
+                                                      tmp_path: Path, capsys) -> None:
+    """Another recording's transcript: its words lie past this audio's end, and process
+    says so instead of writing sets without frames in silence."""
+    from speechcal_core.cli import main
+
+    folder, truth = tiny_synth
+    csv = tmp_path / "words.csv"
+    csv.write_text("word,start,end\ncapture,2.0,2.4\ncapture,500.0,500.5\n")
+    assert main(["process", str(folder / truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--transcript", str(csv), "--offset-ns",
+                 str(truth["sync"]["offset_ns"]), "-o", str(tmp_path / "s.json")]) == 0
+    err = capsys.readouterr().err
+    assert f"note: {csv}: 1 trigger word lies past the audio's end" in err
+    assert "is it this audio's transcript?" in err
 
 
 def test_process_refuses_to_replace_a_session_without_force(
