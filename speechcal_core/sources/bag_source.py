@@ -94,7 +94,7 @@ class BagSource(ClosingContext):
             self.close()
             raise
         if not self._streams:
-            names = ", ".join(f.path.name for f in self._files)
+            names = ", ".join(str(f.path) for f in self._files)
             others = sorted({o for s in scans for o in s.other_topics})
             found = f" (found: {', '.join(others[:8])})" if others else ""
             self.close()

@@ -34,7 +34,7 @@ def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list
 
     Raises :class:`SyncError` for silent audio or audio without any clap-like sound.
     """
-    name = audio.path.name if audio.path else "audio"
+    name = str(audio.path) if audio.path else "audio"
     levels = audio_levels(audio)
     notes: list[str] = []
     if levels.silent:

@@ -84,8 +84,10 @@ def test_missing_file_is_named(tmp_path: Path) -> None:
 
 def test_bag_without_image_topics_lists_what_it_has(make_bag) -> None:
     path = make_bag("ros1", [], imu=True)
-    with pytest.raises(SourceError, match=r"no sensor_msgs/Image.*\/imu \[sensor_msgs/Imu\]"):
+    with pytest.raises(SourceError, match=r"no sensor_msgs/Image.*\/imu \[sensor_msgs/Imu\]") \
+            as exc:
         open_recording([path])
+    assert str(exc.value).startswith(f"{path}: ")  # the path as given, not only its name
 
 
 @pytest.mark.parametrize("fmt", ["ros1-bz2", "ros2-sqlite3"])

@@ -114,6 +114,7 @@ def test_bad_audio_gives_one_line_reasons_and_manual_path_works(
         assert len(lines) == 1 and words in lines[0] and path.name in lines[0]
         if path.exists():  # says how to go on by hand, in sync and in process
             assert "--audio-clap SECONDS" in lines[0] and "--offset-ns N" in lines[0]
+            assert f"error: {path}: " in lines[0]  # the path as given, not only its name
     # set by hand: both clocks, or the video side only
     clap_ns = truth["claps"][0]["session_ns"]
     for bad in (["--audio-clap", "999"], ["--audio-clap", "-1"], ["--video-clap-ns", "0"]):
