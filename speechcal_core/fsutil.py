@@ -147,3 +147,31 @@ def _swap_in(staging: Path, target: Path) -> Path | None:
             f"{target}: cannot put the new output in place ({exc.strerror}); {kept}"
         ) from exc
     return old
+
+
+def _spellings(path: Path, *, follow_last: bool) -> set[Path]:
+    """``path`` made absolute without ``..``, and with links resolved (all of them, or
+    all but the last part): the ways one file may be named."""
+    plain = Path(os.path.normpath(path.absolute()))
+    real = plain.resolve() if follow_last else plain.parent.resolve() / plain.name
+    return {plain, real}
+
+
+def overlap(out: Path, inputs: dict[str, list[Path]]) -> tuple[str, str, Path] | None:
+    """Whether writing ``out`` would touch one of ``inputs`` (what it is -> its paths):
+    ``("is" | "holds" | "inside", what, path)`` for the first that ``out`` is, holds (a
+    folder around it) or lies inside (a folder input), else None. Links and ``..`` are
+    followed, but not a link at ``out`` itself (replacing a link leaves what it points to).
+    """
+    outs = _spellings(out, follow_last=False)
+    for what, paths in inputs.items():
+        for p in paths:
+            spellings = _spellings(p, follow_last=True) | _spellings(p, follow_last=False)
+            for o, q in ((o, q) for o in outs for q in spellings):
+                if o == q:
+                    return "is", what, p
+                if o in q.parents:
+                    return "holds", what, p
+                if q in o.parents:
+                    return "inside", what, p
+    return None

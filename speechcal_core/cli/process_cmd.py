@@ -12,7 +12,7 @@ from speechcal_core.cli._speech_options import (
     pronunciations,
     sensitivity,
 )
-from speechcal_core.fsutil import OutputExistsError
+from speechcal_core.fsutil import OutputExistsError, overlap
 
 if TYPE_CHECKING:
     from speechcal_core.session.model import Session
@@ -85,19 +85,13 @@ def _refuse_to_write_over_inputs(args: argparse.Namespace) -> None:
     inputs = {"recording": args.recording, "audio": [args.audio],
               "transcript": [args.transcript] if args.transcript else [],
               "target": [args.target] if args.target else []}
-    for what, paths in inputs.items():
-        for p in map(Path, paths):
-            if _same_file(out, p):
-                raise OutputExistsError(f"{out} is the {what} this reads; name the session "
-                                        "file something else, such as session.json")
-
-
-def _same_file(a: Path, b: Path) -> bool:
-    """Whether ``a`` and ``b`` name one existing file (links and ``..`` followed)."""
-    try:
-        return a.exists() and b.exists() and a.samefile(b)
-    except OSError:
-        return False
+    touched = overlap(out, {what: [Path(p) for p in paths] for what, paths in inputs.items()})
+    if touched is not None:
+        relation, what, p = touched
+        where = f"is the {what} this reads" if relation == "is" else \
+            f"lies inside the {what} {p} this reads"
+        raise OutputExistsError(f"{out} {where}; write the session file elsewhere, such as "
+                                "session.json beside it")
 
 
 def _summary(session: Session) -> str:

@@ -12,18 +12,18 @@ window waits for its re-scoring instead).
 
 from __future__ import annotations
 
-import json
 import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from speechcal_core.errors import UsageError
+from speechcal_core.export.earlier import FORMATS, not_replaceable
 from speechcal_core.export.errors import ExportError
 from speechcal_core.export.manifest import manifest_document, write_manifest
 from speechcal_core.export.plan import Progress, make_plan
 from speechcal_core.export.selection import frameless_sets, select_sets
-from speechcal_core.fsutil import OutputExistsError, staged_directory
+from speechcal_core.fsutil import OutputExistsError, overlap, staged_directory
 from speechcal_core.session.store import check_recording_present
 from speechcal_core.target import TargetSpec
 
@@ -31,9 +31,6 @@ if TYPE_CHECKING:
     from speechcal_core.export.plan import Outcome, Plan
     from speechcal_core.session.model import FrameSet, Session
     from speechcal_core.sources.base import FrameSource
-
-FORMATS = ("kalibr", "folders", "rosbag1", "rosbag2")
-
 
 @dataclass(frozen=True)
 class ExportResult:
@@ -65,63 +62,22 @@ def _noop(_text: str, _fraction: float) -> None:
     pass
 
 
-def _spellings(path: Path, *, follow_last: bool) -> set[Path]:
-    """``path`` made absolute without ``..``, and with links resolved (all of them, or
-    all but the last part): the ways one file may be named."""
-    plain = Path(os.path.normpath(path.absolute()))
-    real = plain.resolve() if follow_last else plain.parent.resolve() / plain.name
-    return {plain, real}
-
-
 def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> None:
     """Refuse an existing ``out`` without ``force``, and always one that is, holds or lies
     inside an input the export reads (``protected``: what it is -> its paths)."""
-    outs = _spellings(out, follow_last=False)  # replacing a link leaves what it points to
-    for what, paths in protected.items():
-        for p in paths:
-            spellings = _spellings(p, follow_last=True) | _spellings(p, follow_last=False)
-            for o, q in ((o, q) for o in outs for q in spellings):
-                if o == q:
-                    where = f"this is the session's {what} {p}"
-                elif o in q.parents:
-                    where = f"this folder holds the session's {what} {p}"
-                elif q in o.parents:
-                    where = f"this lies inside the session's {what} {p}"
-                else:
-                    continue
-                raise ExportError(f"{out.absolute()}: {where}, which the export reads; "
-                                  "choose another output folder")
+    touched = overlap(out, protected)
+    if touched is not None:
+        relation, what, p = touched
+        where = {"is": "this is", "holds": "this folder holds",
+                 "inside": "this lies inside"}[relation]
+        raise ExportError(f"{out.absolute()}: {where} the session's {what} {p}, which the "
+                          "export reads; choose another output folder")
     if os.path.lexists(out) and not force:
         raise OutputExistsError(f"{out} already exists; choose another folder or pass --force")
-    problem = _not_replaceable(out)
+    problem = not_replaceable(out)
     if problem:
-        raise ExportError(f"{out.absolute()}: {problem}; --force replaces only an earlier "
-                          "export or an empty folder: choose another output folder")
-
-
-def _not_replaceable(out: Path) -> str:
-    """Why an existing ``out`` must not be replaced by an export even when forced ("" if
-    it may): it is a file, or a folder holding something other than an earlier export
-    (what its ``manifest.json`` says). A link may go: replacing it leaves what it points to."""
-    if out.is_symlink() or not out.exists():
-        return ""
-    if not out.is_dir():
-        return "this is a file, not an export folder"
-    names = sorted(child.name for child in out.iterdir())
-    if not names or _is_export(out / "manifest.json"):
-        return ""
-    shown = ", ".join(names[:3]) + (", …" if len(names) > 3 else "")
-    return f"this folder holds files that are not an export ({shown})"
-
-
-def _is_export(manifest: Path) -> bool:
-    """Whether ``manifest`` is the manifest.json an export of ours wrote."""
-    try:
-        document = json.loads(manifest.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
-        return False
-    return (isinstance(document, dict) and document.get("format") in FORMATS
-            and isinstance(document.get("sets"), list))
+        raise ExportError(f"{out.absolute()}: {problem}; only an earlier export or an empty "
+                          "folder is replaced: choose another output folder")
 
 
 def export_target(session: Session, target: TargetSpec | None) -> tuple[TargetSpec, str]:

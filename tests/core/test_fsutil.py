@@ -12,6 +12,7 @@ from speechcal_core.fsutil import (
     OutputExistsError,
     atomic_write_text,
     folder_write_problem,
+    overlap,
     staged_directory,
 )
 
@@ -166,3 +167,20 @@ def test_a_folder_under_a_file_is_reported_as_the_file(tmp_path: Path) -> None:
     assert folder_write_problem(blocking) == f"{blocking} is a file, not a folder"
     assert folder_write_problem(tmp_path / "missing") == \
         f"the folder {tmp_path / 'missing'} does not exist"
+
+
+def test_overlap_names_what_an_output_would_touch(tmp_path: Path) -> None:
+    bag2 = tmp_path / "rec"  # a ROS2 bag folder
+    bag2.mkdir()
+    (bag2 / "metadata.yaml").write_text("rosbag2_bagfile_information: {}")
+    audio = tmp_path / "mic.ogg"
+    audio.write_bytes(b"OggS")
+    inputs = {"recording": [bag2], "audio": [audio]}
+    assert overlap(bag2 / "metadata.yaml", inputs) == ("inside", "recording", bag2)
+    assert overlap(tmp_path / "x" / ".." / "mic.ogg", inputs) == ("is", "audio", audio)
+    assert overlap(tmp_path, inputs) == ("holds", "recording", bag2)
+    assert overlap(tmp_path / "session.json", inputs) is None
+    link = tmp_path / "link.ogg"
+    link.symlink_to(audio)
+    assert overlap(link, inputs) is None  # replacing the link leaves the audio
+    assert overlap(tmp_path, {"audio": [link]}) == ("holds", "audio", link)

@@ -64,6 +64,22 @@ def test_force_replaces_an_earlier_export_and_leaves_no_temporary_folders(
     assert _leftovers(tmp_path) == []
 
 
+@pytest.mark.parametrize("extra", ["calibration-camchain.yaml", "cam0/notes.txt"])
+def test_force_never_replaces_an_earlier_export_holding_other_files(
+        session_file, tmp_path, capsys, extra: str) -> None:
+    """Kalibr's results, or notes, put into an earlier export are the operator's work."""
+    path = session_file()
+    out = tmp_path / "exp"
+    assert _run(capsys, str(path), "--format", "kalibr", "--out", str(out))[0] == 0
+    (out / extra).write_text("results")
+    before = sorted(p.relative_to(out).as_posix() for p in out.rglob("*"))
+    code, _stdout, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out),
+                              "--force")
+    assert code == 1 and f"also holds files it did not write ({extra})" in err
+    assert "only an earlier export or an empty folder is replaced" in err
+    assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*")) == before
+
+
 def test_force_replaces_an_empty_folder(session_file, tmp_path, capsys) -> None:
     out = tmp_path / "exp"
     out.mkdir()
