@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
@@ -73,6 +73,12 @@ def find_video_claps(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np
     stamps = np.asarray(stamps_ns, dtype=np.int64)
     if len(frames) < 5 or stamps.size != len(frames):
         return []
+    first = np.flatnonzero(np.r_[True, np.diff(stamps) != 0])
+    if first.size < stamps.size:  # a topic recorded twice: each frame once, at its stamp
+        once = find_video_claps([frames[i] for i in first], stamps[first], stream=stream,
+                                scale=scale, detail=None if detail is None
+                                else lambda i: detail(int(first[i])))
+        return [replace(c, frame_index=int(first[c.frame_index])) for c in once]
     if scale is None:
         small = [to_gray_small(f)[0] for f in frames]
         scale = to_gray_small(frames[0])[1]
@@ -81,9 +87,7 @@ def find_video_claps(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np
         small = list(frames)
     stack = np.stack(small).astype(np.float32, copy=False)
     t = regular_times(stamps)
-    steps = np.diff(t)
-    steps = steps[steps > 0]  # a topic recorded twice repeats its stamps
-    period = float(np.median(steps)) if steps.size else 1 / 30
+    period = float(np.median(np.diff(t))) if t.size > 1 else 1 / 30
     events = _events(stack, t, period)
     out: list[VideoClap] = []
     full_res = scale < 1.0 and detail is not None

@@ -43,3 +43,12 @@ def test_no_clap_no_event() -> None:
 def test_too_few_frames() -> None:
     frames, stamps = clap_clip(seconds=0.1)
     assert find_video_clap(frames, stamps) is None
+
+
+def test_a_topic_recorded_twice_still_gives_its_clap() -> None:
+    """Two recorders on one topic: every frame twice, with the same stamp."""
+    frames, stamps = clap_clip(seed=0, clap_s=1.5)
+    doubled = [f for f in frames for _ in range(2)]
+    stamps2 = np.repeat(np.asarray(stamps), 2)
+    c = find_video_clap(doubled, stamps2)
+    assert c is not None and abs(c.clap_ns / 1e9 - 1.5) < 0.5 / 30
