@@ -209,7 +209,7 @@ class ExportAction(QObject):
     def _finished(self, result: ExportResult) -> None:
         self.last_result = result
         shown = "; ".join(result.skipped[:2]) + (" …" if len(result.skipped) > 2 else "")
-        left = f"; left out: {shown}" if result.skipped else ""
+        left = f"; {len(result.skipped)} left out: {shown}" if result.skipped else ""
         self._done(f"Exported {result.sets} frame sets ({result.frames} frames) as "
                    f"{result.format} to {result.out}{left}")
 

@@ -101,7 +101,7 @@ class TargetSpec:
         """Read a Kalibr target yaml (flat ``key: value`` lines)."""
         path = Path(path)
         try:
-            text = path.read_text(encoding="utf-8")
+            text = path.read_text(encoding="utf-8-sig")  # an editor's BOM is fine
         except OSError as exc:
             raise TargetError(f"{path}: cannot read target file ({exc.strerror})") from exc
         except UnicodeDecodeError:

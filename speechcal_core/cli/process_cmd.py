@@ -101,7 +101,7 @@ def _summary(session: Session) -> str:
     n = len(session.sets)
     flagged = sum(1 for s in session.sets if any(f.flags for f in s.frames))
     text = f"{n} frame set{'' if n == 1 else 's'} ({flagged} flagged)"
-    frameless = sum(1 for s in session.sets if not any(f.index >= 0 for f in s.frames))
+    frameless = sum(1 for s in session.sets if not s.has_frames)
     if frameless:
         text += (f"; {frameless} {'has' if frameless == 1 else 'have'} no frame in any camera "
                  "at the trigger time: check the offset (the clap, or --offset-ns)")

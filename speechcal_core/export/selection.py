@@ -20,7 +20,7 @@ def select_sets(
     """
     wanted = ("accepted", "undecided") if include_undecided else ("accepted",)
     chosen = [s for s in session.sets
-              if s.decision in wanted and any(f.index >= 0 for f in s.frames)]
+              if s.decision in wanted and s.has_frames]
     if not chosen:
         counts = session.counts()
         frameless = frameless_sets(session, include_undecided=include_undecided)
@@ -49,4 +49,4 @@ def frameless_sets(session: Session, *, include_undecided: bool = False) -> list
     camera has a frame there (a trigger past the recording's end, say)."""
     wanted = ("accepted", "undecided") if include_undecided else ("accepted",)
     return [s for s in session.sets
-            if s.decision in wanted and not any(f.index >= 0 for f in s.frames)]
+            if s.decision in wanted and not s.has_frames]

@@ -146,5 +146,6 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
     elif kept:  # nothing fits anywhere: the board may not be the one looked for
         target = TargetSpec.from_stored(session.extra.get("target")) or TargetSpec()
         line += (f" (looked for a {target.cols}x{target.rows} {target.kind}: if the board is "
-                 "another one, process again with --target TARGET.yaml)")
+                 "another one, process again with --target TARGET.yaml into a new session "
+                 "file)")
     return CheckSummary(line, tuple(lines), len(rms) < len(streams))

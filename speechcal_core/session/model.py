@@ -72,6 +72,11 @@ class FrameSet:
         stamps = [f.stamp_ns for f in self.frames if f.index >= 0]
         return max(stamps) - min(stamps) if len(stamps) > 1 else 0
 
+    @property
+    def has_frames(self) -> bool:
+        """Whether any camera has a frame for this set (none past the recording's end)."""
+        return any(f.index >= 0 for f in self.frames)
+
     def with_decision(self, decision: str) -> FrameSet:
         if decision not in DECISIONS:
             raise ValueError(f"decision must be one of {DECISIONS}, got {decision!r}")

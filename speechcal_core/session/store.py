@@ -134,8 +134,10 @@ def _frame_set(path: Path, k: int, data: Any) -> FrameSet:
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
         name = f"set {data['id']}" if isinstance(data, dict) and "id" in data else \
             f"set number {k + 1} in the list"
-        raise SessionFileError(f"{path}: damaged session file: {name}: {_reason(exc)}; fix it "
-                               "or go back to the .bak beside it") from exc
+        bak = path.with_name(path.name + ".bak")
+        back = f" or go back to {bak.name}" if bak.exists() else ""
+        raise SessionFileError(f"{path}: damaged session file: {name}: {_reason(exc)}; fix "
+                               f"it{back}") from exc
 
 
 def _reason(exc: Exception) -> str:

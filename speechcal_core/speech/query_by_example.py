@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.speech.backend import Word
-from speechcal_core.speech.errors import SpeechError
+from speechcal_core.speech.errors import SpeechUsageError
 from speechcal_core.speech.features import HOP_S, mfcc
 from speechcal_core.speech.vad import speech_segments
 
@@ -42,7 +42,7 @@ class QueryByExampleBackend:
 
     def __init__(self, examples: list[Example]) -> None:
         if not examples:
-            raise SpeechError("query by example needs one marked instance (start and end)")
+            raise SpeechUsageError("query by example needs one marked instance (start and end)")
         self.examples = examples
 
     def words(self, audio: Audio, spec: TriggerSpec) -> list[Word]:
@@ -63,12 +63,12 @@ def find_similar(audio: Audio, example: Example, *, sensitivity: float = 0.5) ->
     x = audio.resampled(RATE).samples if audio.rate != RATE else audio.samples
     duration = x.size / RATE
     if not 0.0 <= example.start_s < example.end_s <= duration + 1e-6:
-        raise SpeechError(
+        raise SpeechUsageError(
             f"example {example.start_s:.2f}-{example.end_s:.2f} s lies outside the audio "
             f"(0-{duration:.2f} s); mark the word inside the recording"
         )
     if example.end_s - example.start_s < 0.1:
-        raise SpeechError("example is shorter than 0.1 s; mark the whole word")
+        raise SpeechUsageError("example is shorter than 0.1 s; mark the whole word")
     feats = mfcc(x, RATE)
     if feats.shape[0] == 0:
         return []

@@ -17,9 +17,10 @@ tagSpacing: 0.3
 """
 
 
-def test_an_aprilgrid_file_as_kalibr_documents_it(tmp_path: Path) -> None:
+@pytest.mark.parametrize("bom", [b"", b"\xef\xbb\xbf"])  # Notepad's byte-order mark
+def test_an_aprilgrid_file_as_kalibr_documents_it(tmp_path: Path, bom: bytes) -> None:
     path = tmp_path / "april.yaml"
-    path.write_text(APRILGRID)
+    path.write_bytes(bom + APRILGRID.encode())
     spec = TargetSpec.from_kalibr_yaml(path)
     assert (spec.kind, spec.rows, spec.cols) == ("aprilgrid", 7, 6)
     assert spec.size == pytest.approx(0.088) and spec.spacing == pytest.approx(0.3)

@@ -130,6 +130,15 @@ def test_a_hand_edit_gone_wrong_names_the_set_and_what_is_wrong(tmp_path: Path, 
         load_session(path)
     assert str(exc.value).startswith(f"{path}: damaged session file")
     assert says in str(exc.value) and "\n" not in str(exc.value)
+    assert ".bak" not in str(exc.value)  # saved once: there is no earlier version to offer
+
+
+def test_a_damaged_set_offers_the_earlier_version_when_there_is_one(tmp_path: Path) -> None:
+    path = tmp_path / "session.json"
+    save_session(_session(tmp_path), path)
+    _edited(tmp_path, lambda d: d["sets"][0].update(decision="yes"))  # saved again: a .bak
+    with pytest.raises(SessionFileError, match=r"set 1: .*fix it or go back to session\.json\.bak"):
+        load_session(path)
 
 
 def test_decisions_written_by_hand_in_capitals_are_read(tmp_path: Path) -> None:

@@ -57,7 +57,10 @@ def test_unknown_backend_and_bad_options_are_reported(capture_scene,
     assert "unknown backend" in capsys.readouterr().err
     for option, says in ((["--trigger", ""], "no trigger word given"),
                          (["--trigger", "take picture"], "not a single word"),
-                         (["--pronounce", "w=ZZ", "--trigger", "w"], "unknown phones")):
+                         (["--pronounce", "w=ZZ", "--trigger", "w"], "unknown phones"),
+                         (["--trigger", "qzxv"], "not in the pocketsphinx dictionary"),
+                         (["--backend", "example", "--example", "1:1.05"], "shorter than 0.1"),
+                         (["--backend", "example", "--example", "900:901"], "outside the")):
         assert main(["detect", str(capture_scene.path), *option]) == 2, option
         assert says in capsys.readouterr().err, option
     assert main(["detect", str(capture_scene.path), "--pronounce", "kaptcha"]) == 2
