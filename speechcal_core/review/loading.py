@@ -73,6 +73,10 @@ def load_for_review(
             report(f"reading existing session {path.name}", 0.05)
             session = load_session(path)
             note = f"opened the existing {path.name} (review work kept)"
+            moved = _follow_moved_files(session, recording, audio)
+            if moved:
+                save_session(session, path)
+                note += f"; {moved}"
             if not any(_same_file(r, kept) for r in recording for kept in session.recording):
                 note += (f"; it is the session of {', '.join(session.recording)}, not of "
                          f"{', '.join(recording)}: give another session file to process these")
@@ -133,6 +137,24 @@ def _waveform(session: Session, sound: Audio | None, note: str, report: Progress
         return EnvelopePyramid(sound.samples, sound.rate, source=reader), note
     except SpeechCalError as exc:
         return None, f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
+
+
+def _follow_moved_files(session: Session, recording: Sequence[str], audio: str) -> str:
+    """Point ``session`` at ``recording`` and ``audio`` where its own files are gone and
+    the given ones carry the same names (the folder was moved or copied): says what moved,
+    "" when nothing did. The review's decisions stay with the session."""
+    said = []
+    old = session.recording
+    if (not all(Path(p).exists() for p in old) and len(recording) == len(old)
+            and sorted(Path(p).name for p in old) == sorted(Path(r).name for r in recording)):
+        session.recording = [str(Path(r).absolute()) for r in recording]
+        said.append(f"its recording moved from {Path(old[0]).parent} and is now read from "
+                    f"{Path(recording[0]).absolute().parent}")
+    if (session.audio and not Path(session.audio).exists()
+            and Path(session.audio).name == Path(audio).name):
+        said.append(f"its audio is now read from {Path(audio).absolute()}")
+        session.audio = str(Path(audio).absolute())
+    return "; ".join(said)
 
 
 def _same_file(a: str | Path, b: str | Path) -> bool:

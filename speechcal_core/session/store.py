@@ -71,9 +71,9 @@ def check_recording_present(session: Session, session_path: str | Path) -> None:
     for p in session.recording:
         if not Path(p).exists():
             raise SessionFileError(
-                f"{session_path}: its recording {p} is missing; put it back there, or write "
-                "its new path into the session file's \"recording\" list (relative to the "
-                "session file) to keep the review decisions")
+                f"{session_path}: its recording {p} is missing; put it back there, or open "
+                f"it where it is now with this session to keep the review decisions "
+                f"(speechcal review RECORDING --audio AUDIO --session {session_path})")
 
 
 def load_session(path: str | Path) -> Session:

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from speechcal_core.review.loading import default_session_path, load_for_review
-from speechcal_core.session.store import SessionFileError, load_session
+from speechcal_core.session.store import SessionFileError, load_session, save_session
 
 
 def _copy_of(tiny_synth: tuple[Path, dict], tmp_path: Path) -> tuple[str, str]:
@@ -109,4 +109,27 @@ def test_a_moved_recording_says_how_to_keep_the_decisions(tiny_synth, tmp_path: 
         load_for_review(session_path=session_path)
     text = str(exc.value)
     assert text.startswith(f"{session_path}: its recording") and "is missing" in text
-    assert '"recording" list' in text and "keep the review decisions" in text
+    assert "keep the review decisions" in text
+    assert f"speechcal review RECORDING --audio AUDIO --session {session_path})" in text
+
+
+def test_a_moved_recording_given_with_the_session_is_followed_and_the_review_kept(
+        tiny_synth, tmp_path: Path) -> None:
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    session_path = tmp_path / "reviews" / "lab.json"
+    session_path.parent.mkdir()
+    load_for_review(recording=[recording], audio=audio, new_session_path=session_path).close()
+    reviewed = load_session(session_path)
+    reviewed.replace_set(reviewed.sets[0].with_decision("accepted"))
+    save_session(reviewed, session_path)
+    moved = tmp_path / "archive" / "rec"
+    shutil.move(str(Path(recording).parent), moved)
+    new_recording, new_audio = moved / Path(recording).name, moved / Path(audio).name
+    inputs = load_for_review(recording=[str(new_recording)], audio=str(new_audio),
+                             new_session_path=session_path)
+    inputs.close()
+    assert "review work kept" in inputs.note and "its recording moved from" in inputs.note
+    assert f"now read from {moved}" in inputs.note and "not of" not in inputs.note
+    saved = load_session(session_path)
+    assert [Path(p).resolve() for p in saved.recording] == [new_recording]
+    assert Path(saved.audio).resolve() == new_audio and saved.sets[0].decision == "accepted"
