@@ -109,10 +109,13 @@ def open_recording(
 
 
 def _distinct(paths: list[Path]) -> list[Path]:
-    """``paths`` in order, without the ones naming a file or folder named before."""
+    """``paths`` in order, without the ones naming a file or folder named before, and
+    without files inside a folder also given (a ROS2 bag folder and its own .db3)."""
+    real = [p.resolve() for p in paths]
     out: list[Path] = []
-    for p in paths:
-        if not any(p.samefile(q) for q in out):
+    for p, r in zip(paths, real, strict=True):
+        inside = any(q.is_dir() and q in r.parents for q in real)
+        if not inside and not any(p.samefile(q) for q in out):
             out.append(p)
     return out
 

@@ -56,6 +56,19 @@ def test_bare_ros2_storage_file_opens_without_its_folder(make_bag, fmt: str) -> 
         assert [s.count for s in src.streams] == [20, 20]
 
 
+def test_a_recording_named_twice_is_read_once(make_bag) -> None:
+    """A shell glob and a name together: the same bag twice, or a ROS2 folder with its own
+    storage file, give each frame once."""
+    bag = make_bag("ros1")
+    folder = make_bag("ros2-sqlite3", name="r2")
+    (storage,) = folder.glob("*.db3")
+    for paths in ([bag, bag.parent / ".." / bag.parent.name / bag.name], [folder, storage],
+                  [storage, folder]):
+        with open_recording(paths) as src:
+            assert [s.count for s in src.streams] == [20, 20], paths
+            assert all(s.stamp_problems == "" for s in src.streams), paths
+
+
 def test_split_bags_and_two_pcs_merge_by_topic(make_bag) -> None:
     first = make_bag("ros1", [Cam("/cam0/image_raw", regular(10), index=0)], name="a")
     second = make_bag(
