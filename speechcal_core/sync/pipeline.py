@@ -38,7 +38,9 @@ def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list
     levels = audio_levels(audio)
     notes: list[str] = []
     if levels.silent:
-        raise SyncError(f"{name}: the audio is silent (peak {levels.peak_dbfs:.0f} dBFS); "
+        level = ("every sample is zero" if levels.peak_dbfs == -np.inf
+                 else f"peak {levels.peak_dbfs:.0f} dBFS")
+        raise SyncError(f"{name}: the audio is silent ({level}); "
                         f"check the microphone and the channel, or {BY_HAND}")
     if levels.clipped:
         notes.append(f"{name}: {levels.clipped_fraction * 100:.3f}% of samples clip at full "

@@ -104,7 +104,7 @@ def test_bad_audio_gives_one_line_reasons_and_manual_path_works(
     noise = tmp_path / "noise.wav"
     rng = np.random.default_rng(0)
     sf.write(str(noise), (0.05 * rng.standard_normal(16000 * 5)).astype(np.float32), 16000)
-    cases = [(tmp_path / "missing.ogg", "not found"), (silent, "silent"),
+    cases = [(tmp_path / "missing.ogg", "not found"), (silent, "silent (every sample is zero)"),
              (noise, "no clap found")]
     for path, words in cases:
         assert main(["sync", rec, "--audio", str(path), "--json"]) == 1
