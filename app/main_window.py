@@ -52,6 +52,8 @@ EMPTY_TEXT = (
     "or open a session file (SESSION.json).</p>"
 )
 PLAY_LABEL, PAUSE_LABEL = "▶ play", "❚❚ pause"
+#: keys the Edit menu's actions carry (a QShortcut on them too would be ambiguous)
+MENU_KEYS = ("Ctrl+Z", "Ctrl+Shift+Z")
 #: the key hints under the waveform: one line at 1400 px (the tooltip says it in full,
 #: e.g. Esc back from an enlarged camera, which double-clicking it again does too)
 HINTS = ("Space play · W hear word · ←/→ frame · J/K set · F filter · A/R/U decide · "
@@ -230,12 +232,38 @@ class ReviewWindow(QMainWindow):
         quit_action.setShortcut(QKeySequence.StandardKey.Quit)
         quit_action.triggered.connect(self.close)
         menu.addAction(quit_action)
+        self._build_edit_menu()
         for key, action in KEY_BINDINGS.items():
+            if key in MENU_KEYS:
+                continue  # the Edit menu's actions carry these
             shortcut = QShortcut(QKeySequence(key), self)
             shortcut.activated.connect(lambda a=action: self.run_action(a))
         QShortcut(QKeySequence("Space"), self).activated.connect(self.toggle_play)
         QShortcut(QKeySequence("W"), self).activated.connect(self.hear_word)
         QShortcut(QKeySequence("Escape"), self).activated.connect(self._leave_enlarged)
+
+    def _build_edit_menu(self) -> None:
+        """Edit ▸ Undo / Redo, named after the step they revert (U undoes too)."""
+        self.edit_menu = self.menuBar().addMenu("&Edit")
+        self.undo_action = QAction("&Undo", self)
+        self.undo_action.setShortcut(QKeySequence("Ctrl+Z"))
+        self.undo_action.triggered.connect(lambda: self.run_action("undo"))
+        self.redo_action = QAction("&Redo", self)
+        self.redo_action.setShortcut(QKeySequence("Ctrl+Shift+Z"))
+        self.redo_action.triggered.connect(lambda: self.run_action("redo"))
+        for action in (self.undo_action, self.redo_action):
+            self.addAction(action)  # the shortcut works with the menu closed
+            self.edit_menu.addAction(action)
+        self._update_edit_menu()
+
+    def _update_edit_menu(self, *_args: object) -> None:
+        """The Undo / Redo entries say what they would revert, and are off when nothing."""
+        model = self.model
+        for action, verb, label in (
+                (self.undo_action, "Undo", model.undo_label if model else ""),
+                (self.redo_action, "Redo", model.redo_label if model else "")):
+            action.setText(f"&{verb} {label}" if label else f"&{verb}")
+            action.setEnabled(bool(label))
 
     def _build_review_page(self, inputs: ReviewInputs) -> None:
         old = self.review_page.layout()
@@ -482,6 +510,9 @@ class ReviewWindow(QMainWindow):
         self.model.connect("filter", lambda _name: self._apply_filter())
         for event in ("rescored", "decision", "sets", "sync"):
             self.model.connect(event, self.checker.schedule)
+        for event in ("decision", "sets", "sync"):  # once the step (and its stack) is done
+            self.model.connect(event, lambda *_a: QTimer.singleShot(0, self._update_edit_menu))
+        self._update_edit_menu()
         self.model.connect("checks", self._update_check_line)
         self.model.connect("similar", self.similar.ask)
         title = " + ".join(Path(p).name for p in [*inputs.session.recording,

@@ -347,6 +347,16 @@ class ReviewModel:
         if self._redo:
             self._undo.append(self._revert(self._redo.pop()))
 
+    @property
+    def undo_label(self) -> str:
+        """What :meth:`undo` would take back, in words ("" when nothing), for a menu."""
+        return _step_label(self._undo[-1]) if self._undo else ""
+
+    @property
+    def redo_label(self) -> str:
+        """What :meth:`redo` would do again, in words ("" when nothing)."""
+        return _step_label(self._redo[-1]) if self._redo else ""
+
     def _revert(self, entry: tuple) -> tuple:
         """Undo one stack entry; returns the entry that undoes this in turn."""
         kind = entry[0]
@@ -703,3 +713,19 @@ class ReviewModel:
     def trigger(self, action: str) -> None:
         """Run a named action (what a key binding maps to)."""
         getattr(self, action)()
+
+
+def _step_label(entry: tuple) -> str:
+    """An undo or redo stack entry in words: the step it reverts."""
+    kind = entry[0]
+    if kind == "sync":
+        return "audio offset change"
+    if kind == "decision":
+        return f"decision on set {entry[1]}"
+    if kind == "add":
+        return f"adding set {entry[1]}"
+    if kind == "remove":
+        return f"removing set {entry[1].id}"
+    n = len(entry[1])
+    sets = f"{n} set{'' if n == 1 else 's'}"
+    return f"adding {sets}" if kind == "add_many" else f"removing {sets}"
