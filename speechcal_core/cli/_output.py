@@ -17,3 +17,22 @@ def emit_json(document: Any) -> None:
 def progress(message: str) -> None:
     """One progress line on stderr (never stdout, which may carry JSON)."""
     print(message, file=sys.stderr, flush=True)
+
+
+class StageProgress:
+    """A ``(text, fraction)`` progress callback that writes ``[ NN%] text`` lines on
+    stderr: one when the text changes and then one per ``step`` percent, never the same
+    line twice. Texts starting with one of ``item_prefixes`` ("writing ", one per file)
+    count as one stage, so a line per item is not printed."""
+
+    def __init__(self, step: int = 10, item_prefixes: tuple[str, ...] = ()) -> None:
+        self.step, self.item_prefixes = step, item_prefixes
+        self._stage: str | None = None
+        self._shown = -1
+
+    def __call__(self, text: str, fraction: float) -> None:
+        pct = int(fraction * 100)
+        stage = next((p for p in self.item_prefixes if text.startswith(p)), text)
+        if stage != self._stage or pct // self.step > self._shown // self.step:
+            self._stage, self._shown = stage, pct
+            progress(f"[{pct:3d}%] {text}")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from speechcal_core.cli._output import progress
+from speechcal_core.cli._output import StageProgress, progress
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -27,6 +27,8 @@ def run(args: argparse.Namespace) -> int:
     workdir = Path(args.workdir) if args.workdir else default_demo_dir()
     if not (workdir / "truth.json").exists():
         progress(f"making a synthetic demo session in {workdir} …")
+    else:
+        progress(f"using the demo session in {workdir} (remove that folder for a new one)")
     recording, audio = ensure_demo_session(workdir)
     if has_display() or args.screenshot:
         return run_review(recording=[recording], audio=audio, screenshot=args.screenshot)
@@ -34,10 +36,13 @@ def run(args: argparse.Namespace) -> int:
     from speechcal_core.review.loading import load_for_review
 
     inputs = load_for_review(recording=[recording], audio=audio,
-                             progress=lambda text, f: progress(f"{text} ({f:.0%})"))
+                             progress=StageProgress())
     session = inputs.session
     inputs.close()
     progress(f"{len(session.sets)} frame sets found; session file: {inputs.session_path}")
     shot = workdir / "demo-window.png"
     progress(f"rendering the review window to {shot}")
-    return run_review(session_path=str(inputs.session_path), screenshot=str(shot))
+    code = run_review(session_path=str(inputs.session_path), screenshot=str(shot))
+    if code == 0:
+        progress(f"on a screen, review it with: speechcal review {inputs.session_path}")
+    return code

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from speechcal_core.cli._output import emit_json, progress
+from speechcal_core.cli._output import StageProgress, emit_json, progress
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -38,14 +38,7 @@ def run(args: argparse.Namespace) -> int:
     from speechcal_core.target import TargetSpec
 
     target = TargetSpec.from_kalibr_yaml(args.target) if args.target else None
-    last: list = [-1, ""]
-
-    def report(text: str, fraction: float) -> None:
-        pct = int(fraction * 100)
-        if pct // 10 != last[0] // 10 or \
-                (text != last[1] and not text.startswith(("writing ", "reading "))):
-            last[:] = [pct, text]
-            progress(f"[{pct:3d}%] {text}")
+    report = StageProgress(item_prefixes=("writing ", "reading "))
 
     result = export_session_file(
         args.session, args.format, args.out, force=args.force,

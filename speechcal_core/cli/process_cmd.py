@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from speechcal_core.cli._output import progress
+from speechcal_core.cli._output import StageProgress, progress
 from speechcal_core.cli._speech_options import (
     add_trigger_options,
     pronunciations,
@@ -49,14 +49,7 @@ def run(args: argparse.Namespace) -> int:
     check_session_target(args.output)  # a bad -o fails now, not after all the work
     words, level = pronunciations(args), sensitivity(args)
     target = TargetSpec.from_kalibr_yaml(args.target) if args.target else TargetSpec()
-    last = [-1]
-
-    def report(text: str, fraction: float) -> None:
-        pct = int(fraction * 100)
-        if pct != last[0] or not text.startswith("frames:"):
-            last[0] = pct
-            progress(f"[{pct:3d}%] {text}")
-
+    report = StageProgress()
     session = process_recording(
         args.recording,
         args.audio,

@@ -97,17 +97,18 @@ def video_clap_candidates(source: FrameSource, stream: str, t0_ns: int,
 
 
 def video_claps(source: FrameSource, t0: dict[str, int], t1: dict[str, int],
-                progress: Progress | None = None) -> list[VideoClap]:
+                progress: Progress | None = None, which: str = "clap") -> list[VideoClap]:
     """Each stream's clap in its window [t0, t1], chosen so that the cameras agree.
 
     Every camera proposes its clap-like events; the moment most cameras share (within
     ``AGREE_S``; ties go to the clearer events) is the clap, and each camera contributes
     its event nearest to it. A camera that saw nothing there contributes its best event.
+    ``which`` names the clap in the progress messages ("clap", "closing clap").
     """
     proposals: dict[str, list[VideoClap]] = {}
     for name in t0:
         if progress:
-            progress(f"looking for the clap in {name}")
+            progress(f"looking for the {which} in {name}")
         found = video_clap_candidates(source, name, t0[name], t1[name])
         if found:
             proposals[name] = found
@@ -184,7 +185,7 @@ def _closing_clap(source: FrameSource, first: Clap, a2: float, infos: list,
     span = int(max(NEAR_S, 3.0) * 1e9)
     t0 = {s.name: max(s.first_ns, expected - span) for s in infos}
     t1 = {s.name: min(s.last_ns, expected + span) for s in infos}
-    cams = [c for c in video_claps(source, t0, t1, progress)
+    cams = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
             if abs(c.clap_ns - expected) < span]
     if not cams:
         return None

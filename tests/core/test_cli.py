@@ -31,3 +31,18 @@ def test_an_option_the_subcommand_lacks_is_reported_with_its_usage(
     err = capsys.readouterr().err
     assert "usage: speechcal process" in err
     assert "speechcal process: error: unrecognized arguments: --scan" in err
+
+
+def test_stage_progress_prints_each_stage_and_every_tenth_not_every_step(capsys) -> None:
+    from speechcal_core.cli._output import StageProgress
+
+    report = StageProgress(item_prefixes=("writing ",))
+    report("indexing", 0.02)
+    for k in range(60, 81):
+        report("frames: windows", k / 100)
+    report("frames: windows", 0.80)  # the same line again
+    for k in range(5):
+        report(f"writing cam0/{k}.png", 0.81 + k / 100)
+    assert capsys.readouterr().err.splitlines() == [
+        "[  2%] indexing", "[ 60%] frames: windows", "[ 70%] frames: windows",
+        "[ 80%] frames: windows", "[ 81%] writing cam0/0.png"]
