@@ -35,6 +35,23 @@ def has_display() -> bool:
     return True
 
 
+#: what Qt's offscreen platform says about itself, not about SpeechCal's window
+OFFSCREEN_NOTICES = ("This plugin does not support propagateSizeHints()",)
+
+
+def _drop_offscreen_notices() -> None:
+    """Qt's offscreen platform warns that it cannot do window-manager hints; that reads
+    like a problem with the window to someone rendering a screenshot, so it is dropped
+    (every other Qt message still reaches stderr)."""
+    from PySide6.QtCore import qInstallMessageHandler
+
+    def handler(_kind, _context, message: str) -> None:
+        if message not in OFFSCREEN_NOTICES:
+            print(message, file=sys.stderr)
+
+    qInstallMessageHandler(handler)
+
+
 def run_review(
     *,
     session_path: str | None = None,
@@ -50,6 +67,8 @@ def run_review(
         check_screenshot_path(screenshot)  # before minutes of loading, not after
     if screenshot and not has_display():
         os.environ["QT_QPA_PLATFORM"] = "offscreen"
+    if os.environ.get("QT_QPA_PLATFORM") == "offscreen":
+        _drop_offscreen_notices()
     from PySide6.QtWidgets import QApplication
 
     from app.main_window import ReviewWindow
