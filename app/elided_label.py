@@ -16,6 +16,12 @@ class ElidedLabel(QLabel):
         self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self._elide()
 
+    def set_full_text(self, text: str) -> None:
+        """Show ``text`` (cut to the label's width; the tooltip holds it whole)."""
+        self.full_text = text
+        self.setToolTip(text)
+        self._elide()
+
     def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         self._elide()

@@ -120,6 +120,7 @@ class ExportDialog(QDialog):
         text = self.path_edit.text().strip()
         out = self._output()
         why = self.refusal(out.absolute()) if text else ""
+        why = why.removeprefix(f"{out.absolute()}: ")  # the field above shows the folder
         note = "\nIt exists: you will be asked before it is replaced" if out.exists() else ""
         later = self.waiting(self.undecided_box.isChecked())
         if later:
@@ -135,3 +136,20 @@ class ExportDialog(QDialog):
             self.summary.setText("No accepted frame sets yet: accept sets (A) first")
         elif why:  # said before any replace question: no answer makes it possible
             self.summary.setText(f"Cannot export there: {why}")
+        self._fit_height()
+
+    def resizeEvent(self, event) -> None:
+        super().resizeEvent(event)
+        self._fit_height()  # narrower: the summary wraps onto more lines
+
+    def _fit_height(self) -> None:
+        """Tall enough for the summary's lines at the dialog's width: a longer text grows
+        the dialog instead of squashing the fields above it."""
+        layout = self.layout()
+        if layout is None:
+            return
+        needed = layout.totalHeightForWidth(self.width()) if layout.hasHeightForWidth() \
+            else layout.totalSizeHint().height()
+        self.setMinimumHeight(needed)
+        if self.height() < needed:
+            self.resize(self.width(), needed)

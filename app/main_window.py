@@ -52,8 +52,10 @@ EMPTY_TEXT = (
     "or open a session file (SESSION.json).</p>"
 )
 PLAY_LABEL, PAUSE_LABEL = "▶ play", "❚❚ pause"
+#: play from a playhead this close to the session's end starts again from its start
+END_SLACK_NS = 100_000_000
 #: keys the Edit menu's actions carry (a QShortcut on them too would be ambiguous)
-MENU_KEYS = ("Ctrl+Z", "Ctrl+Shift+Z")
+MENU_KEYS = ("Ctrl+Z", "Ctrl+Shift+Z", "Ctrl+Y")
 #: the key hints under the waveform: one line at 1400 px (the tooltip says it in full,
 #: e.g. Esc back from an enlarged camera, which double-clicking it again does too)
 HINTS = ("Space play · W hear word · ←/→ frame · J/K set · F filter · A/R/U decide · "
@@ -249,7 +251,7 @@ class ReviewWindow(QMainWindow):
         self.undo_action.setShortcut(QKeySequence("Ctrl+Z"))
         self.undo_action.triggered.connect(lambda: self.run_action("undo"))
         self.redo_action = QAction("&Redo", self)
-        self.redo_action.setShortcut(QKeySequence("Ctrl+Shift+Z"))
+        self.redo_action.setShortcuts([QKeySequence("Ctrl+Shift+Z"), QKeySequence("Ctrl+Y")])
         self.redo_action.triggered.connect(lambda: self.run_action("redo"))
         for action in (self.undo_action, self.redo_action):
             self.addAction(action)  # the shortcut works with the menu closed
@@ -441,7 +443,7 @@ class ReviewWindow(QMainWindow):
         following = self._action_button("▶▶", "next_set", "next frame set  (K)")
         row.addWidget(following)
         self.transport_buttons = (previous, self.play_button, following)
-        self.info_line = QLabel("")
+        self.info_line = ElidedLabel("")  # never widens the window; the tooltip has it whole
         row.addWidget(self.info_line, 1)
         return row
 
@@ -576,8 +578,8 @@ class ReviewWindow(QMainWindow):
             idx = model.session.sets.index(current) + 1  # the list's # column is the id
             set_text = (f"   set #{current.id} ({idx} of {len(model.session.sets)})   "
                         f"skew {current.skew_ns / 1e6:.1f} ms")
-        self.info_line.setText(f"t = {model.playhead_ns / 1e9:.3f} s  ({rel:.3f} s from start)"
-                               + set_text)
+        self.info_line.set_full_text(
+            f"t = {model.playhead_ns / 1e9:.3f} s  ({rel:.3f} s from start)" + set_text)
 
     def _on_frame(self, stream: str, index: int, image) -> None:
         tile = self.grid.tiles.get(stream)
@@ -788,6 +790,9 @@ class ReviewWindow(QMainWindow):
         """Space: play from the playhead, with the audio from there; again: pause."""
         if self.model is None:
             return
+        start_ns, end_ns = self.model.time_range_ns()
+        if not self._playing and self.model.playhead_ns >= end_ns - END_SLACK_NS:
+            self.model.set_playhead(start_ns)  # play at the end: from the start again
         self._playing = not self._playing
         self.play_button.setText(PAUSE_LABEL if self._playing else PLAY_LABEL)
         self.play_button.setToolTip("pause  (Space)" if self._playing else

@@ -57,7 +57,7 @@ def folder_write_problem(folder: str | Path) -> str | None:
     """Why no file can be written in ``folder`` (None when one can): it or a folder above
     it is a file, it is missing, or the system's reason (read-only, no permission)."""
     folder = Path(folder)
-    in_the_way = _file_in_the_way(folder)
+    in_the_way = file_in_the_way(folder)
     if in_the_way:
         return in_the_way
     if not folder.is_dir():
@@ -70,7 +70,7 @@ def folder_write_problem(folder: str | Path) -> str | None:
     return None
 
 
-def _file_in_the_way(folder: Path) -> str | None:
+def file_in_the_way(folder: Path) -> str | None:
     """"X is a file, not a folder" when ``folder``, or the closest of its ancestors that
     exists, is not a folder (None otherwise)."""
     for candidate in (folder, *folder.parents):
@@ -107,7 +107,7 @@ def staged_directory(target: str | Path, *, force: bool = False) -> Iterator[Pat
         staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=parent))
         os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes 0700
     except OSError as exc:
-        reason = _file_in_the_way(parent) or exc.strerror
+        reason = file_in_the_way(parent) or exc.strerror
         raise SpeechCalError(
             f"{target}: cannot write there ({reason}); choose a writable folder"
         ) from exc

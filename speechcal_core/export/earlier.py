@@ -25,11 +25,13 @@ def not_replaceable(out: Path) -> str:
         return ""
     written = export_files(out / "manifest.json")
     if written is None:
-        return f"this folder holds files that are not an export ({_shown(names)})"
+        return (f"this folder holds files that are not an export ({_shown(names)}), and an "
+                "export never replaces those")
     extra = [rel for rel in _files_under(out)
              if not any(rel == w or rel.startswith(w + "/") for w in written)]
     if extra:
-        return f"this earlier export also holds files it did not write ({_shown(extra)})"
+        return (f"this earlier export also holds files it did not write ({_shown(extra)}), "
+                "and an export never replaces those")
     return ""
 
 

@@ -23,7 +23,12 @@ from speechcal_core.export.errors import ExportError
 from speechcal_core.export.manifest import manifest_document, write_manifest
 from speechcal_core.export.plan import Progress, make_plan
 from speechcal_core.export.selection import frameless_sets, select_sets
-from speechcal_core.fsutil import OutputExistsError, overlap, staged_directory
+from speechcal_core.fsutil import (
+    OutputExistsError,
+    file_in_the_way,
+    overlap,
+    staged_directory,
+)
 from speechcal_core.session.store import check_recording_present
 from speechcal_core.target import TargetSpec
 
@@ -75,9 +80,12 @@ def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> No
     if os.path.lexists(out) and not force:
         raise OutputExistsError(f"{out} already exists; choose another folder or pass --force")
     problem = not_replaceable(out)
+    if not os.path.lexists(out):
+        in_the_way = file_in_the_way(out.absolute().parent)
+        if in_the_way:
+            problem = f"cannot write there ({in_the_way})"
     if problem:
-        raise ExportError(f"{out.absolute()}: {problem}; only an earlier export or an empty "
-                          "folder is replaced: choose another output folder")
+        raise ExportError(f"{out.absolute()}: {problem}; choose another output folder")
 
 
 def export_target(session: Session, target: TargetSpec | None) -> tuple[TargetSpec, str]:

@@ -355,7 +355,7 @@ class ReviewModel:
     @property
     def redo_label(self) -> str:
         """What :meth:`redo` would do again, in words ("" when nothing)."""
-        return _step_label(self._redo[-1]) if self._redo else ""
+        return _step_label(self._redo[-1], redo=True) if self._redo else ""
 
     def _revert(self, entry: tuple) -> tuple:
         """Undo one stack entry; returns the entry that undoes this in turn."""
@@ -715,17 +715,22 @@ class ReviewModel:
         getattr(self, action)()
 
 
-def _step_label(entry: tuple) -> str:
-    """An undo or redo stack entry in words: the step it reverts."""
-    kind = entry[0]
+#: a redo entry holds the inverse of the step it redoes (undoing an add stores a remove)
+_INVERSE = {"add": "remove", "remove": "add", "add_many": "remove_many",
+            "remove_many": "add_many"}
+
+
+def _step_label(entry: tuple, redo: bool = False) -> str:
+    """A stack entry in words: on the undo stack the step it takes back, on the redo
+    stack (``redo``) the step it does again."""
+    kind = _INVERSE.get(entry[0], entry[0]) if redo else entry[0]
     if kind == "sync":
         return "audio offset change"
     if kind == "decision":
         return f"decision on set {entry[1]}"
-    if kind == "add":
-        return f"adding set {entry[1]}"
-    if kind == "remove":
-        return f"removing set {entry[1].id}"
+    if kind in ("add", "remove"):
+        set_id = entry[1] if entry[0] == "add" else entry[1].id
+        return f"{'adding' if kind == 'add' else 'removing'} set {set_id}"
     n = len(entry[1])
     sets = f"{n} set{'' if n == 1 else 's'}"
     return f"adding {sets}" if kind == "add_many" else f"removing {sets}"

@@ -148,6 +148,10 @@ def test_play_button_shows_play_again_when_the_session_ends(qtbot, window) -> No
     qtbot.mouseClick(window.play_button, Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: window.play_button.text() == "▶ play", timeout=5_000)
     assert not window._playing
+    start_ns, _ = model.time_range_ns()
+    qtbot.mouseClick(window.play_button, Qt.MouseButton.LeftButton)  # again: from the start
+    assert window._playing and model.playhead_ns < start_ns + 200_000_000
+    qtbot.mouseClick(window.play_button, Qt.MouseButton.LeftButton)
 
 
 def test_without_qtmultimedia_the_window_says_so_and_plays_on(

@@ -52,3 +52,19 @@ def test_one_set_is_one_set(qtbot, tmp_path: Path) -> None:
     dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 1, "undecided": 0})
     qtbot.addWidget(dialog)
     assert dialog.summary.text().startswith("1 frame set will be written")
+
+
+def test_a_long_refusal_grows_the_dialog_and_squashes_no_field(qtbot, tmp_path: Path) -> None:
+    long_reason = ("this folder holds files that are not an export (.bashrc, .cache, "
+                   ".cargo, …); choose another output folder or empty it") * 2
+    dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 3, "undecided": 0},
+                          refusal=lambda out: long_reason if out.name == "data" else "")
+    qtbot.addWidget(dialog)
+    dialog.show()
+    qtbot.waitExposed(dialog)
+    dialog.set_folder(tmp_path / "data")
+    assert dialog.summary.text().startswith("Cannot export there:")
+    qtbot.waitUntil(lambda: _text_fits(dialog.summary), timeout=2_000)
+    for field in (dialog.format_box, dialog.path_edit, dialog.undecided_box):
+        assert field.height() >= field.sizeHint().height(), field
+    assert dialog.rect().contains(dialog.summary.geometry())

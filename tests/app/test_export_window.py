@@ -110,3 +110,16 @@ def test_a_failed_export_is_shown_in_the_status_line(qtbot, window, tmp_path: Pa
     assert "no accepted frame sets" in window.exporter.last_error
     assert window.status_text.text().startswith("Export failed:")
     assert not (tmp_path / "none").exists()
+
+
+def test_a_folder_under_a_file_is_refused_in_the_dialog(qtbot, window, tmp_path) -> None:
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    (tmp_path / "notes.txt").write_text("mine")
+    qtbot.mouseClick(window.export_button, Qt.MouseButton.LeftButton)
+    dialog = window.exporter.dialog
+    dialog.set_folder(tmp_path / "notes.txt" / "export")
+    text = dialog.summary.text()
+    assert text.startswith("Cannot export there: cannot write there")
+    assert f"{tmp_path / 'notes.txt'} is a file, not a folder" in text
+    assert not dialog.buttons.button(QDialogButtonBox.StandardButton.Ok).isEnabled()
+    dialog.reject()

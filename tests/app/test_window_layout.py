@@ -52,3 +52,14 @@ def test_key_hints_fit_on_one_line_at_1400_px(qtbot, window) -> None:
     assert hints.full_text.endswith("double-click: whole session")
     assert ("a double-click (or the 'whole session' button) shows the whole session"
             in hints.toolTip())
+
+
+def test_the_window_fits_1100_px_and_keeps_its_width_between_sets(qtbot, window) -> None:
+    """The line under the grid (time, set, skew) shares its row with the transport
+    buttons: a long text is cut, it never widens the window."""
+    window.resize(1100, 700)
+    qtbot.waitUntil(lambda: window.width() == 1100)
+    for _ in range(len(window.model.session.sets)):
+        qtbot.keyClick(window, Qt.Key.Key_K)
+        assert window.width() == 1100
+    assert window.info_line.toolTip().startswith("t = ")

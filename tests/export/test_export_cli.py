@@ -76,7 +76,7 @@ def test_force_never_replaces_an_earlier_export_holding_other_files(
     code, _stdout, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out),
                               "--force")
     assert code == 1 and f"also holds files it did not write ({extra})" in err
-    assert "only an earlier export or an empty folder is replaced" in err
+    assert "an export never replaces those; choose another output folder" in err
     assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*")) == before
 
 

@@ -146,3 +146,30 @@ def test_removing_a_set_drops_its_corners_until_undone(truth_session_file: Path)
     model.undo()
     model.undo()
     assert session.extra["frame_details"] == {str(last.id): {"frames": {}}}
+
+
+def test_undo_and_redo_labels_name_the_step_each_would_take(truth_session_file: Path) -> None:
+    """For the Edit menu: Undo names the step it takes back, Redo the one it does again
+    (the redo stack holds the inverse step, which must not be what it names)."""
+    model = _model(truth_session_file)
+    assert (model.undo_label, model.redo_label) == ("", "")
+    model.go_to_set(1)
+    model.reject()
+    rejected_id = model.current_set.id
+    assert model.undo_label == f"decision on set {rejected_id}"
+    model.remove_set()
+    assert model.undo_label == f"removing set {rejected_id}"
+    model.set_playhead(_between_first_two_sets(model))
+    model.add_set()
+    added_id = model.current_set.id
+    assert model.undo_label == f"adding set {added_id}"
+    model.undo()
+    assert (model.undo_label, model.redo_label) == (f"removing set {rejected_id}",
+                                                    f"adding set {added_id}")
+    model.undo()
+    assert model.redo_label == f"removing set {rejected_id}"
+    model.redo()
+    assert model.undo_label == f"removing set {rejected_id}"
+    assert model.redo_label == f"adding set {added_id}"
+    model.nudge_offset(1_000_000)
+    assert (model.undo_label, model.redo_label) == ("audio offset change", "")

@@ -76,8 +76,10 @@ def test_undo_removes_every_set_one_search_added(missed_voice_file):
     with_marked = [s.id for s in model.session.sets]
     added = model.apply_similar(_search(model, SessionAudio(model.session.audio)))
     assert len(added) >= 2
+    assert model.undo_label == f"adding {len(added)} sets"
 
     model.undo()
+    assert model.redo_label == f"adding {len(added)} sets"  # not the inverse it holds
     assert [s.id for s in model.session.sets] == with_marked
     assert [s.id for s in load_session(path).sets] == with_marked  # autosaved
     model.redo()
