@@ -64,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
     truth = generate_session(args.out, options, force=args.force, progress=report)
     progress(
         f"wrote {args.out}: {truth['recording']}, {len(truth['cameras'])} cameras, "
-        f"{len(truth['triggers'])} triggers in {time.monotonic() - started:.1f} s"
+        f"{len(truth['triggers'])} triggers (made in {time.monotonic() - started:.1f} s)"
     )
     if args.json:
         emit_json(truth)
