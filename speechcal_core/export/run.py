@@ -37,6 +37,7 @@ if TYPE_CHECKING:
     from speechcal_core.session.model import FrameSet, Session
     from speechcal_core.sources.base import FrameSource
 
+
 @dataclass(frozen=True)
 class ExportResult:
     """What an export wrote (the ``--json`` document of ``speechcal export``)."""
@@ -68,8 +69,9 @@ def _noop(_text: str, _fraction: float) -> None:
 
 
 def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> None:
-    """Refuse an existing ``out`` without ``force``, and always one that is, holds or lies
-    inside an input the export reads (``protected``: what it is -> its paths)."""
+    """Refuse an existing ``out`` without ``force``; always one that is, holds or lies
+    inside an input the export reads (``protected``: what it is -> its paths), one that
+    :func:`~speechcal_core.export.earlier.not_replaceable` keeps, and one under a file."""
     touched = overlap(out, protected)
     if touched is not None:
         relation, what, p = touched
@@ -79,11 +81,11 @@ def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> No
                           "export reads; choose another output folder")
     if os.path.lexists(out) and not force:
         raise OutputExistsError(f"{out} already exists; choose another folder or pass --force")
-    problem = not_replaceable(out)
-    if not os.path.lexists(out):
+    if os.path.lexists(out):
+        problem = not_replaceable(out)
+    else:
         in_the_way = file_in_the_way(out.absolute().parent)
-        if in_the_way:
-            problem = f"cannot write there ({in_the_way})"
+        problem = f"cannot write there ({in_the_way})" if in_the_way else ""
     if problem:
         raise ExportError(f"{out.absolute()}: {problem}; choose another output folder")
 
