@@ -135,6 +135,7 @@ class ReviewWindow(QMainWindow):
         self.ask_unsaved: Callable[[str], str] = self._ask_unsaved
         self.load_error = ""
         self._pending_tiles: set[str] = set()
+        self.undo_button: QPushButton | None = None  # on the review page, once built
         self._playing = False
         self._stepping = False  # the playhead moves because play goes on (not a jump)
         #: previously opened sessions, closed once no export, re-scoring or decode reads them
@@ -266,6 +267,9 @@ class ReviewWindow(QMainWindow):
                 (self.redo_action, "Redo", model.redo_label if model else "")):
             action.setText(f"&{verb} {label}" if label else f"&{verb}")
             action.setEnabled(bool(label))
+        if self.undo_button is not None:  # the review page's button says the same
+            self.undo_button.setEnabled(self.undo_action.isEnabled())
+            self.undo_button.setToolTip(self.undo_action.text().replace("&", ""))
 
     def _build_review_page(self, inputs: ReviewInputs) -> None:
         old = self.review_page.layout()
@@ -291,9 +295,10 @@ class ReviewWindow(QMainWindow):
         self.table = SetTable()
         right_layout.addWidget(self.table, 1)
         buttons = QHBoxLayout()
-        for label, action in (("[A] accept", "accept"), ("[R] reject", "reject"),
-                              ("[U] undo", "undo")):
+        for label, action in (("[A] accept", "accept"), ("[R] reject", "reject")):
             buttons.addWidget(self._action_button(label, action))
+        self.undo_button = self._action_button("[U] undo", "undo")
+        buttons.addWidget(self.undo_button)
         right_layout.addLayout(buttons)
         edits = QHBoxLayout()
         self.add_button = self._action_button(

@@ -15,10 +15,13 @@ def test_undo_and_redo_entries_name_the_step_and_follow_the_keys(qtbot, window) 
     assert window.edit_menu.title() == "&Edit"
     assert _texts(window) == ("&Undo", "&Redo")
     assert not window.undo_action.isEnabled() and not window.redo_action.isEnabled()
+    assert not window.undo_button.isEnabled()  # the [U] button under the list agrees
     first = model.current_set.id
     qtbot.keyClick(window, Qt.Key.Key_A)
     qtbot.waitUntil(lambda: window.undo_action.isEnabled())
     assert _texts(window) == (f"&Undo decision on set {first}", "&Redo")
+    assert window.undo_button.isEnabled()
+    assert window.undo_button.toolTip() == f"Undo decision on set {first}"
     window.undo_action.trigger()  # as the menu entry or Ctrl+Z
     assert model.current_set.decision == "undecided"
     qtbot.waitUntil(lambda: window.redo_action.isEnabled())
