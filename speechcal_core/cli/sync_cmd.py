@@ -71,11 +71,9 @@ def _check_hand_set_clap(args: argparse.Namespace, audio_s: float, source: objec
     if args.audio_clap is not None and not 0.0 <= args.audio_clap <= audio_s:
         raise UsageError(f"--audio-clap {args.audio_clap:g} lies outside the audio "
                          f"({args.audio} holds 0 to {audio_s:.3f} s)")
-    if args.video_clap_ns is not None:
-        stamps = [source.stamps(s.name) for s in source.streams]  # type: ignore[attr-defined]
-        stamps = [st for st in stamps if len(st)]
-        if stamps:
-            first, last = min(int(st[0]) for st in stamps), max(int(st[-1]) for st in stamps)
-            if not first <= args.video_clap_ns <= last:
-                raise UsageError(f"--video-clap-ns {args.video_clap_ns} lies outside the "
-                                 f"recording's header stamps ({first} to {last} ns)")
+    streams = [s for s in source.streams if s.count]  # type: ignore[attr-defined]
+    if args.video_clap_ns is not None and streams:
+        first, last = min(s.first_ns for s in streams), max(s.last_ns for s in streams)
+        if not first <= args.video_clap_ns <= last:
+            raise UsageError(f"--video-clap-ns {args.video_clap_ns} lies outside the "
+                             f"recording's header stamps ({first} to {last} ns)")

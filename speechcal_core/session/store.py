@@ -91,8 +91,8 @@ def load_session(path: str | Path) -> Session:
     except OSError as exc:
         raise SessionFileError(f"{path}: cannot read the session file ({exc})") from exc
     except json.JSONDecodeError as exc:
-        bak = path.with_name(path.name + ".bak")
-        hint = f"; the previous version is in {bak.name}" if bak.exists() else ""
+        bak = _backup(path)
+        hint = f"; the previous version is in {bak.name}" if bak else ""
         raise SessionFileError(f"{path}: not valid JSON (line {exc.lineno}){hint}") from exc
     if not isinstance(data, dict) or "schema" not in data:
         raise SessionFileError(f"{path}: not a SpeechCal session file (no 'schema' key)")
@@ -134,10 +134,16 @@ def _frame_set(path: Path, k: int, data: Any) -> FrameSet:
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
         name = f"set {data['id']}" if isinstance(data, dict) and "id" in data else \
             f"set number {k + 1} in the list"
-        bak = path.with_name(path.name + ".bak")
-        back = f" or go back to {bak.name}" if bak.exists() else ""
+        bak = _backup(path)
+        back = f" or go back to {bak.name}" if bak else ""
         raise SessionFileError(f"{path}: damaged session file: {name}: {_reason(exc)}; fix "
                                f"it{back}") from exc
+
+
+def _backup(path: Path) -> Path | None:
+    """The previous version :func:`save_session` kept beside ``path``, if there is one."""
+    bak = path.with_name(path.name + ".bak")
+    return bak if bak.exists() else None
 
 
 def _reason(exc: Exception) -> str:

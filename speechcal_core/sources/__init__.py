@@ -112,9 +112,10 @@ def _distinct(paths: list[Path]) -> list[Path]:
     """``paths`` in order, without the ones naming a file or folder named before, and
     without files inside a folder also given (a ROS2 bag folder and its own .db3)."""
     real = [p.resolve() for p in paths]
+    folders = [r for r in real if r.is_dir()]
     out: list[Path] = []
     for p, r in zip(paths, real, strict=True):
-        inside = any(q.is_dir() and q in r.parents for q in real)
+        inside = any(q in r.parents for q in folders)
         if not inside and not any(p.samefile(q) for q in out):
             out.append(p)
     return out
