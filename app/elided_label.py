@@ -11,10 +11,10 @@ class ElidedLabel(QLabel):
 
     def __init__(self, text: str, tooltip: str = "", parent: QWidget | None = None) -> None:
         super().__init__(parent)
-        self.full_text = text
-        self.setToolTip(tooltip or text)
         self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
-        self._elide()
+        self.set_full_text(text)
+        if tooltip:
+            self.setToolTip(tooltip)
 
     def set_full_text(self, text: str) -> None:
         """Show ``text`` (cut to the label's width; the tooltip holds it whole)."""

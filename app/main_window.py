@@ -51,11 +51,13 @@ EMPTY_TEXT = (
     "<p>Drag a recording (ROS bag, bag folder, .mcap, .db3) and its audio file here,<br>"
     "or open a session file (SESSION.json).</p>"
 )
-PLAY_LABEL, PAUSE_LABEL = "▶ play", "❚❚ pause"
+#: the play button's text and tooltip, stopped and playing
+PLAY_STATES = {False: ("▶ play", "play from the playhead, with the sound  (Space)"),
+               True: ("❚❚ pause", "pause  (Space)")}
 #: play from a playhead this close to the session's end starts again from its start
 END_SLACK_NS = 100_000_000
-#: keys the Edit menu's actions carry (a QShortcut on them too would be ambiguous)
-MENU_KEYS = ("Ctrl+Z", "Ctrl+Shift+Z", "Ctrl+Y")
+#: the Edit menu's keys (a QShortcut on them too would be ambiguous)
+UNDO_KEYS, REDO_KEYS = ("Ctrl+Z",), ("Ctrl+Shift+Z", "Ctrl+Y")
 #: the key hints under the waveform: one line at 1400 px (the tooltip says it in full,
 #: e.g. Esc back from an enlarged camera, which double-clicking it again does too)
 HINTS = ("Space play · W hear word · ←/→ frame · J/K set · F filter · A/R/U decide · "
@@ -237,7 +239,7 @@ class ReviewWindow(QMainWindow):
         menu.addAction(quit_action)
         self._build_edit_menu()
         for key, action in KEY_BINDINGS.items():
-            if key in MENU_KEYS:
+            if key in UNDO_KEYS + REDO_KEYS:
                 continue  # the Edit menu's actions carry these
             shortcut = QShortcut(QKeySequence(key), self)
             shortcut.activated.connect(lambda a=action: self.run_action(a))
@@ -249,12 +251,11 @@ class ReviewWindow(QMainWindow):
         """Edit ▸ Undo / Redo, named after the step they revert (U undoes too)."""
         self.edit_menu = self.menuBar().addMenu("&Edit")
         self.undo_action = QAction("&Undo", self)
-        self.undo_action.setShortcut(QKeySequence("Ctrl+Z"))
-        self.undo_action.triggered.connect(lambda: self.run_action("undo"))
         self.redo_action = QAction("&Redo", self)
-        self.redo_action.setShortcuts([QKeySequence("Ctrl+Shift+Z"), QKeySequence("Ctrl+Y")])
-        self.redo_action.triggered.connect(lambda: self.run_action("redo"))
-        for action in (self.undo_action, self.redo_action):
+        for action, name, keys in ((self.undo_action, "undo", UNDO_KEYS),
+                                   (self.redo_action, "redo", REDO_KEYS)):
+            action.setShortcuts([QKeySequence(k) for k in keys])
+            action.triggered.connect(lambda _=False, a=name: self.run_action(a))
             self.addAction(action)  # the shortcut works with the menu closed
             self.edit_menu.addAction(action)
         self._update_edit_menu()
@@ -440,9 +441,9 @@ class ReviewWindow(QMainWindow):
         row = QHBoxLayout()
         previous = self._action_button("◀◀", "previous_set", "previous frame set  (J)")
         row.addWidget(previous)
-        self.play_button = QPushButton(PLAY_LABEL)
+        self.play_button = QPushButton()
         self.play_button.setFocusPolicy(Qt.FocusPolicy.NoFocus)
-        self.play_button.setToolTip("play from the playhead, with the sound  (Space)")
+        self._show_play_state()
         self.play_button.clicked.connect(lambda _=False: self.toggle_play())
         row.addWidget(self.play_button)
         following = self._action_button("▶▶", "next_set", "next frame set  (K)")
@@ -799,9 +800,7 @@ class ReviewWindow(QMainWindow):
         if not self._playing and self.model.playhead_ns >= end_ns - END_SLACK_NS:
             self.model.set_playhead(start_ns)  # play at the end: from the start again
         self._playing = not self._playing
-        self.play_button.setText(PAUSE_LABEL if self._playing else PLAY_LABEL)
-        self.play_button.setToolTip("pause  (Space)" if self._playing else
-                                    "play from the playhead, with the sound  (Space)")
+        self._show_play_state()
         self._restart_timer.stop()
         self._restarts.cancel()
         if self._playing:
@@ -810,6 +809,11 @@ class ReviewWindow(QMainWindow):
         else:
             self._play_timer.stop()
             self.player.stop()
+
+    def _show_play_state(self) -> None:
+        text, tip = PLAY_STATES[self._playing]
+        self.play_button.setText(text)
+        self.play_button.setToolTip(tip)
 
     def _play_sound(self, quiet: bool = False) -> None:
         """The audio from the playhead on (until paused), and the clock the playhead
