@@ -210,8 +210,9 @@ class ExportAction(QObject):
         self.last_result = result
         shown = "; ".join(result.skipped[:2]) + (" …" if len(result.skipped) > 2 else "")
         left = f"; {len(result.skipped)} left out: {shown}" if result.skipped else ""
+        notes = "".join(f"; note: {note}" for note in result.notes)
         self._done(f"Exported {result.sets} frame sets ({result.frames} frames) as "
-                   f"{result.format} to {result.out}{left}")
+                   f"{result.format} to {result.out}{left}{notes}")
 
     def _failed(self, message: str) -> None:
         self.last_error = message

@@ -70,8 +70,9 @@ def process_recording(
 ) -> Session:
     """Sync, detect and build frame sets; returns a new, undecided session.
 
-    ``target`` defaults to Kalibr's 6x6 AprilGrid; ``frame_options`` sets the search window
-    (or turns the best-still-frame search off).
+    ``target`` defaults to Kalibr's 6x6 AprilGrid (the session then says it was assumed:
+    ``"target_assumed"``); ``frame_options`` sets the search window (or turns the
+    best-still-frame search off).
     """
     from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
@@ -131,6 +132,7 @@ def process_loaded(
         report(f"frames: {stage}", start + span * fraction)
 
     report("choosing frames", 0.6)
+    assumed = target is None
     target = target or TargetSpec()
     analysis = analyse_frames(source, sync, triggers, target,
                               options=frame_options, progress=frames_progress)
@@ -143,6 +145,7 @@ def process_loaded(
         sync_evidence=evidence,
         calibration=analysis.calibration,
         extra={**analysis.extra, "target": asdict(target),
+               **({"target_assumed": True} if assumed else {}),
                **({"detection_notes": notes} if notes else {})},
     )
     report("done", 1.0)

@@ -39,6 +39,13 @@ class TargetSpec:
         if self.rows < 2 or self.cols < 2 or self.size <= 0:
             raise TargetError("a target needs at least 2x2 tags or corners and a positive size")
 
+    def describe(self) -> str:
+        """The board in words: "6x6 AprilGrid of 0.055 m tags", "8x6 checkerboard of
+        0.045 m squares" (columns first, as Kalibr's yaml lists them)."""
+        if self.kind == "aprilgrid":
+            return f"{self.cols}x{self.rows} AprilGrid of {self.size:g} m tags"
+        return f"{self.cols}x{self.rows} checkerboard of {self.size:g} m squares"
+
     @property
     def pitch(self) -> float:
         """Distance in metres between neighbouring tags (aprilgrid) or corners."""

@@ -50,9 +50,8 @@ def run(args: argparse.Namespace) -> int:
                  f"to {args.session})")
     for line in result.skipped:
         progress(f"left out: {line}")
-    if result.target == "default":
-        progress("target.yaml describes the default 6x6 AprilGrid; pass --target TARGET.yaml "
-                 "if the recording shows another target")
+    for note in result.notes:
+        progress(f"note: {note}")
     if args.json:
         emit_json(result.to_dict())
     else:

@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
         )
     check_session_target(args.output)  # a bad -o fails now, not after all the work
     words, level = pronunciations(args), sensitivity(args)
-    target = TargetSpec.from_kalibr_yaml(args.target) if args.target else TargetSpec()
+    target = TargetSpec.from_kalibr_yaml(args.target) if args.target else None
     report = StageProgress()
     session = process_recording(
         args.recording,

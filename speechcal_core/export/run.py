@@ -21,6 +21,7 @@ from speechcal_core.errors import UsageError
 from speechcal_core.export.earlier import FORMATS, not_replaceable
 from speechcal_core.export.errors import ExportError
 from speechcal_core.export.manifest import manifest_document, write_manifest
+from speechcal_core.export.notes import export_notes
 from speechcal_core.export.plan import Progress, make_plan
 from speechcal_core.export.selection import frameless_sets, select_sets
 from speechcal_core.fsutil import (
@@ -49,6 +50,10 @@ class ExportResult:
     files: int
     skipped: list[str] = field(default_factory=list)
     target: str = ""  # where target.yaml came from (kalibr only): given | session | default
+    #: what the user should know before calibrating on the export: target.yaml describes
+    #: an assumed board, or not the board the session's frames were checked against; a
+    #: bag's frames of one set lie further apart than Kalibr pairs by default
+    notes: list[str] = field(default_factory=list)
     #: sets re-scored (and saved to the session file) before exporting, see
     #: :func:`export_session_file`
     rescored: int = 0
@@ -59,6 +64,8 @@ class ExportResult:
                                "skipped": self.skipped}
         if self.target:
             doc["target"] = self.target
+        if self.notes:
+            doc["notes"] = self.notes
         if self.rescored:
             doc["rescored"] = self.rescored
         return doc
@@ -92,12 +99,13 @@ def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> No
 
 def export_target(session: Session, target: TargetSpec | None) -> tuple[TargetSpec, str]:
     """The calibration target to describe: the given one, the session's, or the default
-    6x6 AprilGrid that ``speechcal process`` also assumes without ``--target``."""
+    6x6 AprilGrid that ``speechcal process`` also assumes without ``--target`` ("default"
+    also when the session holds that assumption)."""
     if target is not None:
         return target, "given"
     stored = TargetSpec.from_stored(session.extra.get("target"))
     if stored is not None:
-        return stored, "session"
+        return stored, "default" if session.extra.get("target_assumed") else "session"
     return TargetSpec(), "default"
 
 
@@ -212,7 +220,8 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
                for s in frameless_sets(session, include_undecided=include_undecided)]
     skipped += [f"set {sid} {stream}: {why}" for (sid, stream), why in outcome.skipped.items()]
     return ExportResult(out, fmt, len(plan.sets), len(outcome.files), len(outcome.written),
-                        skipped, target_from if fmt == "kalibr" else "")
+                        skipped, target_from if fmt == "kalibr" else "",
+                        export_notes(fmt, session, plan, spec, target_from))
 
 
 def export_session_file(

@@ -145,7 +145,7 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
         line += f", RMS ≤ {max(rms):.2f} px"
     elif kept:  # nothing fits anywhere: the board may not be the one looked for
         target = TargetSpec.from_stored(session.extra.get("target")) or TargetSpec()
-        line += (f" (looked for a {target.cols}x{target.rows} {target.kind}: if the board is "
+        line += (f" (looked for a {target.describe()}: if the board is "
                  "another one, process again with --target TARGET.yaml into a new session "
                  "file)")
     return CheckSummary(line, tuple(lines), len(rms) < len(streams))

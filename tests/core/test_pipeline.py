@@ -30,6 +30,9 @@ def test_transcript_and_known_offset_give_one_set_per_trigger_inside_its_hold(
             assert start - 40e6 <= frame.stamp_ns <= end + 40e6
     assert "finding the clap" not in stages and stages[-1] == "done"
     assert "detection_notes" not in session.extra
+    # no target given: the session says its 6x6 AprilGrid is an assumption
+    assert session.extra["target"]["kind"] == "aprilgrid"
+    assert session.extra["target_assumed"] is True
 
 
 def test_a_transcript_running_past_the_audio_is_noted(tiny_synth: tuple[Path, dict],

@@ -11,6 +11,8 @@ import pytest
 
 from speechcal_core.cli import main
 from speechcal_core.export import export_session_file
+from speechcal_core.export.notes import approx_sync_note
+from speechcal_core.session.store import load_session
 
 
 def _run(capsys, *args: str) -> tuple[int, str, str]:
@@ -33,8 +35,11 @@ def test_json_prints_one_document_on_stdout_and_progress_on_stderr(session_file,
     )
     assert result.returncode == 0, result.stderr
     doc = json.loads(result.stdout)
+    # the bag keeps each frame's stamp: a note says when Kalibr's default pairing is short
+    accepted = [s for s in load_session(path).sets if s.decision == "accepted"]
+    note = approx_sync_note(accepted)
     assert doc == {"out": str(out), "format": "rosbag2", "sets": 3, "frames": 6,
-                   "files": doc["files"], "skipped": []}
+                   "files": doc["files"], "skipped": [], **({"notes": [note]} if note else {})}
     assert doc["files"] == 4  # metadata.yaml, calibration.db3, manifest.json, manifest.csv
     assert "writing the manifest" in result.stderr
 
@@ -170,8 +175,6 @@ def test_bad_usage_is_exit_2(args, capsys) -> None:
 def test_the_recordings_own_folder_is_never_an_output_even_with_force(
     session_file, capsys
 ) -> None:
-    from speechcal_core.session.store import load_session
-
     path = session_file()
     folder = Path(load_session(path).recording[0]).parent
     before = sorted(p.name for p in folder.iterdir())

@@ -124,5 +124,7 @@ def test_no_camera_fitting_says_which_board_was_looked_for(
     summary = check_summary(session, sorted({f.stream for s in session.sets
                                              for f in s.frames}))
     assert summary is not None and " 0 of 3 cameras fit" in summary.line
-    assert "(looked for a 3x4 checkerboard: if the board is another one" in summary.line
+    assert "(looked for a 3x4 checkerboard of 0.05 m squares: if the board is another one" \
+        in summary.line
+    assert "target_assumed" not in session.extra  # the board was given
     assert "--target TARGET.yaml" in summary.line
