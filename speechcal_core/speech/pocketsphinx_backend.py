@@ -16,8 +16,9 @@ Finally the recording is searched for spans that sound like the triggers found (
 speaker, same word: see ``self_similarity``), which recovers words lost in noise; spans the
 recogniser heard clearly keep its verdict. Spans it took for an inflection are searched
 too: some voices say "capture" so that it hears "capturing".
-A trigger, recognised or found, whose sound runs on without a pause is dropped: it is the
-start of something longer ("captured it?"). Operators say the trigger word on its own.
+A trigger, recognised or found, whose sound runs on without a pause, or resumes after a
+pause too short to end a phrase, is dropped: it is the start of something longer
+("captured it?"). Operators say the trigger word on its own.
 """
 
 from __future__ import annotations

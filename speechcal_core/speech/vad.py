@@ -30,11 +30,17 @@ class VadSettings:
     overlap_s: float = 2.0
 
 
+def frame_count(n_samples: int, rate: int) -> int:
+    """How many frames ``band_energy_db`` gives for ``n_samples`` samples."""
+    win = round(rate * WIN / 16000)
+    return 0 if n_samples < win else 1 + (n_samples - win) // round(rate * HOP_S)
+
+
 def band_energy_db(samples: np.ndarray, rate: int) -> np.ndarray:
     """Log energy (dB) of 25 ms frames every 10 ms in the speech band."""
     hop = round(rate * HOP_S)
     win = round(rate * WIN / 16000)
-    n = 0 if samples.size < win else 1 + (samples.size - win) // hop
+    n = frame_count(samples.size, rate)
     out = np.empty(n, dtype=np.float32)
     nfft = 1 << int(np.ceil(np.log2(win)))
     freqs = np.fft.rfftfreq(nfft, 1.0 / rate)

@@ -39,3 +39,17 @@ def test_a_word_whose_sound_goes_on_past_the_search_runs_on() -> None:
     assert bounds.end_s >= 1.5 + SEARCH_AFTER_S
     short_pause = _bursts((1.0, 1.5), (1.53, 2.0))  # a stop closure, not a pause
     assert word_bounds(short_pause, RATE, 1.0, 1.5, _floor_db(short_pause)).runs_on
+
+
+def test_a_word_followed_by_more_speech_after_a_short_pause_runs_on() -> None:
+    """The "it" of "captured it?" after the /d/ closure: a pause longer than a closure but
+    shorter than the one ending a phrase, then more speech."""
+    x = _bursts((1.0, 1.5), (1.625, 1.875))  # 125 ms of quiet, then "it"
+    bounds = word_bounds(x, RATE, 1.0, 1.5, _floor_db(x))
+    assert abs(bounds.end_s - 1.5) <= 0.03  # the word itself ends at the pause
+    assert bounds.runs_on
+    # a short sound after the pause (a click) or a longer pause does not make it run on
+    click = _bursts((1.0, 1.5), (1.625, 1.640625))
+    assert not word_bounds(click, RATE, 1.0, 1.5, _floor_db(click)).runs_on
+    apart = _bursts((1.0, 1.5), (1.75, 2.0))
+    assert not word_bounds(apart, RATE, 1.0, 1.5, _floor_db(apart)).runs_on
