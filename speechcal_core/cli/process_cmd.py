@@ -98,6 +98,8 @@ def _summary(session: Session) -> str:
     if frameless:
         text += (f"; {frameless} {'has' if frameless == 1 else 'have'} no frame in any camera "
                  "at the trigger time: check the offset (the clap, or --offset-ns)")
-    streams = sorted({f.stream for s in session.sets for f in s.frames})
+    from speechcal_core.sources.base import stream_order
+
+    streams = sorted({f.stream for s in session.sets for f in s.frames}, key=stream_order)
     check = check_summary(session, streams) if streams else None
     return f"{text}; {check.line}" if check else text

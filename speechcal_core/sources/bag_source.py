@@ -14,6 +14,7 @@ from speechcal_core.sources.base import (
     ClosingContext,
     RawFrame,
     StreamInfo,
+    stream_order,
 )
 from speechcal_core.sources.decode import (
     compressed_kind,
@@ -111,7 +112,7 @@ class BagSource(ClosingContext):
             for t in scan.topics:
                 by_topic.setdefault(t.topic, []).append((fi, t))
         streams: dict[str, _Stream] = {}
-        for topic in sorted(by_topic):
+        for topic in sorted(by_topic, key=stream_order):
             parts = by_topic[topic]
             first = next((t for _, t in parts if t.encoding), parts[0][1])
 

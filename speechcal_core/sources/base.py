@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
@@ -13,6 +14,13 @@ if TYPE_CHECKING:
 
 IMAGE_MSGTYPE = "sensor_msgs/msg/Image"
 COMPRESSED_MSGTYPE = "sensor_msgs/msg/CompressedImage"
+
+
+def stream_order(name: str) -> tuple:
+    """Sort key of stream names with their numbers in numeric order: ``/cam2/image_raw``
+    before ``/cam10/image_raw``, as an operator counts cameras."""
+    parts = re.split(r"(\d+)", name)
+    return (tuple(int(p) if k % 2 else p.lower() for k, p in enumerate(parts)), name)
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from speechcal_core.sources.base import ClosingContext
+from speechcal_core.sources.base import ClosingContext, stream_order
 from speechcal_core.sources.errors import SourceError
 
 if TYPE_CHECKING:
@@ -33,8 +33,9 @@ class CombinedSource(ClosingContext):
 
     @property
     def streams(self) -> list[StreamInfo]:
-        """All streams, sorted by name."""
-        return sorted((i for s in self._sources for i in s.streams), key=lambda i: i.name)
+        """All streams, in name order (numbers in numeric order: ``stream_order``)."""
+        return sorted((i for s in self._sources for i in s.streams),
+                      key=lambda i: stream_order(i.name))
 
     def _src(self, stream: str) -> FrameSource:
         try:

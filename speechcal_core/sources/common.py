@@ -6,7 +6,7 @@ import threading
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from speechcal_core.sources.base import ClosingContext
+from speechcal_core.sources.base import ClosingContext, stream_order
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sources.stats import nearest_index
 
@@ -34,11 +34,13 @@ class StreamTable(ClosingContext):
 
     @property
     def streams(self) -> list[StreamInfo]:
-        """One entry per stream, in name order, with the frames found bad so far."""
+        """One entry per stream, in name order (``stream_order``), with the frames found
+        bad so far."""
         with self._table_lock:
             return [
                 replace(info, bad_frames=tuple(sorted(self._bad.get(name, ()))))
-                for name, info in sorted(self._infos.items())
+                for name, info in sorted(self._infos.items(),
+                                         key=lambda item: stream_order(item[0]))
             ]
 
     def _mark_bad(self, stream: str, i: int) -> None:

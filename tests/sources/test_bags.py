@@ -201,3 +201,25 @@ def test_padded_rows_are_honoured_in_a_bag(make_bag) -> None:
     cam = Cam("/cam0/image_raw", regular(3), step_pad=5)
     with open_recording([make_bag("ros2-mcap", [cam])]) as src:
         np.testing.assert_array_equal(src.frame("/cam0/image_raw", 1), pixels(0, 1))
+
+
+def test_cameras_are_listed_as_an_operator_counts_them(make_bag) -> None:
+    """cam2 before cam10, in one bag and across two PCs' bags: the grid, the calibration
+    check and the Kalibr export's cam0, cam1... follow this order."""
+    names = ["/cam10/image_raw", "/cam2/image_raw", "/cam1/image_raw"]
+    bag = make_bag("ros1", [Cam(n, regular(3), index=k) for k, n in enumerate(names)])
+    other_pc = make_bag("ros2-sqlite3", [Cam("/cam9/image_raw", regular(3), index=3)],
+                        name="pc2")
+    expected = ["/cam1/image_raw", "/cam2/image_raw", "/cam9/image_raw", "/cam10/image_raw"]
+    with open_recording([bag, other_pc]) as src:
+        assert [s.name for s in src.streams] == expected
+    with open_recording([bag]) as src:
+        assert [s.name for s in src.streams] == [n for n in expected if n != "/cam9/image_raw"]
+
+
+def test_stream_order_counts_numbers_and_keeps_distinct_names_apart() -> None:
+    from speechcal_core.sources.base import stream_order
+
+    names = ["cam10", "Cam2", "cam2", "cam1_left", "cam1", "fisheye0"]
+    assert sorted(names, key=stream_order) == [
+        "cam1", "cam1_left", "Cam2", "cam2", "cam10", "fisheye0"]
