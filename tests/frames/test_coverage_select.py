@@ -68,3 +68,17 @@ def test_still_stretch_after_the_word_beats_the_previous_pose_before_it() -> Non
     choice = choose_common_time([a], [score_camera(a, 1.0)], 100 * MS)
     assert choice is not None and choice.stretch == "after"
     assert a.stamps[choice.positions[0]] >= 233 * MS
+
+
+def test_a_tiny_noise_floor_does_not_turn_still_frames_into_moving_ones() -> None:
+    """Downscaled from a large image, sensor noise averages out: still frames differ by
+    ~0.1-0.3 grey levels, several times their lowest difference. Below MIN_NOISE_FLOOR
+    the floor is that minimum, so only real motion (grey levels, not tenths) counts."""
+    from speechcal_core.frames.select import MIN_NOISE_FLOOR
+
+    a = _window([0, 33, 67, 100, 133], [1] * 5, [0.1, 0.25, 0.3, 0.2, 4.0], 33)
+    score = score_camera(a, 0.1)
+    assert list(score.still) == [True, True, True, True, False]
+    np.testing.assert_allclose(score.motion_ratio, np.array(a.motion) / MIN_NOISE_FLOOR)
+    # lossless frames without noise: a floor of zero no longer makes every frame move
+    assert list(score_camera(a, 0.0).still) == [True, True, True, True, False]
