@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
+import numpy as np
 from PySide6.QtCore import QEvent, QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter, QPen
 from PySide6.QtWidgets import QGridLayout, QSizePolicy, QToolTip, QVBoxLayout, QWidget
@@ -18,6 +20,8 @@ from app.style import (
 
 #: the least room between a tile's title and the caption or warning at its right, pixels
 HEADER_GAP = 12
+#: corner markers' radius on screen, pixels: at least, at most
+MARKER_RADIUS_PX = (1.5, 4.5)
 
 
 def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: str,
@@ -25,8 +29,9 @@ def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: st
     """The title (stream and decision, in ``bold``) and the note at the right (``plain``:
     the warning, else the caption) a tile's header of ``width`` pixels shows, shortened so
     they never overlap. What a reviewer needs least goes first: the caption, then the
-    warning's words (down to its symbol), then the decision's word (its symbol and the
-    border stay), and only then the end of the stream's name."""
+    decision's word (its symbol, the border's colour and the set list still say it), then
+    the warning's words (down to its symbol: they are what only this tile tells), and
+    only then the end of the stream's name."""
     symbol = f"  {DECISION_SYMBOLS[decision]}" if decision else ""
     full, short = (f"{stream}{symbol} {decision}", f"{stream}{symbol}") if decision \
         else (stream, stream)
@@ -38,10 +43,11 @@ def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: st
         return full, note
     least = ""
     if warning:
-        for title in (full, short):
-            text = plain.elidedText(note, Qt.TextElideMode.ElideRight, room(title))
-            if len(text) >= len(WARNING_SYMBOL) + 3:  # the symbol and a letter at least
-                return title, text
+        if plain.horizontalAdvance(note) <= room(short):
+            return short, note
+        text = plain.elidedText(note, Qt.TextElideMode.ElideRight, room(short))
+        if len(text) >= len(WARNING_SYMBOL) + 3:  # the symbol and a letter at least
+            return short, text
         least = WARNING_SYMBOL
     reserve = plain.horizontalAdvance(least) + HEADER_GAP if least else 0
     for title in (full, short):
@@ -50,6 +56,25 @@ def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: st
     name = bold.elidedText(stream, Qt.TextElideMode.ElideRight,
                            width - reserve - bold.horizontalAdvance(symbol))
     return name + symbol, least
+
+
+def corner_spacing(corners: Sequence[tuple[float, float]]) -> float:
+    """The median distance from each corner to its nearest neighbour (image pixels; 0
+    with fewer than two corners)."""
+    if len(corners) < 2:
+        return 0.0
+    pts = np.asarray(corners, dtype=np.float64)
+    d = np.hypot(*(pts[:, None, :] - pts[None, :, :]).transpose(2, 0, 1))
+    np.fill_diagonal(d, np.inf)
+    return float(np.median(d.min(axis=1)))
+
+
+def marker_radius(spacing_px: float) -> float:
+    """Radius on screen of a corner marker when corners lie ``spacing_px`` apart on screen:
+    a third of that, within MARKER_RADIUS_PX (dense boards stay readable, a large image
+    shown big gets markers one can see)."""
+    lo, hi = MARKER_RADIUS_PX
+    return max(lo, min(hi, spacing_px / 3.0))
 
 
 class CameraTile(QWidget):
@@ -65,9 +90,21 @@ class CameraTile(QWidget):
         self.caption = ""
         self.decision: str | None = None
         self.warning = ""
-        self.corners: tuple[tuple[float, float], ...] = ()  # overlay, image pixels
+        self._corners: tuple[tuple[float, float], ...] = ()
+        self._corner_spacing = 0.0
         self.setMinimumSize(160, 120)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
+
+    @property
+    def corners(self) -> tuple[tuple[float, float], ...]:
+        """The found target corners drawn over the image (image pixels)."""
+        return self._corners
+
+    @corners.setter
+    def corners(self, corners: tuple[tuple[float, float], ...]) -> None:
+        self._corners = tuple(corners)
+        self._corner_spacing = corner_spacing(self._corners)
+        self.update()
 
     def show_image(self, image: QImage, caption: str) -> None:
         self.image, self.message, self.caption = image, "", caption
@@ -111,10 +148,10 @@ class CameraTile(QWidget):
             target = QRectF(area.x() + (area.width() - w) / 2, area.y() + (area.height() - h) / 2,
                             w, h)
             p.drawImage(target, self.image)
-            if self.corners:
+            if self._corners:
                 p.setPen(QPen(QColor(60, 220, 120), 1.5))
-                r = max(1.5, min(4.0, 2.0 * scale))
-                for x, y in self.corners:
+                r = marker_radius(self._corner_spacing * scale)
+                for x, y in self._corners:
                     p.drawEllipse(QPointF(target.x() + (x + 0.5) * scale,
                                           target.y() + (y + 0.5) * scale), r, r)
         else:

@@ -86,6 +86,14 @@ def test_a_narrow_tile_drops_the_caption_before_the_decision(
     assert [text for text, _ in texts] == ["/cam0/image_raw  ✘ rejected"]
 
 
+def test_a_narrow_tile_keeps_the_warning_before_the_decision_word(
+        qtbot, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The border's colour and the set list say the decision; the warning is what only
+    this tile tells (a 12-camera grid at 1920 px showed "? undecided" and "▲ no-t…")."""
+    texts = _header_texts(qtbot, monkeypatch, 260, "undecided", "chosen frame", "no-target")
+    assert [text for text, _ in texts] == ["/cam0/image_raw  ?", "▲ no-target"]
+
+
 def test_the_tooltip_gives_the_header_in_full(qtbot) -> None:
     tile = CameraTile("/cam0/image_raw")
     qtbot.addWidget(tile)
@@ -97,3 +105,24 @@ def test_the_tooltip_gives_the_header_in_full(qtbot) -> None:
     QApplication.sendEvent(tile, QHelpEvent(QEvent.Type.ToolTip, pos, tile.mapToGlobal(pos)))
     assert QToolTip.text() == "/cam0/image_raw\n? undecided\n▲ blurred"
     QToolTip.hideText()
+
+
+def test_corner_markers_grow_with_the_corners_spacing_on_screen() -> None:
+    """A 1920 px image shown enlarged had 1.5 px specks for markers; a dense board in a
+    small tile keeps small ones that do not run together."""
+    from app.frame_grid import MARKER_RADIUS_PX, corner_spacing, marker_radius
+
+    grid = [(x * 40.0, y * 40.0) for x in range(6) for y in range(4)]
+    assert corner_spacing(grid) == 40.0
+    assert corner_spacing(grid[:1]) == 0.0
+    assert marker_radius(40.0 * 0.3) == 4.0  # enlarged: 12 px apart on screen
+    assert marker_radius(40.0 * 0.05) == MARKER_RADIUS_PX[0]  # 2 px apart
+    assert marker_radius(40.0 * 2) == MARKER_RADIUS_PX[1]
+
+
+def test_setting_corners_repaints_with_their_spacing(qtbot) -> None:
+    tile = CameraTile("/cam0/image_raw")
+    qtbot.addWidget(tile)
+    tile.corners = ((0.0, 0.0), (10.0, 0.0), (30.0, 0.0))
+    assert tile.corners == ((0.0, 0.0), (10.0, 0.0), (30.0, 0.0))
+    assert tile._corner_spacing == 10.0
