@@ -33,7 +33,7 @@ from app.frame_grid import FrameGrid
 from app.frame_loader import FrameLoader
 from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver
-from app.set_table import SetTable
+from app.set_table import SetTable, clock_text
 from app.similar_action import SimilarAction
 from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
@@ -582,8 +582,9 @@ class ReviewWindow(QMainWindow):
         set_text = ""
         if current is not None:
             idx = model.session.sets.index(current) + 1  # the list's # column is the id
-            set_text = (f"   set #{current.id} ({idx} of {len(model.session.sets)})   "
-                        f"skew {current.skew_ns / 1e6:.1f} ms")
+            said = clock_text((current.t_ns - start_ns) / 1e9)
+            set_text = (f"   set #{current.id} ({idx} of {len(model.session.sets)}), said at "
+                        f"{said}   skew {current.skew_ns / 1e6:.1f} ms")
         self.info_line.set_full_text(
             f"t = {model.playhead_ns / 1e9:.3f} s  ({rel:.3f} s from start)" + set_text)
 

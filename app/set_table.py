@@ -24,7 +24,8 @@ from speechcal_core.session.model import FrameSet
 #: (header, header tooltip) per column
 COLUMNS = (
     ("#", "the set's number (as on the waveform markers)"),
-    ("time", "the set's time from the first frame (min:s)"),
+    ("time", "when the trigger word was said, from the first frame (min:s); the chosen "
+             "frames are the stillest moment near it, often a little later"),
     ("word", "the trigger word heard; \"added\": added by hand (T), \"similar\": found "
              "like another set (S)"),
     ("worst\nsharp", "the least sharp of the set's chosen frames. Each camera's sharpness is "
@@ -53,6 +54,11 @@ def column(name: str) -> int:
     """The column whose header is ``name`` (line breaks read as spaces)."""
     return [h.replace("\n", " ") for h in HEADERS].index(name)
 
+
+
+def clock_text(seconds: float) -> str:
+    """A time from the first frame as the set list's time column shows it (min:s)."""
+    return f"{int(seconds // 60):02d}:{seconds % 60:05.2f}"
 
 class OwnColoursDelegate(QStyledItemDelegate):
     """Draws a selected cell's text in its own colour (decision, warning), not the
@@ -109,7 +115,7 @@ class SetTable(QTableWidget):
         missing = PENDING if pending else MISSING
         sharp = missing if q.worst_sharpness is None else f"{q.worst_sharpness:.2f}"
         corners = missing if q.fewest_corners is None else str(q.fewest_corners)
-        values = (str(s.id), f"{int(rel // 60):02d}:{rel % 60:05.2f}", word_text(s),
+        values = (str(s.id), clock_text(rel), word_text(s),
                   sharp, corners, f"{s.skew_ns / 1e6:.1f}",
                   f"{q.frames_found}/{q.frames_total}",
                   f"{DECISION_SYMBOLS[s.decision]} {s.decision}")

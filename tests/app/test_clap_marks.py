@@ -65,7 +65,18 @@ def test_info_line_names_the_set_by_the_id_the_list_shows(
     window.model.remove_set()  # positions and ids part ways
     current = window.model.current_set
     n = len(window.model.session.sets)
-    assert f"set #{current.id} (2 of {n})" in window.info_line.text()
+    assert f"set #{current.id} (2 of {n}), said at " in window.info_line.text()
+
+
+def test_info_line_says_when_the_word_was_said_as_the_list_does(
+        qtbot, open_window, truth_session_file: Path) -> None:
+    """The playhead stands on the set's frames, often a little after the word: the line
+    gives the word's time in the list's own form, so the two figures are not mistaken."""
+    window = open_window(truth_session_file)
+    window.model.go_to_set(2)
+    row = window.model.session.sets.index(window.model.current_set)
+    listed = window.table.item(row, 1).text()
+    assert f", said at {listed}   skew " in window.info_line.full_text
 
 
 def _two_claps_file(truth_session_file: Path, tmp_path: Path, shift_s: float = 0.0) -> Path:
