@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QFontMetrics
 from PySide6.QtWidgets import QToolButton
 
 from app.style import DECISION_COLOURS, DECISION_SYMBOLS, PLAYHEAD_COLOUR
@@ -28,6 +29,9 @@ WIDEN_MARGIN = 0.05
 #: the narrowest view the wheel zooms in to, seconds (a few ms of samples on each side of
 #: a clap, enough to place it to the millisecond)
 MIN_SPAN_S = 0.02
+#: the least room between two sets' labels, pixels: a label that would come closer to
+#: the one before it is hidden (its coloured marker stays) until zooming in makes room
+LABEL_GAP_PX = 4
 
 
 class WaveformView(pg.PlotWidget):
@@ -72,6 +76,7 @@ class WaveformView(pg.PlotWidget):
             self.addItem(item)
         self.setYRange(-1, 1, padding=0.05)
         self._markers: list[pg.GraphicsObject] = []
+        self._labels: list[tuple[float, pg.TextItem, int]] = []  # x, label, width (px)
         self.playhead = pg.InfiniteLine(0, movable=True,
                                         pen=pg.mkPen(PLAYHEAD_COLOUR, width=2))
         self.playhead.setZValue(20)
@@ -217,10 +222,13 @@ class WaveformView(pg.PlotWidget):
     def _range_changed(self) -> None:
         self.whole_button.setVisible(self.zoomed_in())
         self.redraw()
+        self._thin_labels()
 
     def resizeEvent(self, event) -> None:
         """Keep the "whole session" button in the top right corner."""
         super().resizeEvent(event)
+        if hasattr(self, "_labels"):  # pyqtgraph resizes in __init__
+            self._thin_labels()
         button = getattr(self, "whole_button", None)  # pyqtgraph resizes in __init__
         if button is not None:
             hint = button.sizeHint()
@@ -251,6 +259,7 @@ class WaveformView(pg.PlotWidget):
         for item in self._markers:
             self.removeItem(item)
         self._markers = []
+        self._labels = []
         self._sets_x = None
         if self.sync is None:
             return
@@ -267,10 +276,30 @@ class WaveformView(pg.PlotWidget):
             label = pg.TextItem(f"{DECISION_SYMBOLS[s.decision]}{s.id}",
                                 color=colour.lighter(140), anchor=(0.5, 0.0))
             label.setPos((start + end) / 2, 1.0)
+            width = QFontMetrics(label.textItem.font()).horizontalAdvance(label.toPlainText())
+            self._labels.append(((start + end) / 2, label, width))
             for item in (region, label):
                 self.addItem(item)
                 self._markers.append(item)
+        self._labels.sort(key=lambda entry: entry[0])
         self._keep_marks_within_whole()
+        self._thin_labels()
+
+    def _thin_labels(self) -> None:
+        """Show the sets' labels from the left, hiding one that would touch the last shown
+        ("?20?21" when two words lie close in the whole session's view)."""
+        x0, x1 = self.getViewBox().viewRange()[0]
+        width = self.getViewBox().width()
+        if x1 <= x0 or width <= 0:
+            return
+        per_x = width / (x1 - x0)
+        right = -np.inf
+        for x, label, label_width in self._labels:
+            left = (x - x0) * per_x - label_width / 2
+            shown = left >= right + LABEL_GAP_PX
+            label.setVisible(shown)
+            if shown:
+                right = left + label_width
 
     def set_playhead(self, t_ns: int) -> None:
         self.playhead.setValue(self._to_x(t_ns))

@@ -62,3 +62,25 @@ def test_dragging_the_playhead_line_moves_the_playhead(window) -> None:
     waveform.playhead.setValue(target_x)
     waveform.playhead.sigDragged.emit(waveform.playhead)  # what a mouse drag emits
     assert abs(window.model.playhead_ns - (waveform.origin_ns + round(target_x * 1e9))) <= 1
+
+
+def test_labels_of_sets_too_close_to_read_are_thinned_until_zoomed_in(window) -> None:
+    """Two words 0.15 s apart in the whole session's view: their labels would print over
+    each other ("?20?21"), so the second one hides until zooming in makes room."""
+    from dataclasses import replace
+
+    wave = window.waveform
+    first = window.model.session.sets[0]
+    near = replace(first, id=99, trigger=replace(first.trigger,
+                                                 start_s=first.trigger.start_s + 0.15,
+                                                 end_s=first.trigger.end_s + 0.15))
+    wave.set_sets([first, near, *window.model.session.sets[1:]])
+    shown = {label.toPlainText(): label.isVisible() for _, label, _ in wave._labels}
+    assert shown[f"?{first.id}"] and not shown["?99"]
+    x = wave._labels[0][0]
+    wave.setXRange(x - 0.5, x + 0.5, padding=0)
+    assert all(label.isVisible() for x_, label, _ in wave._labels if abs(x_ - x) < 0.5)
+    # labels that never crowd each other all show in the whole view
+    wave.set_sets(window.model.session.sets)
+    wave.show_whole()
+    assert all(label.isVisible() for _, label, _ in wave._labels)
