@@ -20,6 +20,11 @@ from app.style import (
 
 #: the least room between a tile's title and the caption or warning at its right, pixels
 HEADER_GAP = 12
+#: a tile's least width, pixels: TILE_MIN_WIDTH_PX[1], or less in a grid of more than
+#: three columns, so that all of them need no more than GRID_MIN_WIDTH_PX (a 12-camera
+#: window fits a 1024 px screen), but never less than TILE_MIN_WIDTH_PX[0]
+TILE_MIN_WIDTH_PX = (100, 160)
+GRID_MIN_WIDTH_PX = 480
 #: corner markers' radius on screen, pixels: at least, at most
 MARKER_RADIUS_PX = (1.5, 4.5)
 
@@ -92,7 +97,7 @@ class CameraTile(QWidget):
         self.warning = ""
         self._corners: tuple[tuple[float, float], ...] = ()
         self._corner_spacing = 0.0
-        self.setMinimumSize(160, 120)
+        self.setMinimumSize(TILE_MIN_WIDTH_PX[1], TILE_MIN_WIDTH_PX[1] * 3 // 4)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
 
     @property
@@ -216,7 +221,10 @@ class FrameGrid(QWidget):
         for tile in self.tiles.values():
             self._layout.removeWidget(tile)
             tile.hide()
+        lo, hi = TILE_MIN_WIDTH_PX
+        least = max(lo, min(hi, GRID_MIN_WIDTH_PX // cols))
         for n, name in enumerate(visible):
+            self.tiles[name].setMinimumSize(least, least * 3 // 4)
             self._layout.addWidget(self.tiles[name], n // cols, n % cols)
             self.tiles[name].show()
 

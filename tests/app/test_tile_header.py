@@ -3,6 +3,7 @@ the right, never drawn over each other however narrow the tile."""
 
 from __future__ import annotations
 
+import math
 from typing import ClassVar
 
 import pytest
@@ -126,3 +127,20 @@ def test_setting_corners_repaints_with_their_spacing(qtbot) -> None:
     tile.corners = ((0.0, 0.0), (10.0, 0.0), (30.0, 0.0))
     assert tile.corners == ((0.0, 0.0), (10.0, 0.0), (30.0, 0.0))
     assert tile._corner_spacing == 10.0
+
+
+@pytest.mark.parametrize(("cameras", "least_width"), [(1, 160), (4, 160), (9, 160),
+                                                       (12, 120), (16, 120), (25, 100)])
+def test_many_cameras_shrink_the_tiles_least_size(qtbot, cameras: int,
+                                                  least_width: int) -> None:
+    """12 cameras made a window at least 1148 px wide (4 columns of 160 px tiles); more
+    than three columns now share GRID_MIN_WIDTH_PX, while a tile keeps 100 px at least."""
+    from app.frame_grid import FrameGrid
+
+    grid = FrameGrid([f"/cam{k}/image_raw" for k in range(cameras)])
+    qtbot.addWidget(grid)
+    assert {t.minimumWidth() for t in grid.tiles.values()} == {least_width}
+    cols = math.ceil(math.sqrt(cameras))
+    assert grid.minimumSizeHint().width() <= cols * least_width + (cols - 1) * 4
+    grid.toggle_enlarged("/cam0/image_raw")  # one camera alone keeps the full least size
+    assert grid.tiles["/cam0/image_raw"].minimumWidth() == 160
