@@ -14,6 +14,9 @@ from speechcal_core.synth.recording_writer import RecordingTruth, write_recordin
 from speechcal_core.synth.timeline import Timeline, plan_session
 from speechcal_core.synth.voices import check_trigger_word
 
+#: the board the session shows, as a Kalibr target yaml (for `speechcal process --target`)
+TARGET_FILE = "target.yaml"
+
 TRUTH_SCHEMA = 1
 
 
@@ -24,7 +27,8 @@ def generate_session(
     force: bool = False,
     progress: Callable[[str, float], None] | None = None,
 ) -> dict:
-    """Write recording, ``audio.ogg`` and ``truth.json`` into ``out``; return the truth.
+    """Write recording, ``audio.ogg``, ``truth.json`` and the board's Kalibr
+    ``target.yaml`` (for ``process --target``) into ``out``; return the truth.
 
     ``out`` appears complete or not at all; an existing ``out`` needs ``force``.
     """
@@ -37,6 +41,7 @@ def generate_session(
         audio = render_audio(timeline, staging / "audio.ogg", progress=report("audio"))
         truth = build_truth(timeline, recording, audio, staging)
         atomic_write_text(staging / "truth.json", json.dumps(truth, indent=2) + "\n")
+        atomic_write_text(staging / TARGET_FILE, timeline.target.to_kalibr_yaml())
     return truth
 
 

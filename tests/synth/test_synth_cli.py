@@ -50,6 +50,16 @@ def test_recording_reads_back_with_plain_rosbags_and_agrees_with_truth(
         assert truth["start_ns"] - 20e6 < got[0] and got[-1] < truth["end_ns"] + 20e6
 
 
+def test_the_boards_target_yaml_is_written_for_process(tmp_path: Path) -> None:
+    """``process --target OUT/target.yaml`` checks the frames against the board shown."""
+    from speechcal_core.target import TargetSpec
+
+    out, truth = _synth(tmp_path, "--target", "checkerboard")
+    target = TargetSpec.from_kalibr_yaml(out / "target.yaml")
+    assert target == TargetSpec(**truth["target"])
+    assert target.kind == "checkerboard"
+
+
 def test_audio_reads_back_and_claps_and_triggers_agree_with_the_sync_model(
     tmp_path: Path,
 ) -> None:
