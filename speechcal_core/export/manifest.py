@@ -52,8 +52,9 @@ def manifest_document(
         sets.append({
             "id": s.id,
             "word": s.trigger.word,
-            "start_s": s.trigger.start_s,
-            "end_s": s.trigger.end_s,
+            # microseconds: no float noise such as 9.764999999999999 in the CSV
+            "start_s": round(s.trigger.start_s, 6),
+            "end_s": round(s.trigger.end_s, 6),
             "t_ns": s.t_ns,
             "name": plan.names[s.id],
             "decision": s.decision,

@@ -26,7 +26,8 @@ def test_manifest_json_and_csv_describe_the_exported_sets(session_file, tmp_path
     for entry, s in zip(doc["sets"], accepted, strict=True):
         assert (entry["word"], entry["start_s"], entry["end_s"], entry["t_ns"],
                 entry["decision"], entry["skew_ns"]) == (
-            s.trigger.word, s.trigger.start_s, s.trigger.end_s, s.t_ns, "accepted", s.skew_ns)
+            s.trigger.word, round(s.trigger.start_s, 6), round(s.trigger.end_s, 6), s.t_ns,
+            "accepted", s.skew_ns)
         for f, choice in zip(entry["frames"], s.frames, strict=True):
             assert (f["stream"], f["index"], f["stamp_ns"], f["sharpness"], f["corners"],
                     f["flags"]) == (choice.stream, choice.index, choice.stamp_ns,
@@ -39,6 +40,8 @@ def test_manifest_json_and_csv_describe_the_exported_sets(session_file, tmp_path
                     row["file"], row["word"], int(row["t_ns"])) == (
                 f["stamp_ns"], f["sharpness"], f["corners"], f["file"], s.trigger.word, s.t_ns)
             assert row["flags"] == ";".join(f["flags"])
+            assert (row["start_s"], row["end_s"]) == (str(entry["start_s"]), str(entry["end_s"]))
+            assert max(len(row["start_s"]), len(row["end_s"])) <= 12  # no float noise
     cameras = {c["stream"]: c["camera"] for c in doc["cameras"]}
     expected = {"kalibr": {"/cam0/image_raw": "cam0", "/cam1/image_raw": "cam1"},
                 "folders": {"/cam0/image_raw": "cam0_image_raw",
