@@ -6,8 +6,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-#: files every export writes beside the frames (target.yaml: kalibr only)
-EXPORT_OWN = frozenset({"manifest.json", "manifest.csv", "target.yaml"})
+#: files every export writes beside the frames (target.yaml: kalibr only; corners.json
+#: and corners.vnl: the image formats)
+EXPORT_OWN = frozenset({"manifest.json", "manifest.csv", "target.yaml", "corners.json",
+                        "corners.vnl"})
 FORMATS = ("kalibr", "folders", "rosbag1", "rosbag2")
 
 

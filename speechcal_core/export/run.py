@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from speechcal_core.errors import UsageError
+from speechcal_core.export.corners import corners_board, write_corners
 from speechcal_core.export.earlier import FORMATS, not_replaceable
 from speechcal_core.export.errors import ExportError
 from speechcal_core.export.manifest import manifest_document, write_manifest
@@ -38,6 +39,9 @@ if TYPE_CHECKING:
     from speechcal_core.session.model import FrameSet, Session
     from speechcal_core.sources.base import FrameSource
 
+
+#: formats that write images, and with them the corners found in each
+IMAGE_FORMATS = ("kalibr", "folders")
 
 @dataclass(frozen=True)
 class ExportResult:
@@ -201,6 +205,9 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     with staged_directory(out, force=force) as root:
         outcome, cameras = _write(fmt, source, plan, root, spec,
                                   lambda text, f: report(text, 0.95 * f))
+        if fmt in IMAGE_FORMATS:
+            outcome.written.extend(write_corners(source, plan, outcome, root, session,
+                                                 corners_board(session, spec)))
         report("writing the manifest", 0.95)
         header: dict[str, Any] = {
             "schema": 1,

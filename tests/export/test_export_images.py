@@ -48,7 +48,7 @@ def test_kalibr_export_names_files_alike_across_cameras(session_file, tmp_path: 
     for cam in cams:
         assert {p.name for p in (out / cam).iterdir()} == names
     assert sorted(p.name for p in out.iterdir() if p.is_file()) == [
-        "manifest.csv", "manifest.json", "target.yaml"]
+        "corners.json", "corners.vnl", "manifest.csv", "manifest.json", "target.yaml"]
 
 
 def test_kalibr_pngs_hold_exactly_the_decoded_source_frames(session_file, tmp_path) -> None:

@@ -1,0 +1,163 @@
+"""The corners found in each exported image: corners.json calibrates with OpenCV as it
+stands, corners.vnl with mrcal (when installed), both as the session found them."""
+
+from __future__ import annotations
+
+import ast
+import json
+import re
+import shutil
+import subprocess
+from dataclasses import replace
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from speechcal_core.calibration.collect import detections_from_details
+from speechcal_core.export import export_session_file
+from speechcal_core.export.corners import CORNERS_JSON, CORNERS_VNL
+from speechcal_core.session.store import load_session, save_session
+from speechcal_core.target import TargetSpec
+
+PINHOLE = "/cam0/image_raw"
+
+
+@pytest.fixture(scope="module")
+def processed(tiny_synth, tmp_path_factory) -> tuple[Path, dict]:
+    """The tiny session processed (transcript and known offset: no recogniser), every
+    set accepted: (session file, truth)."""
+    from speechcal_core.pipeline import process_recording
+
+    folder, truth = tiny_synth
+    root = tmp_path_factory.mktemp("corners")
+    words = root / "words.csv"
+    words.write_text("word,start,end\n" + "".join(
+        f"capture,{t['start_s']:.4f},{t['end_s']:.4f}\n" for t in truth["triggers"]))
+    session = process_recording([str(folder / truth["recording"])],
+                                str(folder / truth["audio"]), transcript=str(words),
+                                offset_ns=truth["sync"]["offset_ns"])
+    session.sets = [replace(s, decision="accepted") for s in session.sets]
+    path = root / "session.json"
+    save_session(session, path)
+    return path, truth
+
+
+@pytest.fixture(scope="module")
+def exported(processed, tmp_path_factory) -> tuple[Path, dict, Path]:
+    path, truth = processed
+    out = tmp_path_factory.mktemp("corners-export") / "folders"
+    export_session_file(path, "folders", out)
+    return out, truth, path
+
+
+def _truth_fx(truth: dict, stream: str) -> float:
+    return next(c["intrinsics"][0] for c in truth["cameras"] if c["name"] == stream)
+
+
+def test_corners_json_holds_what_the_session_found_in_each_image(exported) -> None:
+    out, _truth, path = exported
+    doc = json.loads((out / CORNERS_JSON).read_text())
+    session = load_session(path)
+    found = detections_from_details(session.extra["frame_details"])
+    assert doc["target"] == {"kind": "aprilgrid", "rows": 6, "cols": 6, "size": 0.055,
+                             "spacing": 0.3}
+    np.testing.assert_allclose(doc["object_points"], TargetSpec().object_points(), atol=1e-6)
+    manifest = json.loads((out / "manifest.json").read_text())
+    files = {f["file"] for s in manifest["sets"] for f in s["frames"]}
+    assert {image["file"] for image in doc["images"]} == files
+    with_corners = 0
+    for image in doc["images"]:
+        assert (out / image["file"]).exists()
+        assert image["image_size"] == [256, 192]
+        det = found.get((image["set_id"], image["stream"]))
+        if image["ids"]:
+            with_corners += 1
+            assert image["ids"] == det.ids.tolist()
+            np.testing.assert_allclose(image["points"], det.points, atol=1e-3)
+        else:
+            assert det is None or det.count == 0
+    assert with_corners >= 6
+
+
+def test_opencv_calibrates_from_corners_json_alone(exported) -> None:
+    out, truth, _path = exported
+    doc = json.loads((out / CORNERS_JSON).read_text())
+    board = np.asarray(doc["object_points"], np.float32)
+    views = [image for image in doc["images"]
+             if image["stream"] == PINHOLE and len(image["ids"]) >= 12]
+    assert len(views) >= 3
+    obj = [board[image["ids"]] for image in views]
+    img = [np.asarray(image["points"], np.float32) for image in views]
+    rms, k, *_ = cv2.calibrateCamera(obj, img, tuple(views[0]["image_size"]), None, None)
+    assert rms < 0.5
+    assert k[0, 0] == pytest.approx(_truth_fx(truth, PINHOLE), rel=0.03)
+
+
+def _vnl_images(text: str) -> dict[str, list[list[str]]]:
+    images: dict[str, list[list[str]]] = {}
+    for line in text.splitlines():
+        if line.startswith("#"):
+            continue
+        name, *fields = line.split()
+        images.setdefault(name, []).append(fields)
+    return images
+
+
+def test_corners_vnl_lists_each_tags_first_corner_on_mrcals_grid(exported) -> None:
+    out, _truth, _path = exported
+    text = (out / CORNERS_VNL).read_text()
+    assert text.startswith("# filename x y level\n")
+    images = _vnl_images(text)
+    doc = json.loads((out / CORNERS_JSON).read_text())
+    assert doc["mrcal"] == {"object_spacing": 0.0715, "object_width_n": 6,
+                            "object_height_n": 6, "points": "each tag's first corner"}
+    assert set(images) == {image["file"] for image in doc["images"]}
+    for image in doc["images"]:
+        rows = images[image["file"]]
+        found = dict(zip(image["ids"], image["points"], strict=True))
+        if not any(4 * k in found for k in range(36)):
+            assert rows == [["-", "-", "-"]]  # mrcal: no board in this image
+            continue
+        assert len(rows) == 36
+        for k, fields in enumerate(rows):
+            if 4 * k in found:
+                x, y = found[4 * k]
+                assert fields == [f"{x:.3f}", f"{y:.3f}", "0"]
+            else:
+                assert fields == ["-", "-", "-"]
+
+
+def test_a_measured_size_for_the_same_board_scales_the_object_points(processed,
+                                                                     tmp_path) -> None:
+    path, _truth = processed
+    measured = TargetSpec("aprilgrid", 6, 6, 0.088, 0.3)
+    export_session_file(path, "kalibr", tmp_path / "kalibr", target=measured)
+    doc = json.loads((tmp_path / "kalibr" / CORNERS_JSON).read_text())
+    np.testing.assert_allclose(doc["object_points"], measured.object_points(), atol=1e-6)
+    assert doc["mrcal"]["object_spacing"] == pytest.approx(0.088 * 1.3)
+    # another layout: the ids still name the board the frames were checked against
+    other = TargetSpec("checkerboard", 6, 8, 0.045)
+    export_session_file(path, "kalibr", tmp_path / "other", target=other)
+    doc = json.loads((tmp_path / "other" / CORNERS_JSON).read_text())
+    assert doc["target"]["kind"] == "aprilgrid"
+
+
+@pytest.mark.skipif(shutil.which("mrcal-calibrate-cameras") is None,
+                    reason="mrcal is not installed (Debian: apt-get install mrcal)")
+def test_mrcal_calibrates_from_corners_vnl(exported, tmp_path: Path) -> None:
+    out, truth, _path = exported
+    doc = json.loads((out / CORNERS_JSON).read_text())["mrcal"]
+    result = subprocess.run(
+        ["mrcal-calibrate-cameras", "--corners-cache", CORNERS_VNL,
+         "--lensmodel", "LENSMODEL_OPENCV4", "--focal", "220",
+         "--object-spacing", str(doc["object_spacing"]),
+         "--object-width-n", str(doc["object_width_n"]),
+         "--object-height-n", str(doc["object_height_n"]),
+         "--outdir", str(tmp_path), "cam0_image_raw/*.png", "cam1_image_raw/*.png"],
+        cwd=out, capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr[-2000:]
+    model = (tmp_path / "camera-0.cameramodel").read_text()
+    intrinsics = ast.literal_eval(re.search(r"'intrinsics':\s*(\[[^\]]*\])", model).group(1))
+    assert intrinsics[0] == pytest.approx(_truth_fx(truth, PINHOLE), rel=0.02)
