@@ -22,8 +22,8 @@ from PySide6.QtWidgets import (
 
 #: export format -> what the operator reads in the list
 FORMAT_LABELS = {
-    "kalibr": "Kalibr — cam0/, cam1/… <stamp>.png + target.yaml",
-    "folders": "Folder per camera — calib.io, mrcal, multical",
+    "kalibr": "Kalibr — cam0/, cam1/… <stamp>.png + target.yaml + corners",
+    "folders": "Folder per camera — calib.io, mrcal, OpenCV (+ corners)",
     "rosbag1": "ROS1 bag — original topics and messages",
     "rosbag2": "ROS2 bag — original topics and messages",
 }
