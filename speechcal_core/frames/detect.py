@@ -8,6 +8,7 @@ import cv2
 import numpy as np
 
 from speechcal_core.frames.grid_fill import fill_missing_tags
+from speechcal_core.sources.decode import to_uint8
 from speechcal_core.target import TargetSpec
 
 #: longest image side used for the coarse search; corners are refined at full resolution
@@ -69,9 +70,7 @@ def to_gray(image: np.ndarray) -> np.ndarray:
     """Mono uint8 view of a mono uint8/uint16 or BGR frame."""
     if image.ndim == 3:
         image = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-    if image.dtype == np.uint16:
-        image = (image >> 8).astype(np.uint8)
-    return image
+    return to_uint8(image)
 
 
 class TargetDetector:

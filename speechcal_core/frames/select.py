@@ -31,7 +31,7 @@ class CameraScore:
 
     quality: np.ndarray  # in [0, 1]: relative sharpness in the window times stillness
     still: np.ndarray  # bool
-    motion_ratio: np.ndarray  # motion / the camera's noise floor
+    motion_ratio: np.ndarray  # motion / the camera's noise floor (MIN_NOISE_FLOOR at least)
 
 
 @dataclass(frozen=True)

@@ -42,8 +42,21 @@ def bytes_per_pixel(encoding: str) -> int:
     return channels * size
 
 
-def _to8(img: np.ndarray) -> np.ndarray:
-    return (img >> 8).astype(np.uint8) if img.dtype == np.uint16 else img
+#: sensor bit depths 16-bit images commonly hold (right-aligned)
+SENSOR_DEPTHS = (8, 10, 12, 14, 16)
+
+
+def to_uint8(img: np.ndarray) -> np.ndarray:
+    """An 8-bit view of a frame: 16-bit data is shifted down by the sensor depth its values
+    need (the smallest of SENSOR_DEPTHS), so a 12-bit sensor's 0-4095 fills 0-255 as
+    16-bit data's 0-65535 does, and frames of one camera keep one scale. Other images are
+    returned as they are."""
+    if img.dtype != np.uint16:
+        return img
+    used = int(img.max()).bit_length() if img.size else 0
+    depth = next(d for d in SENSOR_DEPTHS if d >= used)
+    return (img >> (depth - 8)).astype(np.uint8)
+
 
 
 def decode_raw(
@@ -89,7 +102,7 @@ def decode_raw(
 def _convert(img: np.ndarray, encoding: str) -> np.ndarray:
     if encoding.startswith("bayer_"):
         pattern = encoding[6:10]
-        return _to8(cv2.cvtColor(np.ascontiguousarray(img), _BAYER[pattern]))
+        return to_uint8(cv2.cvtColor(np.ascontiguousarray(img), _BAYER[pattern]))
     if encoding in ("yuv422", "uyvy"):
         return cv2.cvtColor(np.ascontiguousarray(img), cv2.COLOR_YUV2BGR_UYVY)
     if encoding in ("yuyv", "yuv422_yuy2"):
@@ -100,7 +113,7 @@ def _convert(img: np.ndarray, encoding: str) -> np.ndarray:
         img = img[..., 2::-1]
     elif img.shape[2] == 4:
         img = img[..., :3]
-    return np.ascontiguousarray(_to8(img))
+    return np.ascontiguousarray(to_uint8(img))
 
 
 def _looks_complete(data: bytes | memoryview) -> str:
@@ -129,7 +142,7 @@ def decode_compressed(data: bytes | memoryview) -> np.ndarray:
         elif img.shape[2] == 1:
             img = img[..., 0]
         if img.ndim == 3:
-            img = _to8(img)
+            img = to_uint8(img)
     return img
 
 

@@ -74,3 +74,21 @@ def test_aprilgrid_on_synthetic_frames_matches_truth_projection() -> None:
     pts = (rot @ timeline.target.object_points()[det.ids].T).T + trans
     err = np.linalg.norm(project_points(timeline.cameras[0], pts) - det.points, axis=1)
     assert err.mean() < 0.3 and err.max() < 1.0
+
+
+def test_a_12_bit_camera_in_16_bit_images_is_seen_at_full_contrast() -> None:
+    """mono16 from a 12-bit sensor holds 0-4095: shifted down by 8 bits it was nearly
+    black (0-15) and no board was found in it."""
+    from speechcal_core.frames.detect import to_gray
+
+    target = TargetSpec()
+    rvec, tvec = facing_pose(target, 0.7, (0.3, -0.2), (0.02, 0.01), 0.2, flip_y=True)
+    img = render_view(target, K, rvec, tvec, (640, 480))
+    twelve_bit = img.astype(np.uint16) * 16  # 0..4080
+    np.testing.assert_array_equal(to_gray(twelve_bit), img)
+    det = TargetDetector(target).detect(twelve_bit)
+    assert det is not None and det.count == 144
+    # 16-bit data keeps its top byte; a darker 12-bit frame keeps the camera's scale
+    np.testing.assert_array_equal(to_gray(img.astype(np.uint16) * 257), img)
+    dark = (img // 2).astype(np.uint16) * 16  # values up to 2040: still a 12-bit frame
+    np.testing.assert_array_equal(to_gray(dark), img // 2)
