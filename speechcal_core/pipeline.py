@@ -70,8 +70,8 @@ def process_recording(
 ) -> Session:
     """Sync, detect and build frame sets; returns a new, undecided session.
 
-    ``target`` defaults to Kalibr's 6x6 AprilGrid (the session then says it was assumed:
-    ``"target_assumed"``); ``frame_options`` sets the search window (or turns the
+    ``target`` defaults to Kalibr's 6x6 AprilGrid (the session's ``"target_assumed"``
+    says whether it was); ``frame_options`` sets the search window (or turns the
     best-still-frame search off).
     """
     from speechcal_core.audio import load_audio
@@ -145,7 +145,7 @@ def process_loaded(
         sync_evidence=evidence,
         calibration=analysis.calibration,
         extra={**analysis.extra, "target": asdict(target),
-               **({"target_assumed": True} if assumed else {}),
+               "target_assumed": assumed,
                **({"detection_notes": notes} if notes else {})},
     )
     report("done", 1.0)

@@ -93,6 +93,18 @@ class TargetSpec:
         )
 
     @classmethod
+    def from_session(cls, extra: dict) -> tuple[TargetSpec | None, bool | None]:
+        """The board a session's frames were checked against (its ``extra``'s
+        ``"target"``) and whether ``process`` assumed it for want of ``--target``: True,
+        False, or None when the session does not say (made before it did) and the board
+        is the one assumed."""
+        stored = cls.from_stored(extra.get("target"))
+        assumed = extra.get("target_assumed")
+        if isinstance(assumed, bool):
+            return stored, assumed
+        return stored, None if stored == cls() else False
+
+    @classmethod
     def from_stored(cls, data: object) -> TargetSpec | None:
         """The target a session file keeps under ``"target"`` (the fields as a dict);
         None when there is none or it does not describe a usable target."""

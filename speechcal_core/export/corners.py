@@ -40,7 +40,7 @@ def corners_board(session: Session, export_target: TargetSpec) -> TargetSpec:
     """The board the corner ids refer to: the one the session's frames were checked
     against, with the export's size when the export describes the same layout (a size
     measured after processing)."""
-    checked = TargetSpec.from_stored(session.extra.get("target")) or TargetSpec()
+    checked = TargetSpec.from_session(session.extra)[0] or TargetSpec()
     same = (checked.kind, checked.rows, checked.cols) == \
         (export_target.kind, export_target.rows, export_target.cols)
     return export_target if same else checked

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 from speechcal_core.target import TargetSpec
@@ -14,8 +13,8 @@ if TYPE_CHECKING:
     from speechcal_core.session.model import FrameSet, Session
 
 #: kalibr_calibrate_cameras pairs the cameras' images no further apart than this by
-#: default (its --approx-sync, seconds)
-KALIBR_APPROX_SYNC_S = 0.02
+#: default (its --approx-sync, 0.02 s)
+KALIBR_APPROX_SYNC_NS = 20_000_000
 
 
 def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
@@ -32,33 +31,36 @@ def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
 
 def approx_sync_note(sets: Sequence[FrameSet]) -> str:
     """A hint when the frames of one of ``sets`` lie further apart in time than Kalibr's
-    default ``--approx-sync`` (KALIBR_APPROX_SYNC_S) pairs: each camera's best still
+    default ``--approx-sync`` (KALIBR_APPROX_SYNC_NS) pairs: each camera's best still
     frame is chosen on its own, and cameras are rarely triggered together. "" if not."""
-    spread_s = max((s.skew_ns for s in sets), default=0) / 1e9
-    if spread_s <= KALIBR_APPROX_SYNC_S:
+    spread_ns = max((s.skew_ns for s in sets), default=0)
+    if spread_ns <= KALIBR_APPROX_SYNC_NS:
         return ""
-    tolerance = math.ceil(spread_s * 100) / 100
-    return (f"the frames of one set lie up to {spread_s * 1e3:.1f} ms apart (each camera's "
+    tolerance_cs = -(-spread_ns // 10_000_000)  # whole hundredths of a second, up
+    shown_ms = -(-spread_ns // 100_000) / 10  # tenths of a millisecond, up
+    return (f"the frames of one set lie up to {shown_ms:.1f} ms apart (each camera's "
             f"stillest frame): run kalibr_calibrate_cameras with --approx-sync "
-            f"{tolerance:g} (its default {KALIBR_APPROX_SYNC_S:g} s would drop sets), or "
-            "export --format kalibr, which names each set's frames alike")
+            f"{tolerance_cs / 100:g} (its default {KALIBR_APPROX_SYNC_NS / 1e9:g} s would "
+            "drop sets), or export --format kalibr, which names each set's frames alike")
 
 
 def target_note(session: Session, spec: TargetSpec, target_from: str) -> str:
     """What to tell the user about the ``target.yaml`` describing ``spec``: that it is
     an assumption, or that it is not the board the session's frames were checked
     against (their corner counts are for that one); "" when neither."""
+    stored, assumed = TargetSpec.from_session(session.extra)
     if target_from == "default":
-        return (f"target.yaml describes the assumed {spec.describe()} (the session "
-                "was processed without --target): if your board differs, export again "
-                "with --target TARGET.yaml; a wrong tag size scales everything Kalibr "
-                "measures")
-    stored = TargetSpec.from_stored(session.extra.get("target"))
+        why = ("the session was processed without --target" if assumed else
+               "this session, from an earlier SpeechCal, does not say whether it was given"
+               if assumed is None and stored is not None else "the session names no board")
+        return (f"target.yaml describes the {spec.describe()} process assumes without "
+                f"--target ({why}): if your board differs, export again with its Kalibr "
+                "target yaml (speechcal export --target TARGET.yaml); a wrong tag size "
+                "scales everything Kalibr measures")
     if target_from != "given" or stored is None or \
             (stored.kind, stored.rows, stored.cols) == (spec.kind, spec.rows, spec.cols):
         return ""
-    checked = ("assumed " if session.extra.get("target_assumed") else "") + \
-        stored.describe()
+    checked = ("assumed " if assumed else "") + stored.describe()
     return (f"target.yaml describes the given {spec.describe()}, but the session's frames "
             f"were checked against the {checked}: the manifest's corner counts are for "
             "that board; process the recording again with this --target to check the "

@@ -104,12 +104,12 @@ def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> No
 def export_target(session: Session, target: TargetSpec | None) -> tuple[TargetSpec, str]:
     """The calibration target to describe: the given one, the session's, or the default
     6x6 AprilGrid that ``speechcal process`` also assumes without ``--target`` ("default"
-    also when the session holds that assumption)."""
+    also when the session holds that assumption, or may: see ``TargetSpec.from_session``)."""
     if target is not None:
         return target, "given"
-    stored = TargetSpec.from_stored(session.extra.get("target"))
+    stored, assumed = TargetSpec.from_session(session.extra)
     if stored is not None:
-        return stored, "default" if session.extra.get("target_assumed") else "session"
+        return stored, "session" if assumed is False else "default"
     return TargetSpec(), "default"
 
 

@@ -16,11 +16,13 @@ from speechcal_core.target import TargetSpec
 APRILGRID = TargetSpec()  # what process assumes without --target
 
 
-def _with_target(path: Path, target: TargetSpec, assumed: bool) -> Path:
+def _with_target(path: Path, target: TargetSpec, assumed: bool | None) -> Path:
+    """The session at ``path`` holding ``target``, ``assumed`` or given (None: a session
+    from before sessions said which)."""
     session = load_session(path)
     session.extra["target"] = asdict(target)
-    if assumed:
-        session.extra["target_assumed"] = True
+    if assumed is not None:
+        session.extra["target_assumed"] = assumed
     save_session(session, path)
     return path
 
@@ -31,10 +33,25 @@ def test_an_assumed_board_is_named_as_an_assumption(session_file, tmp_path: Path
     assert result.target == "default"
     assert len(result.notes) == 1
     note = result.notes[0]
-    assert note.startswith("target.yaml describes the assumed 6x6 AprilGrid of 0.055 m tags "
-                           "(the session was processed without --target)")
-    assert "export again with --target TARGET.yaml" in note
+    assert note.startswith("target.yaml describes the 6x6 AprilGrid of 0.055 m tags process "
+                           "assumes without --target (the session was processed without "
+                           "--target)")
+    # the window has no --target: the note names the command that takes one
+    assert "export again with its Kalibr target yaml (speechcal export --target" in note
     assert result.to_dict()["notes"] == [note]
+
+
+def test_an_earlier_sessions_default_board_may_be_assumed(session_file, tmp_path) -> None:
+    """Sessions made before they said whether the board was given: the default board is
+    noted as possibly assumed, another board is taken as given."""
+    path = _with_target(session_file(), APRILGRID, assumed=None)
+    result = export_session_file(path, "kalibr", tmp_path / "a")
+    assert result.target == "default"
+    assert "(this session, from an earlier SpeechCal, does not say whether it was given)" \
+        in result.notes[0]
+    path = _with_target(path, TargetSpec("aprilgrid", 6, 6, 0.088, 0.3), assumed=None)
+    result = export_session_file(path, "kalibr", tmp_path / "b")
+    assert result.target == "session" and result.notes == []
 
 
 def test_the_board_process_was_given_needs_no_note(session_file, tmp_path: Path) -> None:
@@ -73,7 +90,8 @@ def test_the_cli_prints_the_notes(session_file, tmp_path: Path, capsys) -> None:
     assert main(["export", str(path), "--format", "kalibr", "--out",
                  str(tmp_path / "kalibr")]) == 0
     err = capsys.readouterr().err
-    assert "note: target.yaml describes the assumed 6x6 AprilGrid of 0.055 m tags" in err
+    assert "note: target.yaml describes the 6x6 AprilGrid of 0.055 m tags process assumes" \
+        in err
 
 
 def _frame_set(set_id: int, *stamps_ns: int) -> FrameSet:
@@ -89,6 +107,16 @@ def test_frames_further_apart_than_kalibrs_default_pairing_are_noted() -> None:
     assert note.startswith("the frames of one set lie up to 23.5 ms apart")
     assert "--approx-sync 0.03 " in note
     assert "export --format kalibr" in note
+
+
+def test_the_suggested_tolerance_is_rounded_up_in_whole_nanoseconds() -> None:
+    """0.07 s suggested 0.08 and 0.14 s 0.15 when rounded as floats; 20.049 ms read
+    "20.0 ms" beside "would drop sets"."""
+    assert "--approx-sync 0.07 " in approx_sync_note([_frame_set(1, 0, 70_000_000)])
+    assert "--approx-sync 0.14 " in approx_sync_note([_frame_set(1, 0, 140_000_000)])
+    note = approx_sync_note([_frame_set(1, 0, 20_049_000)])
+    assert note.startswith("the frames of one set lie up to 20.1 ms apart")
+    assert "--approx-sync 0.03 " in note
 
 
 def test_frames_within_kalibrs_default_pairing_need_no_note() -> None:
