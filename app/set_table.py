@@ -55,10 +55,12 @@ def column(name: str) -> int:
     return [h.replace("\n", " ") for h in HEADERS].index(name)
 
 
-
 def clock_text(seconds: float) -> str:
-    """A time from the first frame as the set list's time column shows it (min:s)."""
-    return f"{int(seconds // 60):02d}:{seconds % 60:05.2f}"
+    """A time from the first frame as the set list's time column shows it (min:s, to
+    the hundredth: 59.996 s is "01:00.00", a time before the first frame "-00:00.40")."""
+    hundredths = round(abs(seconds) * 100)
+    minutes, rest = divmod(hundredths, 6000)
+    return f"{'-' if seconds < 0 and hundredths else ''}{minutes:02d}:{rest / 100:05.2f}"
 
 class OwnColoursDelegate(QStyledItemDelegate):
     """Draws a selected cell's text in its own colour (decision, warning), not the

@@ -180,7 +180,7 @@ class BagSource(ClosingContext):
 
     @property
     def streams(self) -> list[StreamInfo]:
-        """One entry per image topic, sorted by name."""
+        """One entry per image topic, in name order (``stream_order``)."""
         with self._lock:
             return [
                 replace(s.info, bad_frames=tuple(sorted(self._bad.get(name, ()))))

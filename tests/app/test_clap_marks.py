@@ -161,3 +161,13 @@ def test_a_zoomed_in_view_keeps_its_zoom_through_an_offset_edit(
     assert all(v0 <= x <= v1 for x in _marks_x(wave))
     qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # zoomed out further than the whole
     assert _view(wave) == (v0, v1)
+
+
+def test_clock_text_rounds_before_splitting_minutes() -> None:
+    from app.set_table import clock_text
+
+    assert clock_text(4.39) == "00:04.39"
+    assert clock_text(59.996) == "01:00.00"
+    assert clock_text(125.5) == "02:05.50"
+    assert clock_text(-0.4) == "-00:00.40"
+    assert clock_text(-0.001) == "00:00.00"

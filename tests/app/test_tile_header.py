@@ -91,7 +91,7 @@ def test_a_narrow_tile_keeps_the_warning_before_the_decision_word(
         qtbot, monkeypatch: pytest.MonkeyPatch) -> None:
     """The border's colour and the set list say the decision; the warning is what only
     this tile tells (a 12-camera grid at 1920 px showed "? undecided" and "▲ no-t…")."""
-    texts = _header_texts(qtbot, monkeypatch, 260, "undecided", "chosen frame", "no-target")
+    texts = _header_texts(qtbot, monkeypatch, 280, "undecided", "chosen frame", "no-target")
     assert [text for text, _ in texts] == ["/cam0/image_raw  ?", "▲ no-target"]
 
 
@@ -121,7 +121,7 @@ def test_corner_markers_grow_with_the_corners_spacing_on_screen() -> None:
     assert marker_radius(40.0 * 2) == MARKER_RADIUS_PX[1]
 
 
-def test_setting_corners_repaints_with_their_spacing(qtbot) -> None:
+def test_setting_corners_keeps_their_spacing_for_the_markers(qtbot) -> None:
     tile = CameraTile("/cam0/image_raw")
     qtbot.addWidget(tile)
     tile.corners = ((0.0, 0.0), (10.0, 0.0), (30.0, 0.0))
