@@ -58,6 +58,9 @@ PLAY_STATES = {False: ("▶ play", "play from the playhead, with the sound  (Spa
 END_SLACK_NS = 100_000_000
 #: the Edit menu's keys (a QShortcut on them too would be ambiguous)
 UNDO_KEYS, REDO_KEYS = ("Ctrl+Z",), ("Ctrl+Shift+Z", "Ctrl+Y")
+#: the waveform is never squeezed below this (pixels): at the window's least height it
+#: was 30 px high, its labels cut off
+WAVEFORM_MIN_HEIGHT = 100
 #: the key hints under the waveform: one line at 1400 px (the tooltip says it in full,
 #: e.g. Esc back from an enlarged camera, which double-clicking it again does too)
 HINTS = ("Space play · W hear word · ←/→ frame · J/K set · F filter · A/R/U decide · "
@@ -334,6 +337,7 @@ class ReviewWindow(QMainWindow):
         bottom_layout.setContentsMargins(0, 0, 0, 0)
         start_ns, end_ns = model.time_range_ns()
         self.waveform = WaveformView(start_ns)
+        self.waveform.setMinimumHeight(WAVEFORM_MIN_HEIGHT)
         bottom_layout.addWidget(self.waveform, 1)
         sync_row = QHBoxLayout()
         self.sync_line = QLabel("")

@@ -63,3 +63,14 @@ def test_the_window_fits_1100_px_and_keeps_its_width_between_sets(qtbot, window)
         qtbot.keyClick(window, Qt.Key.Key_K)
         assert window.width() == 1100
     assert window.info_line.toolTip().startswith("t = ")
+
+
+def test_the_waveform_keeps_its_height_in_the_smallest_window(qtbot, window) -> None:
+    """At the window's least size the waveform was 30 px high, its set labels and the
+    clap's cut off."""
+    from app.main_window import WAVEFORM_MIN_HEIGHT
+
+    hint = window.minimumSizeHint()
+    window.resize(hint.width(), hint.height())
+    qtbot.waitUntil(lambda: window.height() == max(hint.height(), window.minimumHeight()))
+    assert window.waveform.height() >= WAVEFORM_MIN_HEIGHT
