@@ -68,7 +68,8 @@ HINTS = ("Space play · W hear word · ←/→ frame · J/K set · F filter · A
          "double-click a camera: enlarge · waveform: wheel zoom, click seek, "
          "double-click: whole session")
 HINTS_TIP = (
-    "Space play / pause · W hear the trigger word · ←/→ previous / next frame · "
+    "Space play / pause · W hear the trigger word · ←/→ previous / next frame "
+    "(Shift: of every camera) · "
     "J/K previous / next set · F next filter · A/R/U accept / reject / undo\n"
     "T add a set at the playhead · Del remove the set · S find more like this\n"
     "[ ] audio ±1 ms, { } audio ±1 frame, or drag the clap handle on the waveform\n"

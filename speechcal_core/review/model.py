@@ -70,6 +70,8 @@ KEY_BINDINGS: dict[str, str] = {
     "J": "previous_set",
     "Right": "next_frame",
     "Left": "previous_frame",
+    "Shift+Right": "next_frame_of_every_camera",
+    "Shift+Left": "previous_frame_of_every_camera",
     "Home": "first_set",
     "End": "last_set",
     "F": "next_filter",
@@ -272,8 +274,17 @@ class ReviewModel:
     def previous_frame(self) -> None:
         self._step_frame(-1)
 
-    def _step_frame(self, direction: int) -> None:
-        """Move the playhead to the next/previous stamp of any camera."""
+    def next_frame_of_every_camera(self) -> None:
+        self._step_frame(+1, every_camera=True)
+
+    def previous_frame_of_every_camera(self) -> None:
+        self._step_frame(-1, every_camera=True)
+
+    def _step_frame(self, direction: int, every_camera: bool = False) -> None:
+        """Move the playhead to the next/previous stamp of any camera, or with
+        ``every_camera`` as far as every camera's next/previous stamp (each camera then
+        shows another frame: with a dozen free-running cameras the next stamp of any
+        lies a few milliseconds on)."""
         candidates = []
         for stamps in self._stamps.values():
             i = np.searchsorted(stamps, self.playhead_ns, side="right" if direction > 0 else "left")
@@ -281,7 +292,9 @@ class ReviewModel:
             if 0 <= j < len(stamps):
                 candidates.append(int(stamps[j]))
         if candidates:
-            self.set_playhead(min(candidates) if direction > 0 else max(candidates))
+            forward = max if every_camera else min
+            backward = min if every_camera else max
+            self.set_playhead(forward(candidates) if direction > 0 else backward(candidates))
 
     # -- sync edits ---------------------------------------------------------------------
     def nudge_offset(self, delta_ns: int) -> None:

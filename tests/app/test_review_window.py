@@ -49,6 +49,20 @@ def test_keys_accept_reject_undo_and_autosave(qtbot, window, truth_session_file)
     assert window.counts_label.text().startswith("✔ 1 accepted")
 
 
+def test_arrow_keys_step_a_frame_of_any_camera_or_with_shift_of_every_one(
+        qtbot, window) -> None:
+    model = window.model
+    stamps = {name: model.source.stamps(name) for name in model.streams}
+    start = model.playhead_ns
+    qtbot.keyClick(window, Qt.Key.Key_Right)
+    assert model.playhead_ns == min(int(s[s > start][0]) for s in stamps.values())
+    one = model.playhead_ns
+    qtbot.keyClick(window, Qt.Key.Key_Right, Qt.KeyboardModifier.ShiftModifier)
+    assert model.playhead_ns == max(int(s[s > one][0]) for s in stamps.values())
+    qtbot.keyClick(window, Qt.Key.Key_Left, Qt.KeyboardModifier.ShiftModifier)
+    assert model.playhead_ns < one
+
+
 def test_clicking_a_row_jumps_to_that_set(qtbot, window) -> None:
     last = window.table.rowCount() - 1
     window.table.selectRow(last)

@@ -72,6 +72,24 @@ def test_frame_stepping_visits_every_stamp_in_order(truth_session_file: Path) ->
     assert model.playhead_ns < after
 
 
+def test_shift_stepping_moves_every_camera_on_by_a_frame(truth_session_file: Path) -> None:
+    """With several free-running cameras the next stamp of any is a few ms away; Shift+→
+    goes as far as every camera's next frame, Shift+← back past every camera's previous."""
+    model = open_model(truth_session_file)
+    model.go_to_set(1)
+    before = model.playhead_ns
+    stamps = {name: model.source.stamps(name) for name in model.streams}
+    model.next_frame_of_every_camera()
+    assert model.playhead_ns == max(int(s[s > before][0]) for s in stamps.values())
+    for s in stamps.values():  # every camera has a new frame at or before the playhead
+        assert int(s[s > before][0]) <= model.playhead_ns
+    after = model.playhead_ns
+    model.previous_frame_of_every_camera()
+    assert model.playhead_ns == min(int(s[s < after][-1]) for s in stamps.values())
+    assert KEY_BINDINGS["Shift+Right"] == "next_frame_of_every_camera"
+    assert KEY_BINDINGS["Shift+Left"] == "previous_frame_of_every_camera"
+
+
 def test_a_zero_offset_shift_changes_nothing(truth_session_file: Path) -> None:
     model = open_model(truth_session_file)
     events = []
