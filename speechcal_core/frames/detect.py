@@ -66,11 +66,12 @@ class Detection:
         return cv2.convexHull(self.points.astype(np.float32)).reshape(-1, 2).astype(np.int32)
 
 
-def to_gray(image: np.ndarray) -> np.ndarray:
-    """Mono uint8 view of a mono uint8/uint16 or BGR frame."""
+def to_gray(image: np.ndarray, depth: int | None = None) -> np.ndarray:
+    """Mono uint8 view of a mono uint8/uint16 or BGR frame (``depth``: a 16-bit stream's
+    sensor depth, see ``sources.decode.to_uint8``)."""
     if image.ndim == 3:
         image = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-    return to_uint8(image)
+    return to_uint8(image, depth)
 
 
 class TargetDetector:

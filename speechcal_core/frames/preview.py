@@ -9,6 +9,7 @@ import numpy as np
 
 from speechcal_core.frames.detect import to_gray
 from speechcal_core.sources.base import COMPRESSED_MSGTYPE
+from speechcal_core.sources.depth import stream_depth
 from speechcal_core.sources.errors import BadFrameError
 from speechcal_core.sources.msgparse import parse_image
 
@@ -45,7 +46,7 @@ def preview_gray(source: FrameSource, stream: str, i: int, factor: int,
             if img is None:
                 raise BadFrameError(f"{stream}: frame {i} cannot be decoded")
             return img
-    gray = to_gray(source.frame(stream, i))
+    gray = to_gray(source.frame(stream, i), stream_depth(source, stream))
     if factor == 1:
         return gray
     h, w = gray.shape[:2]

@@ -46,16 +46,22 @@ def bytes_per_pixel(encoding: str) -> int:
 SENSOR_DEPTHS = (8, 10, 12, 14, 16)
 
 
-def to_uint8(img: np.ndarray) -> np.ndarray:
-    """An 8-bit view of a frame: 16-bit data is shifted down by the sensor depth its values
-    need (the smallest of SENSOR_DEPTHS), so a 12-bit sensor's 0-4095 fills 0-255 as
-    16-bit data's 0-65535 does, and frames of one camera keep one scale. Other images are
-    returned as they are."""
+def sensor_depth(largest: int) -> int:
+    """The smallest of SENSOR_DEPTHS that holds the value ``largest``."""
+    used = max(0, int(largest)).bit_length()
+    return next((d for d in SENSOR_DEPTHS if d >= used), SENSOR_DEPTHS[-1])
+
+
+def to_uint8(img: np.ndarray, depth: int | None = None) -> np.ndarray:
+    """An 8-bit view of a frame: 16-bit data is shifted down by the sensor depth it holds,
+    so a 12-bit sensor's 0-4095 fills 0-255 as 16-bit data's 0-65535 does. ``depth``: the
+    stream's (``sources.depth.stream_depth``, one scale for all its frames); without it,
+    what this frame's largest value needs. Other images are returned as they are."""
     if img.dtype != np.uint16:
         return img
-    used = int(img.max()).bit_length() if img.size else 0
-    depth = next(d for d in SENSOR_DEPTHS if d >= used)
-    return (img >> (depth - 8)).astype(np.uint8)
+    if depth is None:
+        depth = sensor_depth(int(img.max()) if img.size else 0)
+    return (img >> (max(8, depth) - 8)).astype(np.uint8)
 
 
 

@@ -9,6 +9,8 @@ import cv2
 import numpy as np
 from scipy.signal import find_peaks
 
+from speechcal_core.sources.decode import sensor_depth
+
 WORK_WIDTH = 160  # frames are analysed at about this width
 GRID = 8  # cells across the width
 EVENT_S = 0.35  # motion is smoothed over this long when looking for the event
@@ -34,14 +36,19 @@ class VideoClap:
                 "period_ns": self.period_ns}
 
 
-def to_gray_small(frame: np.ndarray, width: int = WORK_WIDTH) -> tuple[np.ndarray, float]:
-    """Gray float32 image at about ``width`` pixels wide, and the scale factor applied."""
+def to_gray_small(frame: np.ndarray, width: int = WORK_WIDTH,
+                  depth: int | None = None) -> tuple[np.ndarray, float]:
+    """Gray float32 image at about ``width`` pixels wide (0-255, a 16-bit frame scaled by
+    its stream's sensor ``depth``, or its own), and the scale factor applied."""
     img = frame
     if img.ndim == 3:
         img = cv2.cvtColor(img, cv2.COLOR_BGR2GRAY) if img.shape[2] == 3 else img[..., 0]
+    sixteen = img.dtype == np.uint16
+    if sixteen and depth is None:
+        depth = sensor_depth(int(img.max()) if img.size else 0)
     img = img.astype(np.float32)
-    if img.max(initial=0) > 255.0:  # 16-bit
-        img = img / 257.0
+    if sixteen and depth is not None and depth > 8:
+        img = img / float(1 << (depth - 8))
     scale = min(1.0, width / img.shape[1])
     if scale < 1.0:
         size = (max(1, round(img.shape[1] * scale)), max(1, round(img.shape[0] * scale)))

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from speechcal_core.sources.depth import stream_depth
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sync.clap_audio import ClapCandidate, audio_levels, find_audio_claps
 from speechcal_core.sync.clap_video import VideoClap, find_video_claps, to_gray_small
@@ -76,9 +77,10 @@ def video_clap_candidates(source: FrameSource, stream: str, t0_ns: int,
     if i1 - i0 < 5:
         return []
     frames, kept, scale = [], [], 1.0
+    depth = stream_depth(source, stream)
     for i in range(int(i0), int(i1)):
         try:
-            img, scale = to_gray_small(source.frame(stream, i))
+            img, scale = to_gray_small(source.frame(stream, i), depth=depth)
         except SourceError:  # a bad frame is skipped, not fatal
             continue
         if frames and img.shape != frames[0].shape:
@@ -91,7 +93,7 @@ def video_clap_candidates(source: FrameSource, stream: str, t0_ns: int,
 
     @functools.lru_cache(maxsize=160)
     def detail(j: int) -> np.ndarray:
-        return to_gray_small(source.frame(stream, index[j]), 1 << 30)[0]
+        return to_gray_small(source.frame(stream, index[j]), 1 << 30, depth)[0]
 
     return find_video_claps(frames, np.array(kept), stream=stream, scale=scale, detail=detail)
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from board_images import facing_pose, render_view
 
-from speechcal_core.frames.detect import CharucoSpec, TargetDetector
+from speechcal_core.frames.detect import CharucoSpec, TargetDetector, to_gray
 from speechcal_core.synth.options import SynthOptions
 from speechcal_core.synth.render import render_frame
 from speechcal_core.synth.timeline import plan_session
@@ -79,8 +79,6 @@ def test_aprilgrid_on_synthetic_frames_matches_truth_projection() -> None:
 def test_a_12_bit_camera_in_16_bit_images_is_seen_at_full_contrast() -> None:
     """mono16 from a 12-bit sensor holds 0-4095: shifted down by 8 bits it was nearly
     black (0-15) and no board was found in it."""
-    from speechcal_core.frames.detect import to_gray
-
     target = TargetSpec()
     rvec, tvec = facing_pose(target, 0.7, (0.3, -0.2), (0.02, 0.01), 0.2, flip_y=True)
     img = render_view(target, K, rvec, tvec, (640, 480))
@@ -92,3 +90,33 @@ def test_a_12_bit_camera_in_16_bit_images_is_seen_at_full_contrast() -> None:
     np.testing.assert_array_equal(to_gray(img.astype(np.uint16) * 257), img)
     dark = (img // 2).astype(np.uint16) * 16  # values up to 2040: still a 12-bit frame
     np.testing.assert_array_equal(to_gray(dark), img // 2)
+
+
+def test_a_16_bit_streams_frames_share_one_scale() -> None:
+    """Frame by frame, a 12-bit frame whose brightest pixel needs one bit less came out
+    twice as bright; the stream's depth, from frames across it, keeps one scale."""
+    from speechcal_core.sources.base import StreamInfo
+    from speechcal_core.sources.depth import stream_depth
+    from speechcal_core.sources.errors import BadFrameError
+
+    bright = np.full((4, 4), 1100, np.uint16)  # needs 11 bits: a 12-bit sensor
+    dark = np.full((4, 4), 900, np.uint16)  # needs 10 bits on its own
+
+    class Source:
+        streams = (StreamInfo("/cam0/image_raw", "sensor_msgs/msg/Image", "mono16", 4, 4, 3,
+                              0, 2, 1, 1.0, 0),)
+        reads = 0
+
+        def frame(self, stream: str, i: int) -> np.ndarray:
+            Source.reads += 1
+            if i == 1:
+                raise BadFrameError("undecodable")
+            return bright if i == 2 else dark
+
+    source = Source()
+    assert stream_depth(source, "/cam0/image_raw") == 12
+    reads = Source.reads
+    assert stream_depth(source, "/cam0/image_raw") == 12 and Source.reads == reads  # kept
+    np.testing.assert_array_equal(to_gray(dark, 12), np.full((4, 4), 56))
+    np.testing.assert_array_equal(to_gray(dark), np.full((4, 4), 225))
+
