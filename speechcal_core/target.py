@@ -100,6 +100,8 @@ class TargetSpec:
         is the one assumed."""
         stored = cls.from_stored(extra.get("target"))
         assumed = extra.get("target_assumed")
+        if stored is None:
+            return None, None
         if isinstance(assumed, bool):
             return stored, assumed
         return stored, None if stored == cls() else False

@@ -9,7 +9,11 @@ one tag pitch apart. A corner not found is listed with '-' (mrcal leaves it out)
 without the board as one line of '-'.
 
 The corners are the ones the session found on each chosen frame; they are written only
-for frames whose stored detection counts as many corners as the frame's figure says.
+for frames whose stored detection counts as many corners as the frame's figure says, and
+only for sessions that name the board they were found on (sessions made before they did
+get no corners files, and a note says so). A checkerboard's corners are numbered from
+the end nearer the image's top left (``upright_checkerboard``), sessions made before
+that included.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from speechcal_core.calibration.collect import detections_from_details
+from speechcal_core.frames.detect import Detection, upright_checkerboard
 from speechcal_core.fsutil import atomic_write_text
 from speechcal_core.target import TargetSpec
 
@@ -28,7 +33,6 @@ if TYPE_CHECKING:
     from pathlib import Path
 
     from speechcal_core.export.plan import Outcome, Plan
-    from speechcal_core.frames.detect import Detection
     from speechcal_core.session.model import Session
     from speechcal_core.sources.base import FrameSource
 
@@ -36,14 +40,30 @@ CORNERS_JSON = "corners.json"
 CORNERS_VNL = "corners.vnl"
 
 
-def corners_board(session: Session, export_target: TargetSpec) -> TargetSpec:
+def corners_board(session: Session, export_target: TargetSpec) -> TargetSpec | None:
     """The board the corner ids refer to: the one the session's frames were checked
     against, with the export's size when the export describes the same layout (a size
-    measured after processing)."""
-    checked = TargetSpec.from_session(session.extra)[0] or TargetSpec()
+    measured after processing); None when the session names no board."""
+    checked = TargetSpec.from_session(session.extra)[0]
+    if checked is None:
+        return None
     same = (checked.kind, checked.rows, checked.cols) == \
         (export_target.kind, export_target.rows, export_target.cols)
     return export_target if same else checked
+
+
+def corners_problem(session: Session) -> str:
+    """Why no corners files can be written for ``session`` ("" when they can)."""
+    details = session.extra.get("frame_details")
+    if not isinstance(details, dict) or not any(
+            "ids" in entry for d in details.values() if isinstance(d, dict)
+            for entry in (d.get("frames") or {}).values() if isinstance(entry, dict)):
+        return ("no corners.json or corners.vnl: the session holds no found corners "
+                "(process the recording again to have them)")
+    if TargetSpec.from_session(session.extra)[0] is None:
+        return ("no corners.json or corners.vnl: the session does not name the board its "
+                "corners were found on (process the recording again, with --target)")
+    return ""
 
 
 def mrcal_grid(board: TargetSpec) -> tuple[np.ndarray, float]:
@@ -70,7 +90,7 @@ def write_corners(source: FrameSource, plan: Plan, outcome: Outcome, root: Path,
         file = outcome.files.get(key)
         if file is None:
             continue  # not written (undecodable frame): named in the manifest
-        det = _stored_detection(detections.get(key), frame.choice.corners)
+        det = _stored_detection(detections.get(key), frame.choice.corners, board)
         images.append({
             "file": file, "stream": frame.choice.stream, "set_id": frame.frame_set.id,
             "image_size": list(sizes.get(frame.choice.stream, (0, 0))),
@@ -78,9 +98,12 @@ def write_corners(source: FrameSource, plan: Plan, outcome: Outcome, root: Path,
             "points": np.round(det.points, 3).tolist() if det is not None else [],
         })
         rows += _vnl_rows(file, det, grid_ids)
+    target = asdict(board)
+    if board.kind != "aprilgrid":
+        del target["spacing"]  # a tag gap: nothing on a checkerboard
     document = {
         "schema": 1,
-        "target": asdict(board),
+        "target": target,
         "object_points": np.round(board.object_points(), 6).tolist(),
         "mrcal": {"object_spacing": round(spacing, 6), "object_width_n": board.cols,
                   "object_height_n": board.rows,
@@ -93,10 +116,17 @@ def write_corners(source: FrameSource, plan: Plan, outcome: Outcome, root: Path,
     return [CORNERS_JSON, CORNERS_VNL]
 
 
-def _stored_detection(det: Detection | None, corners: int | None) -> Detection | None:
-    """The stored detection when it is the chosen frame's (same corner count)."""
-    if det is None or corners is None or det.count != corners:
+def _stored_detection(det: Detection | None, corners: int | None,
+                      board: TargetSpec) -> Detection | None:
+    """The stored detection when it is the chosen frame's (same corner count) and names
+    corners of ``board``; a whole checkerboard numbered from its top-left end."""
+    n = board.object_points().shape[0]
+    if det is None or corners is None or det.count != corners or det.count == 0 \
+            or int(det.ids.max()) >= n or int(det.ids.min()) < 0:
         return None
+    if board.kind == "checkerboard" and det.count == n and \
+            np.array_equal(det.ids, np.arange(n)):
+        return Detection(upright_checkerboard(det.points), det.ids)
     return det
 
 

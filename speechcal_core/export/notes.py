@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from speechcal_core.export.corners import corners_problem
 from speechcal_core.target import TargetSpec
 
 if TYPE_CHECKING:
@@ -20,13 +21,14 @@ KALIBR_APPROX_SYNC_NS = 20_000_000
 def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
                  target_from: str) -> list[str]:
     """The export's notes (:attr:`ExportResult.notes`) for format ``fmt``."""
+    notes = []
     if fmt == "kalibr":
-        note = target_note(session, spec, target_from)
-    elif fmt in ("rosbag1", "rosbag2"):
-        note = approx_sync_note(plan.sets)
-    else:
-        note = ""
-    return [note] if note else []
+        notes.append(target_note(session, spec, target_from))
+    if fmt in ("kalibr", "folders"):
+        notes.append(corners_problem(session))
+    if fmt in ("rosbag1", "rosbag2"):
+        notes.append(approx_sync_note(plan.sets))
+    return [note for note in notes if note]
 
 
 def approx_sync_note(sets: Sequence[FrameSet]) -> str:

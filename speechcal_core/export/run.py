@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from speechcal_core.errors import UsageError
-from speechcal_core.export.corners import corners_board, write_corners
+from speechcal_core.export.corners import corners_board, corners_problem, write_corners
 from speechcal_core.export.earlier import FORMATS, not_replaceable
 from speechcal_core.export.errors import ExportError
 from speechcal_core.export.manifest import manifest_document, write_manifest
@@ -205,9 +205,9 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     with staged_directory(out, force=force) as root:
         outcome, cameras = _write(fmt, source, plan, root, spec,
                                   lambda text, f: report(text, 0.95 * f))
-        if fmt in IMAGE_FORMATS:
-            outcome.written.extend(write_corners(source, plan, outcome, root, session,
-                                                 corners_board(session, spec)))
+        board = corners_board(session, spec) if fmt in IMAGE_FORMATS else None
+        if board is not None and not corners_problem(session):
+            outcome.written.extend(write_corners(source, plan, outcome, root, session, board))
         report("writing the manifest", 0.95)
         header: dict[str, Any] = {
             "schema": 1,

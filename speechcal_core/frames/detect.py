@@ -66,6 +66,16 @@ class Detection:
         return cv2.convexHull(self.points.astype(np.float32)).reshape(-1, 2).astype(np.int32)
 
 
+def upright_checkerboard(points: np.ndarray) -> np.ndarray:
+    """A checkerboard's corners (all of them, row-major) in the order whose first corner
+    lies nearer the image's top left than its last. A checkerboard looks alike turned half
+    round, so a detector numbers it from either end; in this one order the cameras of a
+    rig (mounted alike) number each corner alike, as a joint calibration needs."""
+    if points.shape[0] > 1 and points[0].sum() > points[-1].sum():
+        return points[::-1].copy()
+    return points
+
+
 def to_gray(image: np.ndarray, depth: int | None = None) -> np.ndarray:
     """Mono uint8 view of a mono uint8/uint16 or BGR frame (``depth``: a 16-bit stream's
     sensor depth, see ``sources.decode.to_uint8``)."""
@@ -188,7 +198,7 @@ class TargetDetector:
         ok, corners = cv2.findChessboardCornersSB(small, size, flags=flags)
         if not ok:
             return None
-        points = corners.reshape(-1, 2).astype(np.float64)
+        points = upright_checkerboard(corners.reshape(-1, 2).astype(np.float64))
         step = np.linalg.norm(points[1] - points[0])
         return points, np.arange(points.shape[0]), max(1.5, step * 0.3)
 

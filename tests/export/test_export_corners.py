@@ -161,3 +161,108 @@ def test_mrcal_calibrates_from_corners_vnl(exported, tmp_path: Path) -> None:
     model = (tmp_path / "camera-0.cameramodel").read_text()
     intrinsics = ast.literal_eval(re.search(r"'intrinsics':\s*(\[[^\]]*\])", model).group(1))
     assert intrinsics[0] == pytest.approx(_truth_fx(truth, PINHOLE), rel=0.02)
+
+
+def test_a_session_without_found_corners_or_board_gets_no_corners_files(processed,
+                                                                       tmp_path) -> None:
+    """Sessions made before they named their board: which board the stored ids number
+    is unknown, so no corners files rather than ones that may be wrong, and a note."""
+    path, _truth = processed
+    session = load_session(path)
+    del session.extra["target"]
+    older = tmp_path / "older.json"
+    save_session(session, older)
+    result = export_session_file(older, "kalibr", tmp_path / "kalibr")
+    assert not (tmp_path / "kalibr" / CORNERS_JSON).exists()
+    assert not (tmp_path / "kalibr" / CORNERS_VNL).exists()
+    assert any("does not name the board its corners were found on" in note
+               for note in result.notes)
+
+
+def test_found_corners_the_sessions_board_lacks_are_left_out(processed, tmp_path) -> None:
+    """A session whose stored board is smaller than its corner ids (edited by hand): an
+    image whose ids the board lacks lists no corners instead of ids off the board."""
+    path, _truth = processed
+    session = load_session(path)
+    session.extra["target"] = {"kind": "aprilgrid", "rows": 3, "cols": 3, "size": 0.055,
+                               "spacing": 0.3}
+    edited = tmp_path / "edited.json"
+    save_session(session, edited)
+    export_session_file(edited, "folders", tmp_path / "out")
+    doc = json.loads((tmp_path / "out" / CORNERS_JSON).read_text())
+    assert len(doc["object_points"]) == 36
+    assert doc["images"] and all(max(image["ids"], default=0) < 36 for image in doc["images"])
+
+
+@pytest.fixture(scope="module")
+def checkerboard_session(tmp_path_factory) -> tuple[Path, dict]:
+    """Two pinhole cameras filming a checkerboard, processed with its target.yaml, every
+    set accepted: (session file, truth)."""
+    from speechcal_core.pipeline import process_recording
+    from speechcal_core.synth.options import SynthOptions
+    from speechcal_core.synth.session import generate_session
+
+    root = tmp_path_factory.mktemp("checkerboard")
+    generate_session(root / "synth", SynthOptions(
+        cameras=2, fisheye=0, duration=14.0, width=320, height=240, seed=21, claps=1,
+        target_kind="checkerboard"))
+    truth = json.loads((root / "synth" / "truth.json").read_text())
+    words = root / "words.csv"
+    words.write_text("word,start,end\n" + "".join(
+        f"capture,{t['start_s']:.4f},{t['end_s']:.4f}\n" for t in truth["triggers"]))
+    session = process_recording(
+        [str(root / "synth" / truth["recording"])], str(root / "synth" / truth["audio"]),
+        transcript=str(words), offset_ns=truth["sync"]["offset_ns"],
+        target=TargetSpec.from_kalibr_yaml(root / "synth" / "target.yaml"))
+    session.sets = [replace(s, decision="accepted") for s in session.sets]
+    path = root / "session.json"
+    save_session(session, path)
+    return path, truth
+
+
+def _baseline_m(truth: dict) -> float:
+    """The distance between the two cameras' centres, from the truth's rig poses."""
+    centres = []
+    for camera in truth["cameras"][:2]:
+        pose = camera["T_cam_rig"]
+        r, t = np.asarray(pose["R"]), np.asarray(pose["t"])
+        centres.append(-r.T @ t)
+    return float(np.linalg.norm(centres[1] - centres[0]))
+
+
+def test_both_cameras_number_a_checkerboards_corners_alike(checkerboard_session,
+                                                           tmp_path) -> None:
+    """A checkerboard looks alike turned half round, so its corners may be found from
+    either end; a joint calibration needs each id to name one corner in every camera.
+    An earlier session stored one camera's corners from the far end: the export numbers
+    them from the top-left end as well, and OpenCV's stereo calibration finds the rig."""
+    path, truth = checkerboard_session
+    session = load_session(path)
+    for entry in session.extra["frame_details"].values():
+        found = entry["frames"]["/cam1/image_raw"]
+        found["points"] = found["points"][::-1]  # as an earlier session could store them
+    earlier = tmp_path / "earlier.json"
+    save_session(session, earlier)
+    export_session_file(earlier, "folders", tmp_path / "out")
+    doc = json.loads((tmp_path / "out" / CORNERS_JSON).read_text())
+    assert doc["target"] == {"kind": "checkerboard", "rows": 6, "cols": 8, "size": 0.045}
+    views: dict[str, dict[int, np.ndarray]] = {}
+    for image in doc["images"]:
+        assert image["ids"] == list(range(48))
+        points = np.asarray(image["points"], np.float32)
+        assert points[0].sum() < points[-1].sum()  # first corner nearer the top left
+        views.setdefault(image["stream"], {})[image["set_id"]] = points
+    sets = sorted(views["/cam0/image_raw"])
+    assert len(sets) >= 3 and sets == sorted(views["/cam1/image_raw"])
+    board = np.asarray(doc["object_points"], np.float32)
+    k, dist = [], []
+    for camera in truth["cameras"][:2]:
+        fx, fy, cx, cy = camera["intrinsics"]
+        k.append(np.array([[fx, 0, cx], [0, fy, cy], [0, 0, 1]]))
+        dist.append(np.asarray(camera["distortion"]))
+    rms, *_, t, _e, _f = cv2.stereoCalibrate(
+        [board] * len(sets), [views["/cam0/image_raw"][s] for s in sets],
+        [views["/cam1/image_raw"][s] for s in sets], k[0], dist[0], k[1], dist[1],
+        (320, 240), flags=cv2.CALIB_FIX_INTRINSIC)
+    assert rms < 1.0
+    assert float(np.linalg.norm(t)) == pytest.approx(_baseline_m(truth), rel=0.1)
