@@ -143,6 +143,8 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
             f"{len(rms)} of {len(streams)} cameras fit")
     if rms:
         line += f", RMS ≤ {max(rms):.2f} px"
+    elif 0 < kept < MIN_VIEWS:  # too few to tell anything about the board
+        line += f" (a fit needs the target in {MIN_VIEWS} sets or more)"
     elif kept:  # nothing fits anywhere: the board may not be the one looked for
         target = TargetSpec.from_stored(session.extra.get("target")) or TargetSpec()
         line += (f" (looked for a {target.describe()}: if the board is "

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -111,20 +112,47 @@ def test_export_waits_for_the_sets_it_holds_that_show_nearest_frames(
     assert model.export_waits_for(include_undecided=True) == []
 
 
-def test_no_camera_fitting_says_which_board_was_looked_for(
-        tiny_synth: tuple[Path, dict]) -> None:
-    """An AprilGrid recording processed as a checkerboard (or the other way round, with no
-    --target) fits no camera: the check line says what it looked for and what to do."""
+def test_no_camera_fitting_says_which_board_was_looked_for(tmp_path: Path) -> None:
+    """A checkerboard recording processed without --target (so as the default AprilGrid)
+    fits no camera: the check line says what it looked for and what to do."""
     from speechcal_core.pipeline import process_recording
+    from speechcal_core.synth.options import SynthOptions
+    from speechcal_core.synth.session import generate_session
 
-    folder, truth = tiny_synth
+    folder = tmp_path / "checkerboard"
+    generate_session(folder, SynthOptions(cameras=1, fisheye=0, duration=14.0, width=256,
+                                          height=192, seed=21, claps=1,
+                                          target_kind="checkerboard"))
+    truth = json.loads((folder / "truth.json").read_text())
+    words = tmp_path / "words.csv"  # the true triggers: this is about the board
+    words.write_text("word,start,end\n" + "".join(
+        f"capture,{t['start_s']:.4f},{t['end_s']:.4f}\n" for t in truth["triggers"]))
     session = process_recording([str(folder / truth["recording"])],
-                                str(folder / truth["audio"]),
-                                target=TargetSpec("checkerboard", 4, 3, 0.05))
-    summary = check_summary(session, sorted({f.stream for s in session.sets
-                                             for f in s.frames}))
-    assert summary is not None and " 0 of 3 cameras fit" in summary.line
-    assert "(looked for a 3x4 checkerboard of 0.05 m squares: if the board is another one" \
+                                str(folder / truth["audio"]), transcript=str(words),
+                                offset_ns=truth["sync"]["offset_ns"])
+    assert len(session.sets) >= 4
+    summary = check_summary(session, ["/cam0/image_raw"])
+    assert summary is not None and " 0 of 1 cameras fit" in summary.line
+    assert "(looked for a 6x6 AprilGrid of 0.055 m tags: if the board is another one" \
         in summary.line
-    assert session.extra["target_assumed"] is False  # the board was given
+    assert session.extra["target_assumed"] is True  # no --target: the default board
     assert "--target TARGET.yaml" in summary.line
+
+
+def test_too_few_sets_are_named_as_the_reason_not_the_board(
+        searched_session_file: Path) -> None:
+    """With fewer sets kept than a fit needs, the line says so; it does not send the
+    operator to process again with another --target."""
+    from speechcal_core.calibration.check import MIN_VIEWS
+
+    model = open_model(searched_session_file)
+    while sum(s.decision != "rejected" for s in model.session.sets) >= MIN_VIEWS:
+        model.go_to_set(next(i for i, s in enumerate(model.session.sets)
+                             if s.decision != "rejected"))
+        model.reject()
+    if model.checks_due():
+        _recheck(model)
+    summary = check_summary(model.session, model.streams)
+    assert summary is not None and summary.warning
+    assert summary.line.endswith(f"cameras fit (a fit needs the target in {MIN_VIEWS} sets "
+                                 "or more)")
