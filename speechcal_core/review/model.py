@@ -344,9 +344,21 @@ class ReviewModel:
         self.decide("rejected")
 
     def decide(self, decision: str) -> None:
-        """Record a decision on the current set (then autosave)."""
+        """Record a decision on the current set (then autosave).
+
+        With the playhead moved off the current set, the set at the playhead is decided
+        when there is one, else the current set; the playhead returns to the decided set,
+        so the grid shows the frames the decision is on.
+        """
         current = self.current_set
-        if current is None or current.decision == decision:
+        if current is None:
+            return
+        if self.playhead_ns != set_time_ns(current):
+            at_playhead = self.set_at_playhead()
+            if at_playhead is not None:
+                current = at_playhead
+            self.go_to_set(self._index_of(current.id))
+        if current.decision == decision:
             return
         self._undo.append(("decision", current.id, current.decision))
         self._redo.clear()

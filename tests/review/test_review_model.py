@@ -32,6 +32,24 @@ def test_accept_reject_undo_redo_and_every_action_autosaves(truth_session_file: 
     assert load_session(truth_session_file).sets[0].decision == "accepted"
 
 
+def test_a_decision_off_the_set_lands_on_the_set_shown_decided(truth_session_file) -> None:
+    """Stepped away from the current set, A decides the set at the playhead if there is
+    one, else the current set, and the playhead returns to it: the grid shows the frames
+    the decision is on (it showed the nearest frames of another moment)."""
+    model = open_model(truth_session_file)
+    sets = model.session.sets
+    model.go_to_set(1)
+    gap = set_time_ns(sets[2]) - set_time_ns(sets[1])
+    model.set_playhead(set_time_ns(sets[1]) + gap // 2)  # between two sets
+    model.accept()
+    assert [s.decision for s in sets[:3]] == ["undecided", "accepted", "undecided"]
+    assert model.current == 1 and model.playhead_ns == set_time_ns(sets[1])
+    assert all(tile.chosen for tile in model.tiles())
+    model.set_playhead(set_time_ns(sets[2]) + 10_000_000)  # a scrub onto the next set
+    model.reject()
+    assert model.current == 2 and sets[2].decision == "rejected"
+    assert model.playhead_ns == set_time_ns(sets[2])
+
 def test_set_navigation_moves_the_playhead_to_the_set(truth_session_file: Path) -> None:
     model = open_model(truth_session_file)
     seen = []
