@@ -584,14 +584,15 @@ class ReviewWindow(QMainWindow):
                            current.decision if current else None)
         start_ns, _ = model.time_range_ns()
         rel = (model.playhead_ns - start_ns) / 1e9
+        # what the operator reads first leads: a narrow window cuts the line's end
         set_text = ""
         if current is not None:
             idx = model.session.sets.index(current) + 1  # the list's # column is the id
             said = clock_text((current.t_ns - start_ns) / 1e9)
-            set_text = (f"   set #{current.id} ({idx} of {len(model.session.sets)}), said at "
-                        f"{said}   skew {current.skew_ns / 1e6:.1f} ms")
+            set_text = (f"set #{current.id} ({idx} of {len(model.session.sets)}), said at "
+                        f"{said}   skew {current.skew_ns / 1e6:.1f} ms   ")
         self.info_line.set_full_text(
-            f"t = {model.playhead_ns / 1e9:.3f} s  ({rel:.3f} s from start)" + set_text)
+            set_text + f"t = {rel:.3f} s from start ({model.playhead_ns / 1e9:.3f} s)")
 
     def _on_frame(self, stream: str, index: int, image) -> None:
         tile = self.grid.tiles.get(stream)

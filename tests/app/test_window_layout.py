@@ -62,7 +62,8 @@ def test_the_window_fits_1100_px_and_keeps_its_width_between_sets(qtbot, window)
     for _ in range(len(window.model.session.sets)):
         qtbot.keyClick(window, Qt.Key.Key_K)
         assert window.width() == 1100
-    assert window.info_line.toolTip().startswith("t = ")
+    assert window.info_line.toolTip().startswith("set #")  # the set leads, then the time
+    assert " s from start (" in window.info_line.toolTip()
 
 
 def test_the_waveform_keeps_its_height_in_the_smallest_window(qtbot, window) -> None:
