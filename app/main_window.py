@@ -45,6 +45,7 @@ from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
 from speechcal_core.review.summary import FILTERS
 from speechcal_core.session.store import SessionFileError, load_session
+from speechcal_core.sync.estimate import clap_off
 
 EMPTY_TEXT = (
     "<h2>Open a calibration session</h2>"
@@ -718,13 +719,20 @@ class ReviewWindow(QMainWindow):
         lead = (self.model.time_range_ns()[0] - sync.offset_ns) / 1e9
         how = {"auto": "auto ✓", "manual": "edited ✎", "stamped": "stamped ✓"}.get(
             sync.source, sync.source)
-        cams = session.sync_evidence.get("cameras") or []
-        residuals = [abs(c.get("residual_ns") or 0) for c in cams if isinstance(c, dict)]
+        cams = [c for c in session.sync_evidence.get("cameras") or [] if isinstance(c, dict)]
+        residuals = [abs(c.get("residual_ns") or 0) for c in cams]
         # the residuals are the automatic sync's: an edited offset has none to show
-        worst = (f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms"
-                 if residuals and sync.source != "manual" else "")
-        self.sync_line.setText(
-            f"{audio_start_text(lead)} · drift {sync.drift * 1e6:.1f} ppm · {how}{worst}")
+        shown = residuals and sync.source != "manual"
+        worst = f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms" if shown else ""
+        off = [c for c in cams if shown and clap_off(c)]
+        if off:
+            worst = "".join(f" · {c.get('name')} clap {(c.get('residual_ns') or 0) / 1e6:+.1f} "
+                            "ms off the others" for c in off)
+        text = f"{audio_start_text(lead)} · drift {sync.drift * 1e6:.1f} ppm · {how}{worst}"
+        self.sync_line.setText(f"{WARNING_SYMBOL} {text}" if off else text)
+        self.sync_line.setStyleSheet(f"color: {WARNING_COLOUR.name()}" if off else "")
+        warnings = session.sync_evidence.get("warnings") or []
+        self.sync_line.setToolTip("\n".join(str(w) for w in warnings) if off else "")
 
     def _autosave(self, session) -> None:
         """Save after every change; a failure is warned about, never raised."""

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -149,6 +151,13 @@ def build_result(claps: list[Clap], warnings: list[str] | None = None,
     return replace(result, warnings=tuple(dict.fromkeys(notes)))
 
 
+def clap_off(cam: Mapping[str, Any]) -> bool:
+    """Whether a camera's clap (an entry of :meth:`SyncResult.residuals`, as sessions store
+    them) sits more than half a frame off the sync the claps give."""
+    period = cam.get("period_ns") or 33_333_333
+    return abs(cam.get("residual_ns") or 0) > period / 2
+
+
 def _residual_warning(cam: dict) -> list[str]:
     """A note for a camera whose clap sits more than half a frame off the others.
 
@@ -157,7 +166,7 @@ def _residual_warning(cam: dict) -> list[str]:
     """
     period = cam["period_ns"] or 33_333_333
     res = cam["residuals_ns"]
-    if abs(cam["residual_ns"]) <= period / 2:
+    if not clap_off(cam):
         return []
     head = f"{cam['name']}: clap {cam['residual_ns'] / 1e6:+.1f} ms off the other cameras"
     if len(res) >= 2 and max(res) - min(res) < period / 4:

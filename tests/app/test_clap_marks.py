@@ -44,6 +44,27 @@ def test_sync_line_drops_the_automatic_residuals_once_the_offset_is_edited(
     assert "residuals" not in window.sync_line.text()
 
 
+def test_sync_line_names_a_camera_whose_clap_sits_a_frame_off_in_amber(
+        qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    """A camera clap timed wrongly (or a clock that is off) was a neutral "residuals
+    ≤ 176.5 ms": the line now names the camera and turns amber, the note as tooltip."""
+    session = load_session(truth_session_file)
+    session.sync_evidence["cameras"] = [
+        {"name": "/cam0/image_raw", "residual_ns": 1_400_000, "period_ns": 66_666_667},
+        {"name": "/cam2/image_raw", "residual_ns": 176_500_000, "period_ns": 66_666_667}]
+    session.sync_evidence["warnings"] = ["/cam2/image_raw: clap +176.5 ms off the other "
+                                         "cameras; its clock may be off"]
+    path = tmp_path / "off.json"
+    save_session(session, path)
+    window = open_window(path)
+    text = window.sync_line.text()
+    assert text.startswith("▲ ") and "/cam2/image_raw clap +176.5 ms off the others" in text
+    assert "/cam0" not in text
+    assert "color" in window.sync_line.styleSheet()
+    assert window.sync_line.toolTip().startswith("/cam2/image_raw: clap +176.5 ms off")
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # an edited offset: no residuals
+    assert not window.sync_line.text().startswith("▲") and not window.sync_line.styleSheet()
+
 def test_sync_line_says_after_when_the_audio_starts_after_the_first_frame(
         qtbot, open_window, truth_session_file: Path) -> None:
     window = open_window(truth_session_file)
