@@ -29,7 +29,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--size", default="640x480", help="image size WxH")
     p.add_argument("--rolling-shutter", action="store_true")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--force", action="store_true", help="replace an existing OUT")
+    p.add_argument("--force", action="store_true",
+                   help="replace an earlier synthetic session at OUT (never other files)")
     p.add_argument("--json", action="store_true", help="print truth.json on stdout")
     return p
 

@@ -17,6 +17,10 @@ VERSION = 1
 _ARRAYS = ("stamps", "log_times", "offsets", "chunks", "sizes")
 
 
+#: the ending of an index cached beside its recording (``.NAME`` + this)
+INDEX_SUFFIX = ".speechcal-index.npz"
+
+
 def user_cache_dir() -> Path:
     """``$XDG_CACHE_HOME/speechcal/index`` (default ``~/.cache/speechcal/index``)."""
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
@@ -26,7 +30,7 @@ def user_cache_dir() -> Path:
 def cache_paths(path: Path) -> list[Path]:
     """Where the index of ``path`` may be cached: beside it first, then the user cache."""
     path = Path(path).resolve()
-    beside = path.parent / f".{path.name}.speechcal-index.npz"
+    beside = path.parent / f".{path.name}{INDEX_SUFFIX}"
     digest = hashlib.sha1(str(path).encode()).hexdigest()[:16]
     return [beside, user_cache_dir() / f"{path.name}.{digest}.npz"]
 

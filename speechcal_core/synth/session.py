@@ -7,7 +7,8 @@ from collections.abc import Callable
 from dataclasses import asdict
 from pathlib import Path
 
-from speechcal_core.fsutil import atomic_write_text, staged_directory
+from speechcal_core.fsutil import OutputExistsError, atomic_write_text, staged_directory
+from speechcal_core.sources.index_cache import INDEX_SUFFIX
 from speechcal_core.synth.audio import AudioTruth, render_audio
 from speechcal_core.synth.options import SynthOptions
 from speechcal_core.synth.recording_writer import RecordingTruth, write_recording
@@ -30,11 +31,15 @@ def generate_session(
     """Write recording, ``audio.ogg``, ``truth.json`` and the board's Kalibr
     ``target.yaml`` (for ``process --target``) into ``out``; return the truth.
 
-    ``out`` appears complete or not at all; an existing ``out`` needs ``force``.
+    ``out`` appears complete or not at all; an existing ``out`` needs ``force``, and is
+    replaced only when :func:`not_replaceable` says it may be.
     """
     check_trigger_word(options.trigger_word)  # fail before any rendering
-    timeline = plan_session(options)
     out = Path(out).absolute()
+    problem = not_replaceable(out)
+    if problem:  # not even --force replaces it
+        raise OutputExistsError(f"{out}: {problem}; choose another folder")
+    timeline = plan_session(options)
     with staged_directory(out, force=force) as staging:
         report = (lambda stage: (lambda f: progress(stage, f))) if progress else (lambda _s: None)
         recording = write_recording(timeline, staging, progress=report("video"))
@@ -43,6 +48,35 @@ def generate_session(
         atomic_write_text(staging / "truth.json", json.dumps(truth, indent=2) + "\n")
         atomic_write_text(staging / TARGET_FILE, timeline.target.to_kalibr_yaml())
     return truth
+
+
+def not_replaceable(out: Path) -> str:
+    """Why ``out`` must not be replaced by a new synthetic session even when forced ("" if
+    it may): a file, or a folder holding anything but an earlier one (the files its
+    truth.json names, and recording indexes). Review work saved beside a recording, or
+    the user's own files, are never replaced."""
+    if out.is_symlink() or not out.exists():
+        return ""
+    if not out.is_dir():
+        return "this is a file, not a synthetic session's folder"
+    names = sorted(child.name for child in out.iterdir())
+    if not names:
+        return ""
+    try:
+        truth = json.loads((out / "truth.json").read_text(encoding="utf-8"))
+        own = {"truth.json", TARGET_FILE, str(truth["recording"]), str(truth["audio"])}
+    except (OSError, UnicodeDecodeError, ValueError, TypeError, KeyError):
+        return (f"this folder holds files that are not a synthetic session "
+                f"({_shown(names)}), and synth never replaces those")
+    other = [n for n in names if n not in own and not n.endswith(INDEX_SUFFIX)]
+    if other:
+        return (f"this synthetic session's folder also holds files synth did not write "
+                f"({_shown(other)}: review work, notes?), and synth never replaces those")
+    return ""
+
+
+def _shown(names: list[str]) -> str:
+    return ", ".join(names[:3]) + (", …" if len(names) > 3 else "")
 
 
 def build_truth(

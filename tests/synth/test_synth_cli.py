@@ -123,8 +123,29 @@ def test_existing_output_is_kept_without_force(tmp_path: Path) -> None:
     (out / "notes.txt").write_text("mine")
     result = _run_cli("synth", str(out), *SMALL)
     assert result.returncode == 1
-    assert "already exists" in result.stderr and "--force" in result.stderr
+    assert "holds files that are not a synthetic session (notes.txt)" in result.stderr
+    assert "choose another folder" in result.stderr
     assert (out / "notes.txt").read_text() == "mine"
+
+
+def test_force_replaces_an_earlier_synthetic_session_and_nothing_else(tmp_path) -> None:
+    """--force emptied any folder it was given (the current one with ``synth .``); it
+    replaces only an earlier synthetic session, never files synth did not write."""
+    out, _truth = _synth(tmp_path)
+    assert main(["index", str(out / "recording.bag")]) == 0  # an index beside it: regenerable
+    assert any(p.name.endswith(".speechcal-index.npz") for p in out.iterdir())
+    assert main(["synth", str(out), *SMALL, "--force"]) == 0
+    assert main(["synth", str(out), *SMALL]) == 1  # without --force: kept
+    (out / "recording.speechcal.json").write_text("{}")  # review work saved beside it
+    result = _run_cli("synth", str(out), *SMALL, "--force")
+    assert result.returncode == 1
+    assert "also holds files synth did not write (recording.speechcal.json" in result.stderr
+    assert (out / "recording.speechcal.json").read_text() == "{}"
+    mine = tmp_path / "notes.txt"
+    mine.write_text("mine")
+    result = _run_cli("synth", str(mine), *SMALL, "--force")
+    assert result.returncode == 1 and "this is a file" in result.stderr
+    assert mine.read_text() == "mine"
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason="root can write anywhere")
