@@ -12,7 +12,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from speechcal_core.session.model import Session, Trigger
+from speechcal_core.session.model import FrameSet, Session, Trigger
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
 from speechcal_core.sync.model import SyncModel
 
@@ -113,7 +113,9 @@ def process_loaded(
 
     report = progress or _noop
     evidence: dict = {}
+    span = recording_span_ns(source)
     if offset_ns is not None:
+        _check_offset(int(offset_ns), sound.duration_s, span)
         sync = SyncModel(int(offset_ns), 0.0, "manual")
     else:
         report("finding the clap", 0.2)
@@ -136,6 +138,8 @@ def process_loaded(
     target = target or TargetSpec()
     analysis = analyse_frames(source, sync, triggers, target,
                               options=frame_options, progress=frames_progress)
+    outside = outside_recording_note(analysis.sets, span, sync)
+    notes = [*notes, outside] if outside else notes
     session = Session(
         recording=[str(Path(p).absolute()) for p in recording],
         audio=str(Path(audio).absolute()),
@@ -150,3 +154,47 @@ def process_loaded(
     )
     report("done", 1.0)
     return session
+
+
+def recording_span_ns(source: FrameSource) -> tuple[int, int] | None:
+    """First and last header stamp over the recording's streams (None: no frames)."""
+    streams = [s for s in source.streams if s.count]
+    if not streams:
+        return None
+    return min(s.first_ns for s in streams), max(s.last_ns for s in streams)
+
+
+def _check_offset(offset_ns: int, audio_s: float, span: tuple[int, int] | None) -> None:
+    """A hand-given offset must put some of the audio inside the recording (a typo gives
+    sets without a frame): UsageError naming both ranges otherwise."""
+    from speechcal_core.errors import UsageError
+
+    if span is None:
+        return
+    end_ns = offset_ns + round(audio_s * 1e9)
+    if end_ns < span[0] or offset_ns > span[1]:
+        raise UsageError(
+            f"--offset-ns {offset_ns} puts the audio (0 to {audio_s:.3f} s) at {offset_ns} to "
+            f"{end_ns} ns, outside the recording's header stamps ({span[0]} to {span[1]} ns); "
+            "it is the header time of the audio's start")
+
+
+def outside_recording_note(sets: Sequence[FrameSet], span: tuple[int, int] | None,
+                           sync: SyncModel) -> str:
+    """A note on trigger words said before the recording's first frame or after its
+    last ("" when none): a recording cut short, or a wrong offset."""
+    if span is None:
+        return ""
+    before = sum(1 for s in sets if not s.has_frames and s.t_ns < span[0])
+    after = sum(1 for s in sets if not s.has_frames and s.t_ns > span[1])
+    parts = []
+    if before:
+        parts.append(f"{before} before its first frame ({sync.to_audio(span[0]):.1f} s into "
+                     "the audio)")
+    if after:
+        parts.append(f"{after} after its last frame ({sync.to_audio(span[1]):.1f} s into "
+                     "the audio)")
+    if not parts:
+        return ""
+    return (f"trigger words said outside the recording: {' and '.join(parts)}; is the "
+            "recording cut short, or the offset wrong (the clap, or --offset-ns)?")

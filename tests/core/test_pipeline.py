@@ -70,3 +70,42 @@ def test_process_refuses_to_replace_a_session_without_force(
     assert main([*args, "--force"]) == 0
     assert '"sets"' in session.read_text()
     assert "reviewed" in (tmp_path / "session.json.bak").read_text()
+
+
+def _true_words(truth: dict, path: Path) -> Path:
+    path.write_text("word,start,end\n" + "".join(
+        f"capture,{t['start_s']:.4f},{t['end_s']:.4f}\n" for t in truth["triggers"]))
+    return path
+
+
+def test_trigger_words_past_the_recordings_end_are_named_as_such(
+        tiny_synth: tuple[Path, dict], tmp_path: Path, capsys) -> None:
+    """A recording cut short (here: the audio placed 8 s later against it): the words said
+    after its last frame are named, not only "check the offset"."""
+    from speechcal_core.cli import main
+
+    folder, truth = tiny_synth
+    late = truth["sync"]["offset_ns"] + 8_000_000_000
+    assert main(["process", str(folder / truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--transcript",
+                 str(_true_words(truth, tmp_path / "words.csv")), "--offset-ns", str(late),
+                 "-o", str(tmp_path / "s.json")]) == 0
+    err = capsys.readouterr().err
+    assert "note: trigger words said outside the recording: " in err
+    assert " after its last frame (" in err and "is the recording cut short" in err
+    assert "before its first frame" not in err
+
+
+def test_an_offset_that_puts_the_audio_outside_the_recording_is_refused(
+        tiny_synth: tuple[Path, dict], tmp_path: Path, capsys) -> None:
+    from speechcal_core.cli import main
+
+    folder, truth = tiny_synth
+    out = tmp_path / "s.json"
+    assert main(["process", str(folder / truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--transcript",
+                 str(_true_words(truth, tmp_path / "words.csv")), "--offset-ns", "12",
+                 "-o", str(out)]) == 2
+    last = capsys.readouterr().err.strip().splitlines()[-1]  # after the progress lines
+    assert last.startswith("speechcal process: error: --offset-ns 12 puts the audio (0 to ")
+    assert "outside the recording's header stamps (" in last and not out.exists()
