@@ -18,13 +18,16 @@ IMAGE_SUFFIXES = {".png": "png", ".jpg": "jpeg", ".jpeg": "jpeg"}
 
 
 def _stamped_images(folder: Path) -> list[tuple[int, str]]:
+    """The ``<stamp_ns>.<image suffix>`` files in ``folder`` as (stamp, name), in stamp
+    order: a file name carries no recording order, so none is out of order (the
+    folder's listing order is arbitrary)."""
     out: list[tuple[int, str]] = []
     with os.scandir(folder) as it:
         for entry in it:
             stem, suffix = os.path.splitext(entry.name)
             if suffix.lower() in IMAGE_SUFFIXES and stem.isdigit() and entry.is_file():
                 out.append((int(stem), entry.name))
-    return out
+    return sorted(out)
 
 
 class ImageFolderSource(StreamTable):

@@ -97,6 +97,15 @@ def test_kalibr_image_folders_are_streams(tmp_path: Path) -> None:
         assert src.nearest("cam0", T0 + 10 * PERIOD) == 5
 
 
+def test_image_files_listed_in_any_order_are_not_out_of_order(tmp_path: Path) -> None:
+    """A folder lists its files in no set order; stamps in the names are the order, so
+    none is reported out of order (every camera of an export was)."""
+    root = make_kalibr_folder(tmp_path / "dataset", cams=1, n=40)
+    with open_recording([root]) as src:
+        (info,) = src.streams
+        assert info.count == 40 and info.stamp_problems == ""
+        assert np.all(np.diff(src.stamps("cam0")) > 0)
+
 def test_corrupt_image_file_is_marked_bad_and_the_rest_still_works(tmp_path: Path) -> None:
     root = make_kalibr_folder(tmp_path / "dataset", cams=2)
     jpg = sorted((root / "cam1").iterdir())[3]
