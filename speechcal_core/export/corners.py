@@ -55,11 +55,16 @@ def corners_board(session: Session, export_target: TargetSpec) -> TargetSpec | N
 def corners_problem(session: Session) -> str:
     """Why no corners files can be written for ``session`` ("" when they can)."""
     details = session.extra.get("frame_details")
-    if not isinstance(details, dict) or not any(
-            "ids" in entry for d in details.values() if isinstance(d, dict)
-            for entry in (d.get("frames") or {}).values() if isinstance(entry, dict)):
+    entries = [entry for d in details.values() if isinstance(d, dict)
+               for entry in (d.get("frames") or {}).values() if isinstance(entry, dict)] \
+        if isinstance(details, dict) else []
+    if not entries:
         return ("no corners.json or corners.vnl: the session holds no found corners "
                 "(process the recording again to have them)")
+    if not any("ids" in entry for entry in entries):
+        return ("no corners.json or corners.vnl: no target corners were found in the "
+                "session's frames (the board too small or blurred in them, or another "
+                "board than the one looked for: see the calibration check)")
     if TargetSpec.from_session(session.extra)[0] is None:
         return ("no corners.json or corners.vnl: the session does not name the board its "
                 "corners were found on (process the recording again, with --target)")

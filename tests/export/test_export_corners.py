@@ -179,6 +179,23 @@ def test_a_session_without_found_corners_or_board_gets_no_corners_files(processe
                for note in result.notes)
 
 
+def test_a_session_whose_frames_show_no_corners_is_told_so(processed, tmp_path) -> None:
+    """Processed, but no corners found in any frame (a board too small in the images):
+    processing again would not help, and the note does not say it would."""
+    path, _truth = processed
+    session = load_session(path)
+    for entry in session.extra["frame_details"].values():
+        for frame in entry["frames"].values():
+            frame.pop("ids", None)
+            frame.pop("points", None)
+    bare = tmp_path / "bare.json"
+    save_session(session, bare)
+    result = export_session_file(bare, "folders", tmp_path / "out")
+    assert not (tmp_path / "out" / CORNERS_JSON).exists()
+    (note,) = [n for n in result.notes if n.startswith("no corners.json")]
+    assert "no target corners were found in the session's frames" in note
+    assert "process the recording again" not in note
+
 def test_found_corners_the_sessions_board_lacks_are_left_out(processed, tmp_path) -> None:
     """A session whose stored board is smaller than its corner ids (edited by hand): an
     image whose ids the board lacks lists no corners instead of ids off the board."""
