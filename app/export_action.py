@@ -18,6 +18,7 @@ from PySide6.QtWidgets import QMessageBox
 
 from app.export_dialog import ExportDialog
 from app.tasks import BackgroundTask, start
+from speechcal_core.text import counted
 
 if TYPE_CHECKING:
     from app.main_window import ReviewWindow
@@ -211,7 +212,8 @@ class ExportAction(QObject):
         shown = "; ".join(result.skipped[:2]) + (" …" if len(result.skipped) > 2 else "")
         left = f"; {len(result.skipped)} left out: {shown}" if result.skipped else ""
         notes = "".join(f"; note: {note}" for note in result.notes)
-        self._done(f"Exported {result.sets} frame sets ({result.frames} frames) as "
+        self._done(f"Exported {counted(result.sets, 'frame set')} "
+                   f"({counted(result.frames, 'frame')}) as "
                    f"{result.format} to {result.out}{left}{notes}")
 
     def _failed(self, message: str) -> None:

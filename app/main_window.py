@@ -46,6 +46,7 @@ from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
 from speechcal_core.review.summary import FILTERS
 from speechcal_core.session.store import SessionFileError, load_session
 from speechcal_core.sync.estimate import clap_off
+from speechcal_core.text import counted
 
 EMPTY_TEXT = (
     "<h2>Open a calibration session</h2>"
@@ -536,7 +537,7 @@ class ReviewWindow(QMainWindow):
         self.export_button.setEnabled(True)
         self.export_action.setEnabled(True)
         n = len(inputs.session.sets)
-        self.status.say(f"{len(self.model.streams)} cameras, {n} frame sets"
+        self.status.say(f"{counted(len(self.model.streams), 'camera')}, {counted(n, 'frame set')}"
                         + (f" · {inputs.note}" if inputs.note else ""))
         self.exporter.reset("another session was opened before it could start")
         self._update_sync_line()

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from speechcal_core.cli._output import StageProgress, progress
+from speechcal_core.text import counted
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -39,7 +40,8 @@ def run(args: argparse.Namespace) -> int:
                              progress=StageProgress())
     session = inputs.session
     inputs.close()
-    progress(f"{len(session.sets)} frame sets found; session file: {inputs.session_path}")
+    progress(f"{counted(len(session.sets), 'frame set')} found; "
+             f"session file: {inputs.session_path}")
     shot = workdir / "demo-window.png"
     progress(f"rendering the review window to {shot}")
     code = run_review(session_path=str(inputs.session_path), screenshot=str(shot))

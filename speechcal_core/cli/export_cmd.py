@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from speechcal_core.cli._output import StageProgress, emit_json, progress
+from speechcal_core.text import counted
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -55,6 +56,6 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         emit_json(result.to_dict())
     else:
-        print(f"exported {result.sets} frame sets ({result.frames} frames, "
+        print(f"exported {counted(result.sets, 'frame set')} ({counted(result.frames, 'frame')}, "
                  f"{result.files} files) to {result.out}")
     return 0

@@ -6,6 +6,7 @@ import argparse
 import time
 
 from speechcal_core.cli._output import emit_json, progress
+from speechcal_core.text import counted
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -64,8 +65,8 @@ def run(args: argparse.Namespace) -> int:
 
     truth = generate_session(args.out, options, force=args.force, progress=report)
     progress(
-        f"wrote {args.out}: {truth['recording']}, {len(truth['cameras'])} cameras, "
-        f"{len(truth['triggers'])} triggers (made in {time.monotonic() - started:.1f} s)"
+        f"wrote {args.out}: {truth['recording']}, {counted(len(truth['cameras']), 'camera')}, "
+        f"{counted(len(truth['triggers']), 'trigger')} (made in {time.monotonic() - started:.1f} s)"
     )
     if args.json:
         emit_json(truth)

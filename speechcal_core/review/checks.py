@@ -20,6 +20,7 @@ from speechcal_core.frames.analysis import checks_basis, frame_checks
 from speechcal_core.review.rescore import rescore_ids
 from speechcal_core.session.model import FrameSet, Session
 from speechcal_core.target import TargetSpec
+from speechcal_core.text import counted
 
 if TYPE_CHECKING:
     from speechcal_core.frames.detect import Detection
@@ -140,7 +141,7 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
                          f"needed){spread}")
     rms = [e["rms_px"] for e in fits.values() if isinstance(e, dict) and "rms_px" in e]
     line = (f"calibration check over {kept} set{'' if kept == 1 else 's'} not rejected: "
-            f"{len(rms)} of {len(streams)} cameras fit")
+            f"{len(rms)} of {counted(len(streams), 'camera')} fit")
     if rms:
         line += f", RMS ≤ {max(rms):.2f} px"
     elif 0 < kept < MIN_VIEWS:  # too few to tell anything about the board

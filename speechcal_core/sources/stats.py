@@ -7,6 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from speechcal_core.text import counted
+
 
 @dataclass(frozen=True)
 class StampStats:
@@ -18,10 +20,6 @@ class StampStats:
     nominal_rate_hz: float
     dropped: int
     problems: str
-
-
-def _plural(n: int, word: str) -> str:
-    return f"{n} {word}" if n == 1 else f"{n} {word}s"
 
 
 def stamp_stats(parts: Sequence[np.ndarray]) -> StampStats:
@@ -37,11 +35,11 @@ def stamp_stats(parts: Sequence[np.ndarray]) -> StampStats:
     order = np.argsort(raw, kind="stable")
     stamps = raw[order]
     if backwards:
-        problems.append(f"{_plural(backwards, 'stamp')} out of order (sorted)")
+        problems.append(f"{counted(backwards, 'stamp')} out of order (sorted)")
     diffs = np.diff(stamps)
     duplicates = int(np.count_nonzero(diffs == 0))
     if duplicates:
-        problems.append(f"{_plural(duplicates, 'duplicate stamp')} (kept)")
+        problems.append(f"{counted(duplicates, 'duplicate stamp')} (kept)")
     if raw.size and int(stamps[0]) <= 0:
         problems.append("zero or negative stamps (header stamps not set?)")
     positive = diffs[diffs > 0]

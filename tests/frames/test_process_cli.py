@@ -126,11 +126,17 @@ def test_process_output_that_is_a_folder_names_a_file_to_give_before_any_work(
 def test_process_with_an_offset_far_off_says_the_sets_have_no_frames(
         synth, tmp_path: Path, capsys) -> None:
     out, truth = synth
+    import soundfile as sf
+
+    # the audio's last 3 s on the recording's start: every word lies before its first frame
+    early = truth["sync"]["offset_ns"] - round((sf.info(out / "audio.ogg").duration - 3) * 1e9)
     code = main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
-                 "--offset-ns", "0", "-o", str(tmp_path / "session.json")])
+                 "--offset-ns", str(early), "-o", str(tmp_path / "session.json")])
     err = capsys.readouterr().err
     assert code == 0
     assert "have no frame in any camera at the trigger time: check the offset" in err
+    assert "note: trigger words said outside the recording: " in err
+    assert " before its first frame (" in err
 
 
 @pytest.mark.slow

@@ -132,7 +132,7 @@ def test_no_camera_fitting_says_which_board_was_looked_for(tmp_path: Path) -> No
                                 offset_ns=truth["sync"]["offset_ns"])
     assert len(session.sets) >= 4
     summary = check_summary(session, ["/cam0/image_raw"])
-    assert summary is not None and " 0 of 1 cameras fit" in summary.line
+    assert summary is not None and " 0 of 1 camera fit" in summary.line
     assert "(looked for a 6x6 AprilGrid of 0.055 m tags: if the board is another one" \
         in summary.line
     assert session.extra["target_assumed"] is True  # no --target: the default board

@@ -1,0 +1,9 @@
+"""Small helpers for the words SpeechCal shows (command line and window alike)."""
+
+from __future__ import annotations
+
+
+def counted(n: int, word: str, plural: str | None = None) -> str:
+    """``n`` and ``word``, in the plural unless ``n`` is 1: "1 camera", "3 cameras",
+    "2 frame sets"; ``plural`` for words that do not just add an s."""
+    return f"{n} {word if n == 1 else plural or word + 's'}"
