@@ -43,7 +43,7 @@ from speechcal_core.audio.playback import RestartThrottle, word_span
 from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
-from speechcal_core.review.summary import FILTERS
+from speechcal_core.review.summary import FILTERS, flag_words
 from speechcal_core.session.store import SessionFileError, load_session
 from speechcal_core.sync.estimate import clap_off
 from speechcal_core.text import counted
@@ -576,7 +576,7 @@ class ReviewWindow(QMainWindow):
                                     if tile.stamp_ns else "no frames in this stream")
                 widget.set_state(decision, "no frame")
                 continue
-            widget.set_state(decision, ", ".join(tile.flags))
+            widget.set_state(decision, flag_words(tile.flags))
             widget.corners = tile.corners
             widget.caption = chosen if tile.chosen else f"{tile.offset_ns / 1e6:+.1f} ms"
             wanted.append((tile.stream, tile.index))

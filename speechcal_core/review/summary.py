@@ -25,6 +25,15 @@ SHARPNESS_FLAGS = ("blurred", "moving")
 CORNER_FLAGS = ("no-target",)
 SKEW_FLAGS = ("skew",)
 
+#: how the window words a flag (a flag not listed reads as it is: "blurred", "moving")
+FLAG_WORDS = {"no-target": "target not found", "bad-frame": "unreadable frame",
+              "no-frame": "no frame"}
+
+
+def flag_words(flags: Sequence[str]) -> str:
+    """Quality flags in the window's words: "blurred, target not found"."""
+    return ", ".join(FLAG_WORDS.get(flag, flag) for flag in flags)
+
 
 #: how the list marks a trigger the detector did not report, by ``Trigger.source``: added
 #: by hand (``T``) or found like another set (``S``)
@@ -120,4 +129,4 @@ def _camera_line(f: FrameChoice) -> str:
         corners = "–" if f.corners is None else str(f.corners)
         figures = f"sharpness {sharp}, {corners} corners"
     flags = [fl for fl in f.flags if not (f.index < 0 and fl == "no-frame")]
-    return f"{f.stream}: {figures}" + (f"  ▲ {', '.join(flags)}" if flags else "")
+    return f"{f.stream}: {figures}" + (f"  ▲ {flag_words(flags)}" if flags else "")

@@ -91,8 +91,9 @@ def test_a_narrow_tile_keeps_the_warning_before_the_decision_word(
         qtbot, monkeypatch: pytest.MonkeyPatch) -> None:
     """The border's colour and the set list say the decision; the warning is what only
     this tile tells (a 12-camera grid at 1920 px showed "? undecided" and "▲ no-t…")."""
-    texts = _header_texts(qtbot, monkeypatch, 280, "undecided", "chosen frame", "no-target")
-    assert [text for text, _ in texts] == ["/cam0/image_raw  ?", "▲ no-target"]
+    texts = _header_texts(qtbot, monkeypatch, 280, "undecided", "chosen frame",
+                          "target not found")
+    assert [text for text, _ in texts] == ["/cam0/image_raw  ?", "▲ target not found"]
 
 
 def test_the_tooltip_gives_the_header_in_full(qtbot) -> None:

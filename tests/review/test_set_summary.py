@@ -80,7 +80,7 @@ def test_camera_lines_give_each_cameras_figures_and_flags() -> None:
                   FrameChoice("/cam3", 12, 0))
     assert camera_lines(s).splitlines() == [
         "/cam0: sharpness 0.92, 144 corners",
-        "/cam1: sharpness 0.10, 0 corners  ▲ blurred, no-target",
+        "/cam1: sharpness 0.10, 0 corners  ▲ blurred, target not found",
         "/cam2: no frame",
         "/cam3: sharpness –, – corners",
     ]
