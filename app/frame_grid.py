@@ -7,7 +7,7 @@ from collections.abc import Sequence
 
 import numpy as np
 from PySide6.QtCore import QEvent, QPointF, QRectF, Qt, Signal
-from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter, QPen
+from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QGridLayout, QSizePolicy, QToolTip, QVBoxLayout, QWidget
 
 from app.style import (
@@ -18,6 +18,7 @@ from app.style import (
     WARNING_SYMBOL,
 )
 
+MARKER_COLOUR = QColor(60, 220, 120)
 #: the least room between a tile's title and the caption or warning at its right, pixels
 HEADER_GAP = 12
 #: a tile's least width, pixels: TILE_MIN_WIDTH_PX[1], or less in a grid of more than
@@ -27,6 +28,9 @@ TILE_MIN_WIDTH_PX = (100, 160)
 GRID_MIN_WIDTH_PX = 480
 #: corner markers' radius on screen, pixels: at least, at most
 MARKER_RADIUS_PX = (1.5, 4.5)
+#: corners closer than this on screen (pixels) are drawn as the board's outline: their
+#: markers would merge into a green block hiding the board one checks for blur
+OUTLINE_BELOW_PX = 6.0
 
 
 def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: str,
@@ -74,6 +78,17 @@ def corner_spacing(corners: Sequence[tuple[float, float]]) -> float:
     return float(np.median(d.min(axis=1)))
 
 
+def corner_outline(corners: Sequence[tuple[float, float]]) -> np.ndarray:
+    """The corners' convex hull, (N, 2) image pixels in drawing order (empty with fewer
+    than three corners)."""
+    if len(corners) < 3:
+        return np.zeros((0, 2))
+    import cv2
+
+    hull = cv2.convexHull(np.asarray(corners, dtype=np.float32))
+    return hull.reshape(-1, 2).astype(np.float64)
+
+
 def marker_radius(spacing_px: float) -> float:
     """Radius on screen of a corner marker when corners lie ``spacing_px`` apart on screen:
     a third of that, within MARKER_RADIUS_PX (dense boards stay readable, a large image
@@ -97,6 +112,7 @@ class CameraTile(QWidget):
         self.warning = ""
         self._corners: tuple[tuple[float, float], ...] = ()
         self._corner_spacing = 0.0
+        self._outline = np.zeros((0, 2))
         self.setMinimumSize(TILE_MIN_WIDTH_PX[1], TILE_MIN_WIDTH_PX[1] * 3 // 4)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
 
@@ -109,6 +125,7 @@ class CameraTile(QWidget):
     def corners(self, corners: tuple[tuple[float, float], ...]) -> None:
         self._corners = tuple(corners)
         self._corner_spacing = corner_spacing(self._corners)
+        self._outline = corner_outline(self._corners)
         self.update()
 
     def show_image(self, image: QImage, caption: str) -> None:
@@ -140,6 +157,21 @@ class CameraTile(QWidget):
             return True
         return super().event(event)
 
+    def _draw_corners(self, p: QPainter, target: QRectF, scale: float) -> None:
+        """The found corners over the image shown in ``target`` at ``scale``: a marker
+        each, or, where they lie too close on screen, the board's outline."""
+        p.setPen(QPen(MARKER_COLOUR, 1.5))
+        spacing = self._corner_spacing * scale
+        if spacing < OUTLINE_BELOW_PX and len(self._outline) >= 3:
+            p.drawPolygon(QPolygonF([QPointF(target.x() + (x + 0.5) * scale,
+                                             target.y() + (y + 0.5) * scale)
+                                     for x, y in self._outline]))
+            return
+        r = marker_radius(spacing)
+        for x, y in self._corners:
+            p.drawEllipse(QPointF(target.x() + (x + 0.5) * scale,
+                                  target.y() + (y + 0.5) * scale), r, r)
+
     def paintEvent(self, event) -> None:
         p = QPainter(self)
         p.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform)
@@ -154,11 +186,7 @@ class CameraTile(QWidget):
                             w, h)
             p.drawImage(target, self.image)
             if self._corners:
-                p.setPen(QPen(QColor(60, 220, 120), 1.5))
-                r = marker_radius(self._corner_spacing * scale)
-                for x, y in self._corners:
-                    p.drawEllipse(QPointF(target.x() + (x + 0.5) * scale,
-                                          target.y() + (y + 0.5) * scale), r, r)
+                self._draw_corners(p, target, scale)
         else:
             p.setPen(QColor(200, 200, 200))
             p.drawText(area, Qt.AlignmentFlag.AlignCenter | Qt.TextFlag.TextWordWrap, self.message)

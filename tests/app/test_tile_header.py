@@ -130,6 +130,41 @@ def test_setting_corners_keeps_their_spacing_for_the_markers(qtbot) -> None:
     assert tile._corner_spacing == 10.0
 
 
+def _green_share(qtbot, width: int) -> float:
+    """The share of the board's inside (on screen, a 3 px rim left out) drawn in the
+    markers' green: a 12x12 board of corners 8 image pixels apart on a grey 640x480
+    image, in a tile ``width`` wide."""
+    from PySide6.QtGui import QColor, QImage
+
+    from app.frame_grid import MARKER_COLOUR
+
+    tile = CameraTile("/cam0/image_raw")
+    qtbot.addWidget(tile)
+    image = QImage(640, 480, QImage.Format.Format_Grayscale8)
+    image.fill(QColor(128, 128, 128))
+    tile.show_image(image, "chosen frame")
+    tile.corners = tuple((200.0 + 8 * x, 150.0 + 8 * y) for y in range(12) for x in range(12))
+    tile.resize(width, width * 3 // 4 + 25)
+    grabbed = tile.grab().toImage()
+    header = 22
+    scale = min((tile.width() - 6) / 640, (tile.height() - header - 3) / 480)
+    left = 3 + ((tile.width() - 6) - 640 * scale) / 2
+    top = header + ((tile.height() - header - 3) - 480 * scale) / 2
+    xs = range(int(left + 200 * scale) + 3, int(left + 288 * scale) - 3)
+    ys = range(int(top + 150 * scale) + 3, int(top + 238 * scale) - 3)
+    inside = [grabbed.pixelColor(x, y) for x in xs for y in ys]
+    green = sum(1 for c in inside if c.green() > 160 and c.red() < 120)
+    assert inside and MARKER_COLOUR.green() > 160
+    return green / len(inside)
+
+
+def test_a_dense_board_in_a_small_tile_is_outlined_not_covered(qtbot) -> None:
+    """Markers of corners a few screen pixels apart ran together into a green block that
+    hid the board one checks for blur: there the board's outline is drawn instead."""
+    small, large = _green_share(qtbot, 200), _green_share(qtbot, 1000)
+    assert small < 0.02  # an outline: the board's image stays visible inside it
+    assert large > 0.1  # 12 px apart: a marker on every corner
+
 @pytest.mark.parametrize(("cameras", "least_width"), [(1, 160), (4, 160), (9, 160),
                                                        (12, 120), (16, 120), (25, 100)])
 def test_many_cameras_shrink_the_tiles_least_size(qtbot, cameras: int,
