@@ -39,9 +39,14 @@ def _bag_files(path: Path, scan: bool) -> list[MessageFile]:
         return [Sqlite3File(path)]
     if suffix == ".mcap":
         return [McapFile(path, scan=scan)]
+    from speechcal_core.sources.sniff import looks_like
+
+    seen = looks_like(path)
     raise SourceError(
-        f"{path.name}: unknown recording kind; expected a ROS1 .bag, a ROS2 bag folder, "
-        ".db3, .mcap, a video file or a folder of <stamp_ns>.png images"
+        f"{path}: " + (f"this is {seen}, not a recording" if seen else
+                       "unknown recording kind")
+        + "; expected a ROS1 .bag, a ROS2 bag folder, .db3, .mcap, a video file or a "
+        "folder of <stamp_ns>.png images"
     )
 
 

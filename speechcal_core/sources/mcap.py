@@ -19,6 +19,7 @@ from speechcal_core.sources.filebase import (
 )
 from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_cdr
 from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
+from speechcal_core.sources.sniff import looks_like
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -75,7 +76,11 @@ class McapFile(IndexedFile):
         self.name = self.f.name
         if self.f.size < 8 or self.f.pread(0, 8) != MAGIC:
             self.f.close()
-            raise SourceError(f"{self.path}: not an MCAP file (magic missing)")
+            seen = looks_like(self.path)
+            raise SourceError(
+                f"{self.path}: not an MCAP file ("
+                + (f"the file is {seen}" if seen else "it does not start as MCAP does")
+                + "); give the recording's .mcap file")
         self.truncated = self.f.size < 16 or self.f.pread(self.f.size - 8, 8) != MAGIC
         self.schemas: dict[int, tuple[str, str]] = {}
         self.channels: dict[int, dict[str, str]] = {}

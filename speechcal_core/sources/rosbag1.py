@@ -17,6 +17,7 @@ from speechcal_core.sources.filebase import (
 )
 from speechcal_core.sources.msgparse import STAMP_PREFIX, stamp_ros1
 from speechcal_core.sources.scan import FileScan, TopicCollector, TopicScan, image_msgtype
+from speechcal_core.sources.sniff import looks_like
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -90,7 +91,11 @@ class Ros1Bag(IndexedFile):
             head = b""
         if head != MAGIC:
             self.f.close()
-            raise SourceError(f"{self.path}: not a ROS1 bag (v2.0 magic missing)")
+            seen = looks_like(self.path)
+            raise SourceError(
+                f"{self.path}: not a ROS1 bag ("
+                + (f"the file is {seen}" if seen else "it does not start as a v2.0 bag does")
+                + "); give the recording's .bag file")
         rec = _Reader(Window(self.f).get).record(len(MAGIC))
         if rec is None or rec[0].get("op") != bytes([OP_BAGHEADER]):
             self.f.close()
