@@ -149,7 +149,12 @@ class TargetSpec:
                 return cls("checkerboard", int(values["targetRows"]), int(values["targetCols"]),
                            float(values["rowSpacingMeters"]))
         except KeyError as exc:
-            raise TargetError(f"{path}: missing key {exc.args[0]!r} for a {kind} target") from exc
+            needed = {"aprilgrid": "tagRows, tagCols, tagSize, tagSpacing",
+                      "checkerboard": "targetRows, targetCols, rowSpacingMeters, "
+                                      "colSpacingMeters"}[kind]
+            raise TargetError(f"{path}: no '{exc.args[0]}: value' line; a Kalibr {kind} "
+                              f"target yaml has target_type and {needed}, one "
+                              "'key: value' per line") from exc
         except ValueError as exc:
             raise TargetError(f"{path}: bad number in target file ({exc})") from exc
         except TargetError as exc:

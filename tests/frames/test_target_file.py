@@ -27,7 +27,8 @@ def test_an_aprilgrid_file_as_kalibr_documents_it(tmp_path: Path, bom: bytes) ->
 
 
 @pytest.mark.parametrize(("content", "says"), [
-    (APRILGRID.replace("tagSize: 0.088  # metres\n", ""), "missing key 'tagSize'"),
+    (APRILGRID.replace("tagSize: 0.088  # metres\n", ""),
+     "no 'tagSize: value' line; a Kalibr aprilgrid target yaml has target_type and tagRows"),
     (APRILGRID.replace("0.088", "0,088"), "bad number"),
     (APRILGRID.replace("0.088", "88"), "tagSize 88 m is larger than any board"),
     (APRILGRID.replace("tagRows: 7", "tagRows: 1"), "at least 2x2 tags"),
