@@ -54,7 +54,7 @@ def test_export_waits_for_rescoring_even_after_a_cancel_and_writes_best_still_fr
     assert any(f.index != nearest_index(model.source.stamps(f.stream), first.t_ns)
                for f in first.frames)  # the best still frames, not the nearest
     text = window.status_text.text()
-    assert text.startswith("Exported 1 frame sets") and "re-scored" in text
+    assert text.startswith("Exported 1 frame set (") and "re-scored" in text
     # the checks follow the frames re-scoring chose, in the session file too
     qtbot.waitUntil(lambda: not window.checker.busy(), timeout=30_000)
     saved = load_session(searched_session_file)
@@ -104,12 +104,12 @@ def test_status_line_shows_export_and_rescoring_side_by_side(
     export_gate.set()
     qtbot.waitUntil(lambda: window.exporter.task is None, timeout=30_000)
     text = window.status_text.text()  # the result stays beside the job still running
-    assert text.startswith("re-scoring") and "Exported 1 frame sets" in text
+    assert text.startswith("re-scoring") and "Exported 1 frame set (" in text
     assert window.progress.isVisible() and window.cancel_button.isVisible()
     gate.set()
     qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
     text = window.status_text.text()
-    assert text.startswith("re-scored") and "Exported 1 frame sets" in text
+    assert text.startswith("re-scored") and "Exported 1 frame set (" in text
     assert not window.progress.isVisible() and not window.cancel_button.isVisible()
 
 

@@ -43,7 +43,7 @@ def test_export_button_writes_the_accepted_sets_off_the_ui_thread(
     assert names == {f"{first.t_ns}.png"}
     assert {p.name for p in (out / "cam2").iterdir()} == names
     text = window.status_text.text()
-    assert text.startswith("Exported 1 frame sets") and str(out) in text
+    assert text.startswith("Exported 1 frame set (") and str(out) in text
     # the core's notes reach the status line: this session holds no board of its own
     assert window.exporter.last_result.notes
     assert f"; note: {window.exporter.last_result.notes[0]}" in text
