@@ -30,14 +30,6 @@ def saved_text(saved_at: float, now: float) -> str:
     return time.strftime("saved %Y-%m-%d %H:%M", then)
 
 
-def short_reason(exc: SessionFileError) -> str:
-    """What went wrong in a few words (the OS's reason when there is one)."""
-    cause = exc.__cause__
-    if isinstance(cause, OSError) and cause.strerror:
-        return cause.strerror
-    return str(exc).split("; ")[0]
-
-
 class SessionSaver:
     """Saves the open session to its file; remembers the last success and failure."""
 
@@ -79,7 +71,8 @@ class SessionSaver:
     def label(self, now: float) -> tuple[str, str]:
         """The status line's text and tooltip: the last save, or a warning."""
         if self.error is not None:
-            return (f"not saved: {short_reason(self.error)} · Ctrl+Shift+S saves elsewhere",
+            # the reason in full stands on the status line's left, this stays in view
+            return ("not saved · Ctrl+Shift+S saves elsewhere",
                     f"{self.error}\nThe decisions are kept in this window; {SAVE_AS_HINT}.")
         if self.path is None or self.saved_at is None:
             return "", ""

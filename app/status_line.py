@@ -20,6 +20,8 @@ from dataclasses import dataclass
 
 from PySide6.QtWidgets import QLabel, QProgressBar, QPushButton
 
+from app.style import WARNING_SYMBOL
+
 SEPARATOR = "  ·  "
 #: no job ran and nothing was said for this long: the next job or message starts afresh
 QUIET_S = 3.0
@@ -41,7 +43,8 @@ class _Note:
 
     @property
     def shown(self) -> str:
-        return f"{self.text} (×{self.repeats})" if self.repeats > 1 else self.text
+        text = f"{WARNING_SYMBOL} {self.text}" if self.warning else self.text
+        return f"{text} (×{self.repeats})" if self.repeats > 1 else text
 
 
 class StatusLine:
