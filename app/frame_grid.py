@@ -261,10 +261,12 @@ class FrameGrid(QWidget):
         self._enlarged = None if self._enlarged or stream is None else stream
         self._arrange()
 
-    def set_word(self, word: str, state: str | None) -> None:
-        """Show the trigger word of the set under the playhead (none: an empty band)."""
-        self.word_band.word, self.word_band.state = word, state
-        self.word_band.update()
+    def set_word(self, word: str, state: str | None, source: str = "") -> None:
+        """Show the trigger word of the set under the playhead (none: a hint to go to
+        one); ``source``: the trigger's (``"manual"``: added by hand, no word heard)."""
+        band = self.word_band
+        band.word, band.state, band.source = word, state, source
+        band.update()
 
 
 class WordBand(QWidget):
@@ -277,21 +279,33 @@ class WordBand(QWidget):
         super().__init__(parent)
         self.word = ""
         self.state: str | None = None
+        self.source = ""
         self.setFixedHeight(self.HEIGHT)
         self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
 
     def paintEvent(self, event) -> None:
         p = QPainter(self)
         p.fillRect(self.rect(), BACKGROUND)
+        font = QFont(self.font())
         if self.word:
-            font = QFont(self.font())
             font.setPixelSize(self.HEIGHT - 10)
             font.setBold(True)
-            p.setFont(font)
-            text = f"“{self.word.upper()}”"
-            if self.state:
-                text = f"{DECISION_SYMBOLS[self.state]} {text}"
-            colour = DECISION_COLOURS.get(self.state or "", QColor(255, 255, 255))
-            p.setPen(colour.lighter(130))
-            p.drawText(QRectF(self.rect()), Qt.AlignmentFlag.AlignCenter, text)
+            colour = DECISION_COLOURS.get(self.state or "", QColor(255, 255, 255)).lighter(130)
+        else:
+            font.setPixelSize(14)
+            colour = QColor(150, 150, 150)
+        p.setFont(font)
+        p.setPen(colour)
+        p.drawText(QRectF(self.rect()), Qt.AlignmentFlag.AlignCenter,
+                   band_text(self.word, self.state, self.source))
         p.end()
+
+
+def band_text(word: str, state: str | None, source: str = "") -> str:
+    """What the word band says: the heard word in quotes with the decision's symbol; a
+    set added by hand without quotes (nothing was heard there); between sets, how to go
+    to one."""
+    if not word:
+        return "between frame sets · J / K go to one"
+    text = f"{word.upper()} · added by hand" if source == "manual" else f"“{word.upper()}”"
+    return f"{DECISION_SYMBOLS[state]} {text}" if state else text

@@ -583,7 +583,8 @@ class ReviewWindow(QMainWindow):
             self._pending_tiles.add(tile.stream)
         self.loader.request(wanted)
         self.grid.set_word(current.trigger.word if current else "",
-                           current.decision if current else None)
+                           current.decision if current else None,
+                           current.trigger.source if current else "")
         start_ns, _ = model.time_range_ns()
         rel = (model.playhead_ns - start_ns) / 1e9
         # what the operator reads first leads: a narrow window cuts the line's end

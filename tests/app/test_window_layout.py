@@ -75,3 +75,13 @@ def test_the_waveform_keeps_its_height_in_the_smallest_window(qtbot, window) -> 
     window.resize(hint.width(), hint.height())
     qtbot.waitUntil(lambda: window.height() == max(hint.height(), window.minimumHeight()))
     assert window.waveform.height() >= WAVEFORM_MIN_HEIGHT
+
+
+def test_word_band_says_what_was_heard_and_what_was_added_by_hand() -> None:
+    """A set added with T showed "? “CAPTURE”" as if the word was heard there; between
+    sets the band was an empty black bar."""
+    from app.frame_grid import band_text
+
+    assert band_text("capture", "accepted") == "✔ “CAPTURE”"
+    assert band_text("capture", "undecided", "manual") == "? CAPTURE · added by hand"
+    assert band_text("", None) == "between frame sets · J / K go to one"
