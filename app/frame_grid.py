@@ -110,6 +110,7 @@ class CameraTile(QWidget):
         self.caption = ""
         self.decision: str | None = None
         self.warning = ""
+        self.footnote = ""  # drawn at the tile's foot (an enlarged camera: how to return)
         self._corners: tuple[tuple[float, float], ...] = ()
         self._corner_spacing = 0.0
         self._outline = np.zeros((0, 2))
@@ -208,6 +209,14 @@ class CameraTile(QWidget):
             p.setPen(WARNING_COLOUR if self.warning else QColor(170, 170, 170))
             p.setFont(self.font())
             p.drawText(line, Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter, note)
+        if self.footnote:
+            p.setFont(self.font())
+            metrics = QFontMetrics(self.font())
+            box = QRectF(6, self.height() - metrics.height() - 10,
+                         metrics.horizontalAdvance(self.footnote) + 12, metrics.height() + 6)
+            p.fillRect(box, QColor(0, 0, 0, 170))
+            p.setPen(QColor(235, 235, 235))
+            p.drawText(box, Qt.AlignmentFlag.AlignCenter, self.footnote)
         p.end()
 
 
@@ -255,6 +264,9 @@ class FrameGrid(QWidget):
             self.tiles[name].setMinimumSize(least, least * 3 // 4)
             self._layout.addWidget(self.tiles[name], n // cols, n % cols)
             self.tiles[name].show()
+        for name, tile in self.tiles.items():
+            tile.footnote = enlarged_note(len(self.tiles)) if name == self._enlarged else ""
+            tile.update()
 
     def toggle_enlarged(self, stream: str | None = None) -> None:
         """Show one camera alone (double-click); again or Escape returns to the grid."""
@@ -299,6 +311,14 @@ class WordBand(QWidget):
         p.drawText(QRectF(self.rect()), Qt.AlignmentFlag.AlignCenter,
                    band_text(self.word, self.state, self.source))
         p.end()
+
+
+def enlarged_note(cameras: int) -> str:
+    """What an enlarged camera's tile says at its foot: that others are hidden, and how
+    to see them again."""
+    others = cameras - 1
+    return (f"{others} other camera{'' if others == 1 else 's'} hidden · Esc or "
+            "double-click: all cameras")
 
 
 def band_text(word: str, state: str | None, source: str = "") -> str:

@@ -82,8 +82,13 @@ def test_double_click_enlarges_a_camera_and_escape_returns(qtbot, window) -> Non
     name = window.model.streams[1]
     qtbot.mouseDClick(window.grid.tiles[name], Qt.MouseButton.LeftButton)
     assert [n for n, t in window.grid.tiles.items() if t.isVisible()] == [name]
+    # the enlarged view says that the others are hidden and how to get them back
+    others = len(window.grid.tiles) - 1
+    assert window.grid.tiles[name].footnote == (
+        f"{others} other cameras hidden · Esc or double-click: all cameras")
     qtbot.keyClick(window, Qt.Key.Key_Escape)
     assert all(t.isVisible() for t in window.grid.tiles.values())
+    assert not any(t.footnote for t in window.grid.tiles.values())
 
 
 def test_bad_session_file_is_reported_not_crashed_on(qtbot, tmp_path: Path) -> None:
