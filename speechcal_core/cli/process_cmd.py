@@ -62,7 +62,8 @@ def run(args: argparse.Namespace) -> int:
         progress=report,
     )
     save_session(session, args.output)
-    for note in session.extra.get("detection_notes", []):
+    for note in [*session.sync_evidence.get("warnings", []),
+                 *session.extra.get("detection_notes", [])]:
         progress(f"note: {note}")
     progress(f"{_summary(session)}; wrote {args.output}")
     return 0

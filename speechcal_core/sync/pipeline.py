@@ -30,6 +30,11 @@ BY_HAND = ("set the clap by hand (speechcal sync --audio-clap SECONDS prints the
            "process takes it as --offset-ns N)")
 
 
+#: with one clap, the drift is taken as 0: a note says so when the audio runs this long
+#: past the clap (a typical drift then puts the last words more than a few ms off)
+ONE_CLAP_NOTE_S = 120.0
+TYPICAL_DRIFT = 50e-6
+
 def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list[str]]:
     """The first clap, the closing clap (or None) and warnings about the audio itself.
 
@@ -161,6 +166,11 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
     if missing:
         notes.append(f"no clap seen by {', '.join(missing)}")
     claps = [Clap(a1, tuple(_camera(c) for c in cams1), audio_source, "auto")]
+    if a2 is None and audio.duration_s - a1 >= ONE_CLAP_NOTE_S:
+        shift_ms = (audio.duration_s - a1) * TYPICAL_DRIFT * 1e3
+        notes.append(f"one clap: drift not measured (taken as 0); a typical "
+                     f"{TYPICAL_DRIFT * 1e6:.0f} ppm would put the last words "
+                     f"{shift_ms:.0f} ms off: clap again at the end of a long recording")
     if a2 is not None:
         second = _closing_clap(source, claps[0], a2, infos, progress)
         if second is not None:

@@ -144,3 +144,23 @@ def test_a_recording_named_twice_is_read_once(session_root: Path,
     assert main(["sync", rec, str(Path(rec).parent / ".." / out.name / Path(rec).name),
                  "--audio", str(out / "audio.ogg"), "--json"]) == 0
     assert json.loads(capsys.readouterr().out) == once
+
+
+def test_one_clap_in_a_long_recording_notes_the_unmeasured_drift(
+        session_root: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """Drift taken as 0 went unsaid; past ONE_CLAP_NOTE_S of audio after the clap (made 3
+    s here, for an 8 s session) sync and process say so, with what it may cost."""
+    import speechcal_core.sync.pipeline as sync_pipeline
+
+    out, truth = make_session(session_root, seed=0)
+    assert not _sync(out, truth).warnings  # 8 s: nothing to say
+    monkeypatch.setattr(sync_pipeline, "ONE_CLAP_NOTE_S", 3.0)
+    (note,) = _sync(out, truth).warnings
+    assert note.startswith("one clap: drift not measured (taken as 0); a typical 50 ppm ")
+    assert note.endswith("clap again at the end of a long recording")
+    words = tmp_path / "words.csv"
+    words.write_text("word,start,end\ncapture,4.0,4.4\n")
+    assert main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+                 "--transcript", str(words), "-o", str(tmp_path / "s.json")]) == 0
+    assert "note: one clap: drift not measured" in capsys.readouterr().err
