@@ -61,7 +61,10 @@ def run(args: argparse.Namespace) -> int:
         target=target,
         progress=report,
     )
+    replaced = Path(args.output).exists()
     save_session(session, args.output)
+    if replaced:
+        progress(f"the session file it replaced is kept as {args.output}.bak")
     for note in [*session.sync_evidence.get("warnings", []),
                  *session.extra.get("detection_notes", [])]:
         progress(f"note: {note}")

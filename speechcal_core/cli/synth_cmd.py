@@ -68,6 +68,9 @@ def run(args: argparse.Namespace) -> int:
         f"wrote {args.out}: {truth['recording']}, {counted(len(truth['cameras']), 'camera')}, "
         f"{counted(len(truth['triggers']), 'trigger')} (made in {time.monotonic() - started:.1f} s)"
     )
+    if not truth["triggers"]:
+        progress(f"note: --duration {args.duration:g} s leaves no time for a trigger after "
+                 "the clap and the first move; give a longer --duration")
     if args.json:
         emit_json(truth)
     return 0

@@ -70,6 +70,7 @@ def test_process_refuses_to_replace_a_session_without_force(
     assert main([*args, "--force"]) == 0
     assert '"sets"' in session.read_text()
     assert "reviewed" in (tmp_path / "session.json.bak").read_text()
+    assert f"the session file it replaced is kept as {session}.bak" in capsys.readouterr().err
 
 
 def _true_words(truth: dict, path: Path) -> Path:

@@ -164,3 +164,11 @@ def test_output_under_a_file_is_a_one_line_error(tmp_path: Path) -> None:
     assert result.returncode == 1
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "cannot write there" in lines[0]
+
+
+def test_a_session_too_short_for_a_trigger_says_so(tmp_path: Path) -> None:
+    result = _run_cli("synth", str(tmp_path / "out"), "--cameras", "1", "--duration", "5",
+                      "--size", "96x72")
+    assert result.returncode == 0
+    assert "0 triggers" in result.stderr
+    assert "note: --duration 5 s leaves no time for a trigger" in result.stderr
