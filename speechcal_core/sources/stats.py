@@ -40,6 +40,10 @@ def stamp_stats(parts: Sequence[np.ndarray]) -> StampStats:
     duplicates = int(np.count_nonzero(diffs == 0))
     if duplicates:
         problems.append(f"{counted(duplicates, 'duplicate stamp')} (kept)")
+    interleaved = _interleaved(arrays)
+    if interleaved:
+        problems.append(f"{counted(interleaved, 'stamp')} of one file fall among another's "
+                        "(another recording given too? split bags follow each other)")
     if raw.size and int(stamps[0]) <= 0:
         problems.append("zero or negative stamps (header stamps not set?)")
     positive = diffs[diffs > 0]
@@ -50,6 +54,24 @@ def stamp_stats(parts: Sequence[np.ndarray]) -> StampStats:
         dropped = int(np.sum(np.rint(long_gaps / median).astype(np.int64) - 1))
     rate = round(1e9 / median, 3) if median > 0 else 0.0
     return StampStats(order, stamps, median, rate, dropped, "; ".join(problems))
+
+
+#: files of one stream may overlap this many stamps at their seam (a split while writing)
+SEAM_STAMPS = 5
+
+
+def _interleaved(arrays: Sequence[np.ndarray]) -> int:
+    """How many stamps of the files fall inside another file's span beyond a seam's
+    few: split bags of one recording follow each other, two recordings overlap."""
+    spans = sorted((int(a.min()), int(a.max()), a) for a in arrays if a.size)
+    inside = 0
+    for k, (lo, hi, _a) in enumerate(spans):
+        for lo2, _hi2, b in spans[k + 1:]:
+            if lo2 > hi:
+                break
+            n = int(np.count_nonzero((b >= lo) & (b <= hi)))
+            inside += n if n > SEAM_STAMPS else 0
+    return inside
 
 
 def nearest_index(stamps: np.ndarray, t_ns: int) -> int:

@@ -25,6 +25,17 @@ def test_order_is_counted_per_file_and_sorting_is_stable() -> None:
     assert list(st.order) == [0, 2, 3, 1]
 
 
+def test_two_recordings_of_one_topic_given_together_are_reported() -> None:
+    """Split bags follow each other (a seam may overlap a few stamps); a second recording
+    of the same topics interleaves with the first: 2966 frames at "37 Hz", unsaid."""
+    first = np.arange(100, dtype=np.int64) * 50 + 10**9
+    seam = np.arange(97, 200, dtype=np.int64) * 50 + 10**9 + 7  # 3 stamps at the seam
+    assert stamp_stats([first, seam]).problems == ""
+    other = np.arange(80, dtype=np.int64) * 50 + 10**9 + 13  # another take, same time
+    assert stamp_stats([first, other]).problems == (
+        "80 stamps of one file fall among another's (another recording given too? split "
+        "bags follow each other)")
+
 def test_dropped_frames_round_gaps_to_whole_periods() -> None:
     stamps = np.array([0, 100, 200, 500, 600, 800, 900], np.int64)
     assert stamp_stats([stamps]).dropped == 3  # 2 missing before 500, 1 before 800
