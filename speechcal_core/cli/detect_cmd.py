@@ -39,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
         examples=[_span(s) for s in args.example],
     )
     for note in detection.notes:
-        progress(note)
+        progress(f"note: {note}")
     if args.json:
         emit_json(detection.to_json())
     else:

@@ -65,11 +65,9 @@ class ExportResult:
     def to_dict(self) -> dict[str, Any]:
         doc: dict[str, Any] = {"out": str(self.out), "format": self.format, "sets": self.sets,
                                "frames": self.frames, "files": self.files,
-                               "skipped": self.skipped}
+                               "skipped": self.skipped, "notes": list(self.notes)}
         if self.target:
             doc["target"] = self.target
-        if self.notes:
-            doc["notes"] = self.notes
         if self.rescored:
             doc["rescored"] = self.rescored
         return doc

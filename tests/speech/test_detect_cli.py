@@ -27,6 +27,20 @@ def test_transcript_replaces_listening(tmp_path: Path, capsys: pytest.CaptureFix
         {"word": "capture", "start": 1.0, "end": 1.5, "t": 1.25, "score": 1.0}]
 
 
+def test_a_note_reaches_stderr_marked_as_one(tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    """Notes go to stderr as "note: …", as the other commands print them; stdout keeps the
+    JSON list alone."""
+    import numpy as np
+    import soundfile as sf
+
+    silent = tmp_path / "silent.wav"
+    sf.write(silent, np.zeros(3 * 16000, np.float32), 16000)
+    assert main(["detect", str(silent), "--json"]) == 0
+    captured = capsys.readouterr()
+    assert json.loads(captured.out) == []
+    assert f"note: {silent}: no speech found" in captured.err
+
 @pytest.mark.parametrize("content, expected", [
     (None, "not found"),
     (b"", "empty"),
