@@ -25,10 +25,10 @@ def ros2_folder_files(folder: Path, *, scan: bool = False) -> list[MessageFile]:
         zst = [p.name for p in folder.iterdir() if p.name.endswith((".zstd", ".zst"))]
         if zst:
             raise SourceError(
-                f"{folder.name}: bag files are zstd-compressed ({zst[0]}); "
+                f"{folder}: bag files are zstd-compressed ({zst[0]}); "
                 "decompress them first (`ros2 bag decompress` or `zstd -d`)"
             )
-        raise SourceError(f"{folder.name}: no .db3 or .mcap files in this ROS2 bag folder")
+        raise SourceError(f"{folder}: no .db3 or .mcap files in this ROS2 bag folder")
     out: list[MessageFile] = []
     try:
         for p in files:

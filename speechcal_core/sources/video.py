@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import threading
 from pathlib import Path
 
@@ -14,6 +15,11 @@ from speechcal_core.sources.common import StreamTable
 from speechcal_core.sources.errors import BadFrameError, SourceError
 from speechcal_core.sources.scan import FileScan, TopicScan
 from speechcal_core.sources.stats import stamp_stats
+
+# FFmpeg writes its own lines ("moov atom not found") to stderr beside the one-line
+# reason SpeechCal gives for a bad video; quiet unless the user set a level (read when
+# the first capture opens)
+os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
 
 
 def start_stamp(path: Path, start_ns: int | None) -> tuple[int, str]:
@@ -47,7 +53,7 @@ class VideoSource(StreamTable):
         self._lock = threading.Lock()
         self._cap = cv2.VideoCapture(str(self.path))
         if not self._cap.isOpened():
-            raise SourceError(f"{self.path.name}: cannot open the video (unknown or damaged file)")
+            raise SourceError(f"{self.path}: cannot open the video (unknown or damaged file)")
         self._next = 0
         scan = index_cache.load(self.path) if use_cache else None
         if scan is None:
@@ -87,7 +93,7 @@ class VideoSource(StreamTable):
         cap.set(cv2.CAP_PROP_POS_FRAMES, 0)
         self._next = 0
         if not pts:
-            raise SourceError(f"{self.path.name}: the video has no readable frames")
+            raise SourceError(f"{self.path}: the video has no readable frames")
         n = len(pts)
         stamps = np.array(pts, np.int64)
         t = TopicScan(

@@ -65,8 +65,17 @@ def test_two_videos_give_two_streams(tmp_path: Path) -> None:
 def test_damaged_video_is_refused_with_its_name(tmp_path: Path) -> None:
     path = tmp_path / "broken.mp4"
     path.write_bytes(b"\0\0\0\x18ftypmp42" + bytes(range(256)) * 4)
-    with pytest.raises(SourceError, match=re.escape("broken.mp4")):
+    with pytest.raises(SourceError, match=re.escape(f"{path}: cannot open the video")):
         open_recording([path])
+    # on the command line: that one reason alone, without FFmpeg's own lines
+    import subprocess
+    import sys
+
+    result = subprocess.run([sys.executable, "-m", "speechcal_core.cli", "index", str(path)],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 1
+    assert result.stderr.strip().splitlines() == [
+        f"speechcal index: error: {path}: cannot open the video (unknown or damaged file)"]
 
 
 def make_kalibr_folder(root: Path, cams: int = 2, n: int = 6) -> Path:
