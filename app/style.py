@@ -9,6 +9,12 @@ DECISION_COLOURS = {
     "rejected": QColor(215, 58, 73),
     "undecided": QColor(140, 149, 159),
 }
+#: the same, darker, for text on the light list (the grey of "? undecided" was faint there)
+DECISION_TEXT_COLOURS = {
+    "accepted": QColor(26, 127, 55),
+    "rejected": QColor(190, 35, 50),
+    "undecided": QColor(87, 96, 106),
+}
 DECISION_SYMBOLS = {"accepted": "✔", "rejected": "✘", "undecided": "?"}
 WARNING_COLOUR = QColor(219, 154, 4)
 WARNING_SYMBOL = "▲"  # with WARNING_COLOUR wherever a warning shows

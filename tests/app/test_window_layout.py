@@ -6,7 +6,7 @@ from __future__ import annotations
 from PySide6.QtCore import QPoint, QRect, Qt
 
 from app.set_table import column
-from app.style import DECISION_COLOURS
+from app.style import DECISION_TEXT_COLOURS
 
 
 def _area_in(widget, ancestor) -> QRect:
@@ -38,7 +38,7 @@ def test_selected_row_still_shows_its_decision_colour(qtbot, window) -> None:
     assert [i.row() for i in table.selectedIndexes()][:1] == [0]
     image = table.viewport().grab().toImage()
     rect = table.visualItemRect(table.item(0, column("decision")))
-    assert _pixels_like(image, rect, DECISION_COLOURS["accepted"]) > 10
+    assert _pixels_like(image, rect, DECISION_TEXT_COLOURS["accepted"]) > 10
 
 
 def test_key_hints_fit_on_one_line_at_1400_px(qtbot, window) -> None:
