@@ -50,7 +50,8 @@ from speechcal_core.text import counted
 
 EMPTY_TEXT = (
     "<h2>Open a calibration session</h2>"
-    "<p>Drag a recording (ROS bag, bag folder, .mcap, .db3) and its audio file here,<br>"
+    "<p>Drag a recording (ROS bag, bag folder, .mcap, .db3, video files, or folders of<br>"
+    "&lt;stamp_ns&gt;.png images per camera) and its audio file here,<br>"
     "or open a session file (SESSION.json).</p>"
 )
 #: the play button's text and tooltip, stopped and playing
