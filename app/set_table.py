@@ -118,7 +118,9 @@ class SetTable(QTableWidget):
         sharp = missing if q.worst_sharpness is None else f"{q.worst_sharpness:.2f}"
         corners = missing if q.fewest_corners is None else str(q.fewest_corners)
         values = (str(s.id), clock_text(rel), word_text(s),
-                  sharp, corners, f"{s.skew_ns / 1e6:.1f}",
+                  sharp, corners,
+                  # one camera (or one frame found): no two frames to lie apart
+                  f"{s.skew_ns / 1e6:.1f}" if q.frames_found > 1 else MISSING,
                   f"{q.frames_found}/{q.frames_total}",
                   f"{DECISION_SYMBOLS[s.decision]} {s.decision}")
         warned = {SHARP: q.sharpness_warned, CORNERS: q.corners_warned,

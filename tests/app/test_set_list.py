@@ -51,6 +51,20 @@ def test_quality_columns_show_the_worst_camera_and_warn_in_amber_with_a_symbol(
     assert "relative to its sharp frames" in header.toolTip()
 
 
+
+def test_skew_needs_two_frames(qtbot, truth_session_file: Path) -> None:
+    """A set with one camera's frame (a one-camera session) has no skew: "–", not 0.0."""
+    from app.set_table import SetTable
+
+    first, second = load_session(truth_session_file).sets[:2]
+    lone = replace(first, frames=tuple(f if k == 0 else replace(f, index=-1)
+                                       for k, f in enumerate(first.frames)))
+    table = SetTable()
+    qtbot.addWidget(table)
+    table.set_sets([lone, second], first.t_ns)
+    assert table.item(0, column("skew ms")).text() == "–"
+    assert table.item(1, column("skew ms")).text() == f"{second.skew_ns / 1e6:.1f}"
+
 def test_filter_buttons_and_f_hide_and_show_rows(qtbot, window) -> None:
     n = window.table.rowCount()
     qtbot.keyClick(window, Qt.Key.Key_A)  # set 0 accepted
