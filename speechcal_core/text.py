@@ -7,3 +7,8 @@ def counted(n: int, word: str, plural: str | None = None) -> str:
     """``n`` and ``word``, in the plural unless ``n`` is 1: "1 camera", "3 cameras",
     "2 frame sets"; ``plural`` for words that do not just add an s."""
     return f"{n} {word if n == 1 else plural or word + 's'}"
+
+
+def listed(names: list[str], at_most: int = 3) -> str:
+    """The first ``at_most`` names, comma-separated, "…" when there are more."""
+    return ", ".join(names[:at_most]) + (", …" if len(names) > at_most else "")

@@ -6,6 +6,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from speechcal_core.text import listed
+
 #: files every export writes beside the frames (target.yaml: kalibr only; corners.json
 #: and corners.vnl: the image formats)
 EXPORT_OWN = frozenset({"manifest.json", "manifest.csv", "target.yaml", "corners.json",
@@ -27,12 +29,12 @@ def not_replaceable(out: Path) -> str:
         return ""
     written = export_files(out / "manifest.json")
     if written is None:
-        return (f"this folder holds files that are not an export ({_shown(names)}), and an "
+        return (f"this folder holds files that are not an export ({listed(names)}), and an "
                 "export never replaces those")
     extra = [rel for rel in _files_under(out)
              if not any(rel == w or rel.startswith(w + "/") for w in written)]
     if extra:
-        return (f"this earlier export also holds files it did not write ({_shown(extra)}), "
+        return (f"this earlier export also holds files it did not write ({listed(extra)}), "
                 "and an export never replaces those")
     return ""
 
@@ -59,6 +61,3 @@ def _files_under(folder: Path) -> list[str]:
     return sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*")
                   if not p.is_dir())
 
-
-def _shown(names: list[str]) -> str:
-    return ", ".join(names[:3]) + (", …" if len(names) > 3 else "")

@@ -14,6 +14,7 @@ from speechcal_core.synth.options import SynthOptions
 from speechcal_core.synth.recording_writer import RecordingTruth, write_recording
 from speechcal_core.synth.timeline import Timeline, plan_session
 from speechcal_core.synth.voices import check_trigger_word
+from speechcal_core.text import listed
 
 #: the board the session shows, as a Kalibr target yaml (for `speechcal process --target`)
 TARGET_FILE = "target.yaml"
@@ -67,16 +68,13 @@ def not_replaceable(out: Path) -> str:
         own = {"truth.json", TARGET_FILE, str(truth["recording"]), str(truth["audio"])}
     except (OSError, UnicodeDecodeError, ValueError, TypeError, KeyError):
         return (f"this folder holds files that are not a synthetic session "
-                f"({_shown(names)}), and synth never replaces those")
+                f"({listed(names)}), and synth never replaces those")
     other = [n for n in names if n not in own and not n.endswith(INDEX_SUFFIX)]
     if other:
         return (f"this synthetic session's folder also holds files synth did not write "
-                f"({_shown(other)}: review work, notes?), and synth never replaces those")
+                f"({listed(other)}: review work, notes?), and synth never replaces those")
     return ""
 
-
-def _shown(names: list[str]) -> str:
-    return ", ".join(names[:3]) + (", …" if len(names) > 3 else "")
 
 
 def build_truth(

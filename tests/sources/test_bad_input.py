@@ -183,30 +183,26 @@ def test_file_that_is_not_a_bag_is_refused_naming_the_path_as_given(
         open_recording([mcap])
 
 
-def test_a_file_given_as_a_recording_is_named_for_what_it_is(tmp_path: Path) -> None:
+@pytest.mark.parametrize(("name", "content", "says"), [
+    ("cut.bag", b"", "{path}: not a ROS1 bag (the file is empty (0 bytes)); give the "
+                     "recording's .bag file"),
+    ("shot.bag", b"\x89PNG\r\n\x1a\n" + bytes(32), "{path}: not a ROS1 bag (the file is a "
+                                                    "PNG image)"),
+    ("session.json", b'{"schema": 1}', "{path}: this is a JSON file (a session file opens "
+                                       "with speechcal review), not a recording"),
+    ("mic.ogg", b"OggS" + bytes(60), "{path}: this is an Ogg audio file (give audio with "
+                                     "--audio), not a recording"),
+])
+def test_a_file_given_as_a_recording_is_named_for_what_it_is(
+        tmp_path: Path, name: str, content: bytes, says: str) -> None:
     """An empty bag (a recorder stopped early), a PNG named .bag, an audio or a session
     file in the recording's place: the error says what the file is, not only "magic
     missing" or "unknown recording kind"."""
-    empty = tmp_path / "cut.bag"
-    empty.write_bytes(b"")
-    with pytest.raises(SourceError, match=re.escape(
-            f"{empty}: not a ROS1 bag (the file is empty (0 bytes)); give the recording's "
-            ".bag file")):
-        open_recording([empty])
-    png = tmp_path / "shot.bag"
-    png.write_bytes(b"\x89PNG\r\n\x1a\n" + bytes(32))
-    with pytest.raises(SourceError, match=re.escape("(the file is a PNG image)")):
-        open_recording([png])
-    session = tmp_path / "session.json"
-    session.write_text('{"schema": 1}')
-    with pytest.raises(SourceError, match=re.escape(
-            f"{session}: this is a JSON file (a session file opens with speechcal review), "
-            "not a recording")):
-        open_recording([session])
-    audio = tmp_path / "mic.ogg"
-    audio.write_bytes(b"OggS" + bytes(60))
-    with pytest.raises(SourceError, match=re.escape("give audio with --audio")):
-        open_recording([audio])
+    path = tmp_path / name
+    path.write_bytes(content)
+    with pytest.raises(SourceError, match=re.escape(says.format(path=path))):
+        open_recording([path])
+
 
 def test_jpeg_stream_dimensions_come_from_the_first_decodable_frame(make_bag) -> None:
     cam = Cam("/cam0/image_raw", regular(4), encoding="png")
