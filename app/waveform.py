@@ -107,6 +107,13 @@ class WaveformView(pg.PlotWidget):
         self.whole_button.setCursor(Qt.CursorShape.ArrowCursor)
         self.whole_button.clicked.connect(self.show_whole)
         self.whole_button.hide()
+        #: where the playhead is when the view has scrolled away from it: a click goes there
+        self.playhead_button = QToolButton(self)
+        self.playhead_button.setStyleSheet(self.whole_button.styleSheet())
+        self.playhead_button.setToolTip("the playhead is out of view: show it")
+        self.playhead_button.setCursor(Qt.CursorShape.ArrowCursor)
+        self.playhead_button.clicked.connect(self.show_playhead)
+        self.playhead_button.hide()
         self.getViewBox().sigXRangeChanged.connect(lambda *_: self._range_changed())
         self.scene().sigMouseClicked.connect(self._clicked)
 
@@ -221,12 +228,37 @@ class WaveformView(pg.PlotWidget):
 
     def _range_changed(self) -> None:
         self.whole_button.setVisible(self.zoomed_in())
+        self._place_playhead_button()
         self.redraw()
         self._thin_labels()
+
+    def _place_playhead_button(self) -> None:
+        """Show, at the side the playhead lies beyond, a button that goes to it."""
+        button = getattr(self, "playhead_button", None)  # pyqtgraph resizes in __init__
+        if button is None:
+            return
+        x0, x1 = self.getViewBox().viewRange()[0]
+        side = playhead_side(self.playhead.value(), x0, x1)
+        button.setVisible(side != 0)
+        if side == 0:
+            return
+        button.setText("◀ playhead" if side < 0 else "playhead ▶")
+        hint = button.sizeHint()
+        right = self.width() - 6 - (self.whole_button.sizeHint().width() + 6
+                                    if self.whole_button.isVisible() else 0)
+        left = 6 if side < 0 else right - hint.width()
+        button.setGeometry(left, 6, hint.width(), hint.height())
+
+    def show_playhead(self) -> None:
+        """Scroll the view (its width kept) so the playhead stands in its middle."""
+        x0, x1 = self.getViewBox().viewRange()[0]
+        x, half = self.playhead.value(), (x1 - x0) / 2
+        self.setXRange(x - half, x + half, padding=0)
 
     def resizeEvent(self, event) -> None:
         """Keep the "whole session" button in the top right corner."""
         super().resizeEvent(event)
+        self._place_playhead_button()
         if hasattr(self, "_labels"):  # pyqtgraph resizes in __init__
             self._thin_labels()
         button = getattr(self, "whole_button", None)  # pyqtgraph resizes in __init__
@@ -303,6 +335,7 @@ class WaveformView(pg.PlotWidget):
 
     def set_playhead(self, t_ns: int) -> None:
         self.playhead.setValue(self._to_x(t_ns))
+        self._place_playhead_button()
 
     def follow(self, t_ns: int) -> None:
         """Scroll so the playhead stays visible (during playback)."""
@@ -320,6 +353,12 @@ class WaveformView(pg.PlotWidget):
             return
         pos = self.getViewBox().mapSceneToView(event.scenePos())
         self.playhead_moved.emit(self._to_ns(pos.x()))
+
+
+def playhead_side(x: float, x0: float, x1: float) -> int:
+    """Where the playhead at ``x`` lies against the view ``x0``..``x1``: -1 before it, 1
+    after it, 0 in it."""
+    return -1 if x < x0 else 1 if x > x1 else 0
 
 
 def unreadable_message(pyramid: EnvelopePyramid) -> str:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
+import pytest
 from PySide6.QtCore import QPoint, QPointF, Qt
 from truth_sessions import truth_session
 
@@ -84,3 +85,22 @@ def test_labels_of_sets_too_close_to_read_are_thinned_until_zoomed_in(window) ->
     wave.set_sets(window.model.session.sets)
     wave.show_whole()
     assert all(label.isVisible() for _, label, _ in wave._labels)
+
+
+def test_a_playhead_out_of_the_zoomed_view_has_a_button_that_goes_to_it(window,
+                                                                        qtbot) -> None:
+    """Zoomed in elsewhere, nothing showed where the playhead was."""
+    waveform = window.waveform
+    x = waveform.playhead.value()
+    assert waveform.playhead_button.isHidden()
+    waveform.setXRange(x + 2.0, x + 3.0, padding=0)  # the view after the playhead
+    qtbot.waitUntil(lambda: waveform.playhead_button.isVisible())
+    assert waveform.playhead_button.text() == "◀ playhead"
+    assert waveform.playhead_button.x() < waveform.width() // 2
+    qtbot.mouseClick(waveform.playhead_button, Qt.MouseButton.LeftButton)
+    x0, x1 = waveform.getViewBox().viewRange()[0]
+    assert x0 < x < x1 and x1 - x0 == pytest.approx(1.0, rel=0.05)
+    assert waveform.playhead_button.isHidden()
+    waveform.setXRange(x - 3.0, x - 2.0, padding=0)  # before it
+    qtbot.waitUntil(lambda: waveform.playhead_button.isVisible())
+    assert waveform.playhead_button.text() == "playhead ▶"
