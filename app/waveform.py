@@ -83,9 +83,14 @@ class WaveformView(pg.PlotWidget):
         self.playhead.sigDragged.connect(
             lambda line: self.playhead_moved.emit(self._to_ns(line.value())))
         self.addItem(self.playhead)
+        # a handle: the label's arrows, a sideways cursor and a bolder line on hover say
+        # it can be dragged
         self.clap = pg.InfiniteLine(0, movable=True, pen=pg.mkPen((255, 120, 40), width=2),
-                                    label="clap", labelOpts={"position": 0.9,
-                                                             "color": (255, 160, 90)})
+                                    hoverPen=pg.mkPen((255, 160, 90), width=4),
+                                    label="◂ clap ▸", labelOpts={"position": 0.9,
+                                                                 "color": (255, 160, 90)})
+        self.clap.setCursor(Qt.CursorShape.SizeHorCursor)
+        self.clap.setToolTip("the clap: drag it to set the audio offset")
         # above the playhead: a click on the clap puts the playhead on it, and the drag
         # from there must still take the handle (the playhead is dragged anywhere else)
         self.clap.setZValue(25)
