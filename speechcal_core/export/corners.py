@@ -9,7 +9,8 @@ one tag pitch apart. A corner not found is listed with '-' (mrcal leaves it out)
 without the board as one line of '-'.
 
 The corners are the ones the session found on each chosen frame; they are written only
-for frames whose stored detection counts as many corners as the frame's figure says, and
+for frames whose stored detection counts as many corners as the frame's figure says (and
+was found in that very frame, where the session says which: ``stamp_ns``), and
 only for sessions that name the board they were found on (sessions made before they did
 get no corners files, and a note says so). A checkerboard's corners are numbered from
 the end nearer the image's top left (``upright_checkerboard``), sessions made before
@@ -95,7 +96,10 @@ def write_corners(source: FrameSource, plan: Plan, outcome: Outcome, root: Path,
         file = outcome.files.get(key)
         if file is None:
             continue  # not written (undecodable frame): named in the manifest
-        det = _stored_detection(detections.get(key), frame.choice.corners, board)
+        if _found_in(details, key) not in (None, frame.choice.stamp_ns):
+            det = None  # found in another frame than the one exported
+        else:
+            det = _stored_detection(detections.get(key), frame.choice.corners, board)
         images.append({
             "file": file, "stream": frame.choice.stream, "set_id": frame.frame_set.id,
             "image_size": list(sizes.get(frame.choice.stream, (0, 0))),
@@ -119,6 +123,16 @@ def write_corners(source: FrameSource, plan: Plan, outcome: Outcome, root: Path,
     atomic_write_text(root / CORNERS_JSON, json.dumps(document, indent=1) + "\n")
     atomic_write_text(root / CORNERS_VNL, "\n".join(rows) + "\n")
     return [CORNERS_JSON, CORNERS_VNL]
+
+
+def _found_in(details: object, key: tuple[int, str]) -> int | None:
+    """The stamp of the frame a set's stored corners were found in (None: not stored,
+    as in sessions made before it was)."""
+    try:
+        stamp = details[str(key[0])]["frames"][key[1]]["stamp_ns"]  # type: ignore[index]
+    except (KeyError, TypeError):
+        return None
+    return int(stamp) if isinstance(stamp, int) else None
 
 
 def _stored_detection(det: Detection | None, corners: int | None,

@@ -210,7 +210,8 @@ def _build(
                             (*f.flags, "skew")) for f in frames))
         result.sets.append(fs)
         result.details[str(set_id)] = _details(set_id, t, choices[n], windows[n], scores[n],
-                                               nearest[n], infos, result.detections, options)
+                                               nearest[n], infos, result.detections, options,
+                                               picks[n])
     return result
 
 
@@ -440,8 +441,10 @@ def _details(
     infos: list[StreamInfo],
     detections: dict[tuple[int, str], Detection],
     options: FrameSetOptions,
+    picks: dict[str, tuple[int, int]] | None = None,
 ) -> dict[str, Any]:
-    """JSON-ready figures of one set: chosen time, stillness, nearest frames, corners."""
+    """JSON-ready figures of one set: chosen time, stillness, nearest frames, corners (with
+    the stamp of the frame they were found in, from ``picks``: stream -> (index, stamp))."""
     out: dict[str, Any] = {
         "trigger_ns": t_ns,
         "chosen_ns": choice.t_ns if choice else t_ns,
@@ -468,5 +471,7 @@ def _details(
         if det is not None:
             entry["ids"] = det.ids.tolist()
             entry["points"] = np.round(det.points, 2).tolist()
+            if picks is not None and s.name in picks:
+                entry["stamp_ns"] = int(picks[s.name][1])
         out["frames"][s.name] = entry
     return out

@@ -196,6 +196,28 @@ def test_a_session_whose_frames_show_no_corners_is_told_so(processed, tmp_path) 
     assert "no target corners were found in the session's frames" in note
     assert "process the recording again" not in note
 
+def test_corners_found_in_another_frame_than_the_exported_one_are_left_out(
+        processed, tmp_path) -> None:
+    """The session says which frame its corners were found in; where that is not the
+    frame exported (a hand-edited set), the image lists none rather than another
+    frame's."""
+    path, _truth = processed
+    session = load_session(path)
+    chosen = {(s.id, f.stream): f.stamp_ns for s in session.sets for f in s.frames}
+    found = [(int(k), stream, entry) for k, d in session.extra["frame_details"].items()
+             for stream, entry in d["frames"].items() if "ids" in entry]
+    assert found and all(entry["stamp_ns"] == chosen[(k, stream)]
+                         for k, stream, entry in found)
+    set_id, stream, entry = found[0]
+    entry["stamp_ns"] += 1
+    edited = tmp_path / "edited.json"
+    save_session(session, edited)
+    export_session_file(edited, "folders", tmp_path / "out")
+    doc = json.loads((tmp_path / "out" / CORNERS_JSON).read_text())
+    by_key = {(image["set_id"], image["stream"]): image for image in doc["images"]}
+    assert by_key[(set_id, stream)]["ids"] == []
+    assert sum(bool(image["ids"]) for image in doc["images"]) == len(found) - 1
+
 def test_found_corners_the_sessions_board_lacks_are_left_out(processed, tmp_path) -> None:
     """A session whose stored board is smaller than its corner ids (edited by hand): an
     image whose ids the board lacks lists no corners instead of ids off the board."""
