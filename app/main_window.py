@@ -39,6 +39,7 @@ from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
 from app.tasks import BackgroundTask, start
 from app.waveform import WaveformView
+from speechcal_core.audio import AUDIO_SUFFIXES
 from speechcal_core.audio.playback import RestartThrottle, word_span
 from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
@@ -82,7 +83,6 @@ HINTS_TIP = (
 
 
 #: dropped files with these endings (any case) are audio; ``.json`` ones are session files
-AUDIO_EXTENSIONS = (".ogg", ".opus", ".wav", ".flac", ".mp3")
 
 
 def drop_request(paths: list[str]) -> dict[str, object] | None:
@@ -95,7 +95,7 @@ def drop_request(paths: list[str]) -> dict[str, object] | None:
     the two); a JSON that is no session is opened, to say why, only when there is no pair.
     """
     jsons = [p for p in paths if p.lower().endswith(".json")]
-    audio = [p for p in paths if p.lower().endswith(AUDIO_EXTENSIONS)]
+    audio = [p for p in paths if p.lower().endswith(AUDIO_SUFFIXES)]
     recording = [p for p in paths if p not in jsons and p not in audio]
     sessions = [p for p in jsons if is_session_file(p)]
     if sessions:

@@ -12,6 +12,9 @@ import soundfile as sf
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.resampling import resample, resample_blocks
 
+#: file endings taken for audio files where inputs are told apart by name (drops, review)
+AUDIO_SUFFIXES = (".ogg", ".opus", ".wav", ".flac", ".mp3")
+
 BLOCK_FRAMES = 1 << 16
 SUPPORTED = "WAV, FLAC, Ogg Vorbis, Opus, MP3"
 

@@ -32,9 +32,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--session goes with a recording: RECORDING --audio AUDIO --session "
                          "SESSION.json")
     elif args.inputs:
-        if not args.audio:
-            raise UsageError("a recording needs its audio: add --audio AUDIO")
-        recording = args.inputs
+        recording, audio = _recording_and_audio(args.inputs, args.audio)
+        args.audio = audio
     from app.main import has_display, run_review
 
     if not has_display() and not args.screenshot:
@@ -43,3 +42,20 @@ def run(args: argparse.Namespace) -> int:
         )
     return run_review(session_path=session_path, recording=recording, audio=args.audio,
                       new_session_path=args.session, screenshot=args.screenshot)
+
+
+def _recording_and_audio(inputs: list[str], audio: str | None) -> tuple[list[str], str]:
+    """The recording's paths and the audio file: ``--audio``, or the one input named as
+    audio (``review recording.bag mic.ogg``, as a drop on the window opens them)."""
+    from speechcal_core.audio import AUDIO_SUFFIXES
+
+    if audio:
+        return inputs, audio
+    sounds = [p for p in inputs if p.lower().endswith(AUDIO_SUFFIXES)]
+    others = [p for p in inputs if p not in sounds]
+    if len(sounds) == 1 and others:
+        return others, sounds[0]
+    if sounds and not others:
+        raise UsageError(f"{sounds[0]} is an audio file: give the recording too "
+                         f"(speechcal review RECORDING --audio {sounds[0]})")
+    raise UsageError("a recording needs its audio: add --audio AUDIO")

@@ -34,3 +34,21 @@ def test_session_option_without_a_recording_is_a_usage_error(
         capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["review", "--session", "x.json"]) == 2
     assert "--session goes with a recording" in capsys.readouterr().err
+
+
+def test_the_audio_may_come_among_the_inputs_as_a_drop_gives_it(
+        tiny_synth: tuple[Path, dict], tmp_path: Path) -> None:
+    """``review recording.bag mic.ogg`` opens the pair (the window takes a drop of the two
+    alike); the audio alone says to give the recording too."""
+    folder, truth = tiny_synth
+    recording, audio = folder / truth["recording"], folder / truth["audio"]
+    target = tmp_path / "pair.json"
+    assert main(["review", str(recording), str(audio), "--session", str(target),
+                 "--screenshot", str(tmp_path / "x.png")]) == 0
+    assert json.loads(target.read_text())["sets"]
+
+
+def test_audio_alone_asks_for_the_recording(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["review", "s1/audio.ogg"]) == 2
+    assert ("s1/audio.ogg is an audio file: give the recording too (speechcal review "
+            "RECORDING --audio s1/audio.ogg)") in capsys.readouterr().err
