@@ -86,8 +86,9 @@ def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> No
         relation, what, p = touched
         where = {"is": "this is", "holds": "this folder holds",
                  "inside": "this lies inside"}[relation]
-        raise ExportError(f"{out.absolute()}: {where} the session's {what} {p}, which the "
-                          "export reads; choose another output folder")
+        named = "the session file" if what == "session file" else f"the session's {what}"
+        raise ExportError(f"{out.absolute()}: {where} {named} {p}, which the export reads; "
+                          "choose another output folder")
     if os.path.lexists(out) and not force:
         raise OutputExistsError(f"{out} already exists; choose another folder or pass --force")
     if os.path.lexists(out):

@@ -71,6 +71,9 @@ def test_refusal_names_the_input_it_protects(own_session: Path, capsys) -> None:
                            "--force")
     assert code == 1 and str(audio) in err and "audio" in err
     assert audio.is_file()
+    code, _out, err = _run(capsys, str(own_session), "--format", "kalibr", "--out",
+                           str(own_session), "--force")
+    assert code == 1 and f"this is the session file {own_session}, which the export" in err
 
 
 def test_the_audio_is_protected_through_a_linked_folder(own_session: Path, capsys) -> None:
