@@ -39,11 +39,33 @@ def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
 def save_session(session: Session, path: str | Path) -> None:
     """Write atomically; the previous version stays as ``<path>.bak``."""
     path = Path(path)
-    text = json.dumps(session_to_dict(session, path), indent=1, ensure_ascii=False) + "\n"
+    text = session_text(session_to_dict(session, path))
     try:
         atomic_write_text(path, text, keep_backup=True)
     except OSError as exc:
         raise _save_error(path, exc.strerror or str(exc)) from exc
+
+
+def session_text(document: dict[str, Any]) -> str:
+    """``document`` as the session file's text: a line per top-level key, and per item of
+    a top-level list or object (a frame set, a set's details, a camera's fit), each line
+    compact. A decision changes one line; and json's fast encoder does the work (indented
+    output goes through its slow one: 300 ms instead of 40 for a 66-set session, on every
+    autosave)."""
+    def dumps(value: object) -> str:
+        return json.dumps(value, ensure_ascii=False)
+
+    lines = []
+    for key, value in document.items():
+        if isinstance(value, list) and value:
+            body = "[\n" + ",\n".join(f"  {dumps(v)}" for v in value) + "\n ]"
+        elif isinstance(value, dict) and value:
+            body = "{\n" + ",\n".join(f"  {dumps(k)}: {dumps(v)}"
+                                      for k, v in value.items()) + "\n }"
+        else:
+            body = dumps(value)
+        lines.append(f" {dumps(key)}: {body}")
+    return "{\n" + ",\n".join(lines) + "\n}\n"
 
 
 def check_session_target(path: str | Path) -> None:
