@@ -617,7 +617,7 @@ class ReviewWindow(QMainWindow):
         row = next(i for i, s in enumerate(model.session.sets) if s.id == set_id)
         self.table.update_row(row, model.session.sets[row])
         self._apply_filter()
-        self.waveform.set_sets(model.session.sets)
+        self.waveform.update_set(model.session.sets[row])
         self._update_counts()
         self._refresh_playhead()
 
@@ -657,9 +657,8 @@ class ReviewWindow(QMainWindow):
         model = self.model
         if model is None:
             return
-        marks = self._rescore_marks()
-        for row, s in enumerate(model.session.sets):
-            self.table.update_row(row, s, s.id in marks)
+        self.table.set_sets(model.session.sets, model.time_range_ns()[0],
+                            self._rescore_marks())  # rows alike are skipped, columns fit once
         self._apply_filter()
 
     def _apply_filter(self) -> None:

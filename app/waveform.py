@@ -77,6 +77,8 @@ class WaveformView(pg.PlotWidget):
         self.setYRange(-1, 1, padding=0.05)
         self._markers: list[pg.GraphicsObject] = []
         self._labels: list[tuple[float, pg.TextItem, int]] = []  # x, label, width (px)
+        #: set id -> its mark (the word's extent, the label)
+        self._marks_of: dict[int, tuple[pg.LinearRegionItem, pg.TextItem]] = {}
         self.playhead = pg.InfiniteLine(0, movable=True,
                                         pen=pg.mkPen(PLAYHEAD_COLOUR, width=2))
         self.playhead.setZValue(20)
@@ -297,6 +299,7 @@ class WaveformView(pg.PlotWidget):
             self.removeItem(item)
         self._markers = []
         self._labels = []
+        self._marks_of = {}
         self._sets_x = None
         if self.sync is None:
             return
@@ -305,14 +308,12 @@ class WaveformView(pg.PlotWidget):
         if spans:
             self._sets_x = (min(a for a, _ in spans), max(b for _, b in spans))
         for s, (start, end) in zip(sets, spans, strict=True):
-            colour = DECISION_COLOURS[s.decision]
-            brush = pg.mkBrush(colour.red(), colour.green(), colour.blue(), 70)
-            region = pg.LinearRegionItem((start, end), movable=False, brush=brush,
-                                         pen=pg.mkPen(colour))
+            region = pg.LinearRegionItem((start, end), movable=False)
             region.setZValue(5)
-            label = pg.TextItem(f"{DECISION_SYMBOLS[s.decision]}{s.id}",
-                                color=colour.lighter(140), anchor=(0.5, 0.0))
+            label = pg.TextItem("", anchor=(0.5, 0.0))
             label.setPos((start + end) / 2, 1.0)
+            self._marks_of[s.id] = (region, label)
+            self._paint_mark(s)
             width = QFontMetrics(label.textItem.font()).horizontalAdvance(label.toPlainText())
             self._labels.append(((start + end) / 2, label, width))
             for item in (region, label):
@@ -321,6 +322,22 @@ class WaveformView(pg.PlotWidget):
         self._labels.sort(key=lambda entry: entry[0])
         self._keep_marks_within_whole()
         self._thin_labels()
+
+    def update_set(self, frame_set: FrameSet) -> None:
+        """Show a set's new decision on its mark (the marks stay: rebuilding all of them
+        on every decision took 100-150 ms for 66 sets)."""
+        if frame_set.id in self._marks_of:
+            self._paint_mark(frame_set)
+
+    def _paint_mark(self, frame_set: FrameSet) -> None:
+        region, label = self._marks_of[frame_set.id]
+        colour = DECISION_COLOURS[frame_set.decision]
+        region.setBrush(pg.mkBrush(colour.red(), colour.green(), colour.blue(), 70))
+        for line in region.lines:
+            line.setPen(pg.mkPen(colour))
+        label.setText(f"{DECISION_SYMBOLS[frame_set.decision]}{frame_set.id}",
+                      color=colour.lighter(140))
+        region.update()
 
     def _thin_labels(self) -> None:
         """Show the sets' labels from the left, hiding one that would touch the last shown

@@ -49,6 +49,22 @@ def test_keys_accept_reject_undo_and_autosave(qtbot, window, truth_session_file)
     assert window.counts_label.text().startswith("✔ 1 accepted")
 
 
+
+def test_a_decision_recolours_its_waveform_mark_without_rebuilding_the_marks(
+        qtbot, window) -> None:
+    """Every decision rebuilt all marks (100-150 ms for 66 sets on the window's thread);
+    now the set's own mark takes its decision's colour and label."""
+    from app.style import DECISION_COLOURS
+
+    wave = window.waveform
+    marks = list(wave._markers)
+    first = window.model.session.sets[0]
+    region, label = wave._marks_of[first.id]
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    assert wave._markers == marks  # the same items
+    assert label.toPlainText() == f"✔{first.id}"
+    assert region.lines[0].pen.color() == DECISION_COLOURS["accepted"]
+
 def test_arrow_keys_step_a_frame_of_any_camera_or_with_shift_of_every_one(
         qtbot, window) -> None:
     model = window.model
