@@ -71,11 +71,17 @@ def test_empty_range_and_short_signal() -> None:
 
 def _expected(x: np.ndarray, rate: float, t0: float, t1: float,
               width: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """What a pyramid over every level from 16 samples up draws, straight from ``x``."""
+    """What a pyramid over every level from 16 samples up draws, straight from ``x``: the
+    samples below 2 per pixel, each pixel's own min and max below 32."""
     i0, i1 = int(np.floor(t0 * rate)), int(np.ceil(t1 * rate))
     per_px = (i1 - i0) / width
-    if per_px < 32:
+    if per_px < 2:
         return np.arange(i0, i1) / rate, x[i0:i1], x[i0:i1]
+    if per_px < 32:  # each pixel's own samples
+        edges = np.unique(np.linspace(i0, i1, width + 1).astype(np.int64))
+        mn = np.array([x[a:b].min() for a, b in pairwise(edges)])
+        mx = np.array([x[a:b].max() for a, b in pairwise(edges)])
+        return (edges[:-1] + np.diff(edges) / 2) / rate, mn, mx
     size = 16
     while size * 4 * 2 <= per_px and -(-x.size // size) > 1:
         size *= 4
@@ -114,7 +120,8 @@ def test_file_pyramid_holds_no_samples_and_draws_the_loaded_ones(
         np.testing.assert_array_equal(b, d)
     rng = np.random.default_rng(2)
     views = [(0.0, 21.3, 800), (3.0, 3.01, 1000), (20.9, 21.3, 1920), (5.0, 5.9, 300),
-             (7.0, 9.5, 1000), (0.0, 1e-3, 100)]  # raw, 16- and 64-sample buckets, kept
+             (7.0, 9.5, 1000), (0.0, 1e-3, 100),  # raw, 16- and 64-sample buckets, kept
+             (4.0, 4.5, 1400), (6.0, 6.1, 1200)]  # a pixel's own samples
     views += [(a, a + w, int(rng.integers(100, 2000)))
               for a, w in zip(rng.uniform(0, 20, 20), rng.uniform(1e-3, 4, 20),
                               strict=True)]
