@@ -187,6 +187,13 @@ class SetTable(QTableWidget):
             self.clearSelection()
         self._updating = False
 
+    def resizeEvent(self, event) -> None:
+        """Keep the current set's row in view when the list gets shorter."""
+        super().resizeEvent(event)
+        rows = sorted({i.row() for i in self.selectedIndexes()})
+        if rows and self.item(rows[0], 0) is not None:
+            self.scrollToItem(self.item(rows[0], 0))
+
     def _selection_changed(self) -> None:
         if self._updating:
             return

@@ -86,10 +86,10 @@ class WaveformView(pg.PlotWidget):
             lambda line: self.playhead_moved.emit(self._to_ns(line.value())))
         self.addItem(self.playhead)
         # a handle: the label's arrows, a sideways cursor and a bolder line on hover say
-        # it can be dragged
+        # it can be dragged; its label low, under the sets' labels along the top
         self.clap = pg.InfiniteLine(0, movable=True, pen=pg.mkPen((255, 120, 40), width=2),
                                     hoverPen=pg.mkPen((255, 160, 90), width=4),
-                                    label="◂ clap ▸", labelOpts={"position": 0.9,
+                                    label="◂ clap ▸", labelOpts={"position": 0.12,
                                                                  "color": (255, 160, 90)})
         self.clap.setCursor(Qt.CursorShape.SizeHorCursor)
         self.clap.setToolTip("the clap: drag it to set the audio offset")
@@ -161,7 +161,7 @@ class WaveformView(pg.PlotWidget):
             line = pg.InfiniteLine(x, movable=False,
                                    pen=pg.mkPen((255, 120, 40), width=1,
                                                 style=Qt.PenStyle.DashLine),
-                                   label=f"clap {n}", labelOpts={"position": 0.9,
+                                   label=f"clap {n}", labelOpts={"position": 0.12,
                                                                  "color": (255, 160, 90)})
             line.setZValue(15)
             self.addItem(line)

@@ -154,3 +154,24 @@ def test_rewriting_the_list_keeps_unchanged_rows_and_fits_the_columns(
     assert decision.text() == "✔ accepted"
     width = table.fontMetrics().horizontalAdvance(table.item(1, column("word")).text())
     assert table.columnWidth(column("word")) >= width
+
+
+def test_the_current_row_stays_in_view_when_the_list_gets_shorter(qtbot) -> None:
+    """Shrinking the window left the current set's row below the list's visible part."""
+    from app.set_table import SetTable
+    from speechcal_core.session.model import FrameChoice, FrameSet, Trigger
+
+    sets = [FrameSet(i + 1, 10**18 + i * 10**9, Trigger("capture", i, i + 0.4),
+                     (FrameChoice("/cam0/image_raw", i, 10**18 + i * 10**9, 0.9, 144),))
+            for i in range(40)]
+    table = SetTable()
+    qtbot.addWidget(table)
+    table.resize(480, 900)
+    table.show()
+    table.set_sets(sets, sets[0].t_ns)
+    table.select_row(25)
+    table.resize(480, 200)
+    qtbot.waitUntil(lambda: table.viewport().height() < 200)
+    qtbot.wait(50)
+    rect = table.visualItemRect(table.item(25, 0))
+    assert table.viewport().rect().contains(rect)
