@@ -294,7 +294,13 @@ class WaveformView(pg.PlotWidget):
         self._lower.setData(xs, mn * self._scale)
 
     def set_sets(self, sets: list[FrameSet]) -> None:
-        """One marker per frame set: the word's extent, coloured, labelled decision + set id."""
+        """One marker per frame set: the word's extent, coloured, labelled decision + set id.
+
+        The same sets as shown (an offset edit moves them all) keep their marks, moved:
+        rebuilding 66 marks took 60-80 ms, on every step of a held ``]``."""
+        if self.sync is not None and [s.id for s in sets] == list(self._marks_of):
+            self._move_marks(sets)
+            return
         for item in self._markers:
             self.removeItem(item)
         self._markers = []
@@ -320,6 +326,25 @@ class WaveformView(pg.PlotWidget):
                 self.addItem(item)
                 self._markers.append(item)
         self._labels.sort(key=lambda entry: entry[0])
+        self._keep_marks_within_whole()
+        self._thin_labels()
+
+    def _move_marks(self, sets: list[FrameSet]) -> None:
+        """Put the marks of ``sets`` (the ones shown) where the sync now places them."""
+        assert self.sync is not None
+        labels = []
+        for s in sets:
+            start = self._to_x(int(self.sync.to_session(s.trigger.start_s)))
+            end = self._to_x(int(self.sync.to_session(s.trigger.end_s)))
+            region, label = self._marks_of[s.id]
+            region.setRegion((start, end))
+            label.setPos((start + end) / 2, 1.0)
+            self._paint_mark(s)
+            width = QFontMetrics(label.textItem.font()).horizontalAdvance(label.toPlainText())
+            labels.append(((start + end) / 2, label, width))
+        xs = [region.getRegion() for region, _label in self._marks_of.values()]
+        self._sets_x = (min(a for a, _ in xs), max(b for _, b in xs)) if xs else None
+        self._labels = sorted(labels, key=lambda entry: entry[0])
         self._keep_marks_within_whole()
         self._thin_labels()
 
