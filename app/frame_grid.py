@@ -19,6 +19,8 @@ from app.style import (
 )
 
 MARKER_COLOUR = QColor(60, 220, 120)
+#: how a tile's caption begins while it shows the frame nearest a set's time
+NEAREST_CAPTION = "nearest frame"
 #: the least room between a tile's title and the caption or warning at its right, pixels
 HEADER_GAP = 12
 #: a tile's least width, pixels: TILE_MIN_WIDTH_PX[1], or less in a grid of more than
@@ -209,15 +211,23 @@ class CameraTile(QWidget):
             p.setPen(WARNING_COLOUR if self.warning else QColor(170, 170, 170))
             p.setFont(self.font())
             p.drawText(line, Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter, note)
-        if self.footnote:
+        foot = self.footnote or self.caption_at_foot(note)
+        if foot:
             p.setFont(self.font())
             metrics = QFontMetrics(self.font())
             box = QRectF(6, self.height() - metrics.height() - 10,
-                         metrics.horizontalAdvance(self.footnote) + 12, metrics.height() + 6)
+                         metrics.horizontalAdvance(foot) + 12, metrics.height() + 6)
             p.fillRect(box, QColor(0, 0, 0, 170))
             p.setPen(QColor(235, 235, 235))
-            p.drawText(box, Qt.AlignmentFlag.AlignCenter, self.footnote)
+            p.drawText(box, Qt.AlignmentFlag.AlignCenter, foot)
         p.end()
+
+    def caption_at_foot(self, shown_in_header: str) -> str:
+        """The caption, when it says the tile shows a nearest frame (not the set's chosen
+        one) and the header had no room for it: a grid of many cameras gave no sign."""
+        if self.caption.startswith(NEAREST_CAPTION) and shown_in_header != self.caption:
+            return self.caption
+        return ""
 
 
 class FrameGrid(QWidget):

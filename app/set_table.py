@@ -123,8 +123,10 @@ class SetTable(QTableWidget):
             self._updating = False
 
     def fit_columns(self) -> None:
-        """Every column as wide as its widest text (the last one takes the rest)."""
-        self.resizeColumnsToContents()
+        """Every column as wide as its widest text; the last one takes the rest."""
+        for col in range(self.columnCount() - 1):
+            self.resizeColumnToContents(col)
+        self.horizontalHeader().setStretchLastSection(True)
 
     def update_row(self, row: int, s: FrameSet, pending: bool = False) -> None:
         """Show ``s`` in ``row`` (columns refitted if its texts changed)."""

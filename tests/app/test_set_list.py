@@ -154,6 +154,12 @@ def test_rewriting_the_list_keeps_unchanged_rows_and_fits_the_columns(
     assert decision.text() == "✔ accepted"
     width = table.fontMetrics().horizontalAdvance(table.item(1, column("word")).text())
     assert table.columnWidth(column("word")) >= width
+    table.resize(600, 300)
+    table.show()
+    qtbot.waitUntil(table.isVisible)
+    header, last = table.horizontalHeader(), table.columnCount() - 1
+    assert header.sectionPosition(last) + header.sectionSize(last) >= \
+        table.viewport().width() - 1  # the decision column takes the rest
 
 
 def test_the_current_row_stays_in_view_when_the_list_gets_shorter(qtbot) -> None:

@@ -180,3 +180,16 @@ def test_many_cameras_shrink_the_tiles_least_size(qtbot, cameras: int,
     assert grid.minimumSizeHint().width() <= cols * least_width + (cols - 1) * 4
     grid.toggle_enlarged("/cam0/image_raw")  # one camera alone keeps the full least size
     assert grid.tiles["/cam0/image_raw"].minimumWidth() == 160
+
+
+def test_a_narrow_tile_says_at_its_foot_that_it_shows_a_nearest_frame(qtbot) -> None:
+    """While a set waits for re-scoring its tiles show the frames nearest its time; in a
+    grid of six cameras the header had no room for that caption and nothing said so."""
+    tile = CameraTile("/cam0/image_raw")
+    qtbot.addWidget(tile)
+    tile.caption = "nearest frame, re-scoring…"
+    tile.set_state("undecided", "")
+    assert tile.caption_at_foot(tile.caption) == ""  # the header shows it: said once
+    assert tile.caption_at_foot("") == "nearest frame, re-scoring…"  # it had no room
+    tile.caption = "chosen frame"
+    assert tile.caption_at_foot("") == ""  # the usual case needs no word
