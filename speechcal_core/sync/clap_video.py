@@ -15,6 +15,10 @@ WORK_WIDTH = 160  # frames are analysed at about this width
 GRID = 8  # cells across the width
 EVENT_S = 0.35  # motion is smoothed over this long when looking for the event
 MAX_EVENTS = 6  # motion bursts checked for the closing-and-parting shape of a clap
+#: the least change (pixels) of the parts' distance that makes a V: a 1280x800 camera's
+#: hands, seen at WORK_WIDTH, gave a flat 6.8-7.5 px of noise whose "V" was a frame off,
+#: and it overruled the full-resolution fit (the two disagreed by more than half a frame)
+MIN_V_DEPTH_PX = 2.0
 
 
 @dataclass(frozen=True)
@@ -308,6 +312,8 @@ def _vertex(times: np.ndarray, dists: np.ndarray, t_peak: float, period: float) 
     A first fit around the closest pair finds the touch; a second keeps only the closing
     half second before it and the opening before the hands move off.
     """
+    if float(np.ptp(dists)) < MIN_V_DEPTH_PX:
+        return None  # parts that neither close nor part: noise, no V to time
     t_min = float(times[int(np.argmin(dists))])
     tc = _fit_window(times, dists, t_min, 0.55, 0.3, period)
     if tc is not None:

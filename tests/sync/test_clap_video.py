@@ -52,3 +52,18 @@ def test_a_topic_recorded_twice_still_gives_its_clap() -> None:
     stamps2 = np.repeat(np.asarray(stamps), 2)
     c = find_video_clap(doubled, stamps2)
     assert c is not None and abs(c.clap_ns / 1e9 - 1.5) < 0.5 / 30
+
+
+def test_a_distance_that_neither_closes_nor_parts_has_no_vertex() -> None:
+    """At the work width a 1280x800 camera's hands gave distances flat within a pixel
+    (noise); their "V" was a frame off and overruled the full-resolution fit, putting
+    that camera's clap 32 ms late. Such a series now gives no time; a real V still does."""
+    from speechcal_core.sync.clap_video import _vertex
+
+    period = 1 / 30
+    times = np.arange(21) * period + 1.0
+    flat = 7.2 + 0.3 * np.random.default_rng(0).standard_normal(21)
+    assert _vertex(times, flat, 1.35, period) is None
+    touch = 1.35
+    v = np.where(times < touch, 120 - 330 * (times - touch), 120 + 500 * (times - touch))
+    assert _vertex(times, v, touch, period) == pytest.approx(touch, abs=2e-3)
