@@ -21,13 +21,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import statistics
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
+from timing import median_ms
 
 REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
@@ -61,14 +60,6 @@ def big_session(sets: int, cameras: int, seed: int = 0) -> Session:
     return Session(["recording.bag"], "audio.ogg", SyncModel(t0, 0.0, "auto"), frame_sets,
                    extra={"frame_details": details})
 
-
-def median_ms(action, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        action()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times) * 1000
 
 
 def main() -> None:

@@ -19,9 +19,7 @@ from __future__ import annotations
 
 import argparse
 import os
-import statistics
 import sys
-import time
 from pathlib import Path
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
@@ -31,6 +29,7 @@ if str(REPO) not in sys.path:
 
 import numpy as np  # noqa: E402
 from PySide6.QtWidgets import QApplication, QHeaderView  # noqa: E402
+from timing import median_ms  # noqa: E402
 
 from app.set_table import SetTable  # noqa: E402
 from speechcal_core.session.model import FrameChoice, FrameSet, Trigger  # noqa: E402
@@ -48,14 +47,6 @@ def frame_sets(n: int, shift_ns: int = 0, seed: int = 0) -> list[FrameSet]:
         out.append(FrameSet(i + 1, t, Trigger("capture", 2.7 * i, 2.7 * i + 0.5), frames))
     return out
 
-
-def median_ms(action, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        action()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times) * 1000
 
 
 def alternating(first: list[FrameSet], second: list[FrameSet]):
