@@ -29,7 +29,7 @@ from app.audio_player import AudioPlayer
 from app.checks_action import ChecksAction
 from app.elided_label import ElidedLabel
 from app.export_action import ExportAction
-from app.frame_grid import FrameGrid
+from app.frame_grid import NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
 from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver
@@ -566,7 +566,7 @@ class ReviewWindow(QMainWindow):
         current = model.set_at_playhead()
         chosen = "chosen frame"
         if model.current_set is not None and model.needs_rescore(model.current_set):
-            chosen = "nearest frame" if self.rescorer.held else "nearest frame, re-scoring…"
+            chosen = NEAREST_CAPTION if self.rescorer.held else f"{NEAREST_CAPTION}, re-scoring…"
         wanted = []
         self._pending_tiles = set()
         for tile in model.tiles():
