@@ -102,6 +102,7 @@ class AudioPlayer(QObject):
         super().__init__(parent)
         self._say = say
         self._path: Path | None = None
+        self._channel: int | None = None  # the file's channel the session uses
         self._audio: dict[int | None, PlaybackAudio] = {}  # per output rate (None: the file's)
         self._sink: Any = None
         self._io: Any = None
@@ -138,10 +139,12 @@ class AudioPlayer(QObject):
         return heard_s(self._start_s, self._rate, self._written // 2, buffered,
                        sink.processedUSecs())
 
-    def set_source(self, path: str | Path | None) -> None:
-        """The audio file to play from (another session was opened)."""
+    def set_source(self, path: str | Path | None, channel: int | None = None) -> None:
+        """The audio file to play from (another session was opened), and its channel the
+        session uses (None: all mixed)."""
         self.stop()
         self._path = Path(path) if path else None
+        self._channel = channel
         self._audio = {}
 
     def play(self, start_s: float, end_s: float | None = None, *, quiet: bool = False,
@@ -160,7 +163,7 @@ class AudioPlayer(QObject):
             return self._cannot("this session has no audio file to play", quiet)
         try:
             if None not in self._audio:  # reads the file's header: AudioError naming it
-                self._audio[None] = PlaybackAudio(self._path)
+                self._audio[None] = PlaybackAudio(self._path, channel=self._channel)
             qt, why = multimedia()
             if qt is None:
                 return self._cannot(f"no audio output: {why}", quiet)
@@ -208,7 +211,7 @@ class AudioPlayer(QObject):
         if rate <= 0 or not device.isFormatSupported(fmt):
             return audio, None
         if rate not in self._audio:
-            self._audio[rate] = PlaybackAudio(self._path, rate)
+            self._audio[rate] = PlaybackAudio(self._path, rate, self._channel)
         return self._audio[rate], fmt
 
     def _cannot(self, message: str, quiet: bool) -> bool:

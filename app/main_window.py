@@ -493,7 +493,7 @@ class ReviewWindow(QMainWindow):
             return
         if self._playing:
             self.toggle_play()
-        self.player.set_source(inputs.session.audio)
+        self.player.set_source(inputs.session.audio, inputs.session.audio_channel)
         if self.loader is not None:
             self.loader.shutdown()
             if self.loader.reading():  # its recording stays open until the decode ends

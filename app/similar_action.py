@@ -64,7 +64,7 @@ class SimilarAction(BackgroundAction):
             return
         request, self.wanted = self.wanted, None
         if self._audio_of is not inputs or self.audio is None:
-            self.audio = SessionAudio(inputs.session.audio)
+            self.audio = SessionAudio(inputs.session.audio, inputs.session.audio_channel)
             self._audio_of = inputs
         audio = self.audio
         self.last_error = ""

@@ -67,12 +67,14 @@ def process_recording(
     target: Target | None = None,
     frame_options: FrameSetOptions | None = None,
     progress: Progress | None = None,
+    channel: int | None = None,
 ) -> Session:
     """Sync, detect and build frame sets; returns a new, undecided session.
 
     ``target`` defaults to Kalibr's 6x6 AprilGrid (the session's ``"target_assumed"``
     says whether it was); ``frame_options`` sets the search window (or turns the
-    best-still-frame search off).
+    best-still-frame search off); ``channel`` the audio file's channel to use (0-based;
+    None mixes them), kept in the session for the review's waveform, sound and search.
     """
     from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
@@ -81,7 +83,7 @@ def process_recording(
     report("indexing the recording", 0.02)
     with open_recording(list(recording)) as source:
         report("reading the audio", 0.1)
-        sound = load_audio(audio)
+        sound = load_audio(audio, channel=channel)
         return process_loaded(
             source, sound, recording, audio, trigger_words=trigger_words,
             transcript=transcript, pronunciations=pronunciations, sensitivity=sensitivity,
@@ -143,6 +145,7 @@ def process_loaded(
     session = Session(
         recording=[str(Path(p).absolute()) for p in recording],
         audio=str(Path(audio).absolute()),
+        audio_channel=sound.channel,
         sync=sync,
         sets=analysis.sets,
         triggers_word=list(trigger_words),

@@ -87,16 +87,18 @@ def to_pcm16(x: np.ndarray) -> np.ndarray:
 
 
 class PlaybackAudio:
-    """The audio file at ``path``, mixed to mono, read back as int16 at ``rate`` Hz (by
-    default the file's own rate)."""
+    """The audio file at ``path``, mixed to mono (or its ``channel``), read back as int16
+    at ``rate`` Hz (by default the file's own rate)."""
 
-    def __init__(self, path: str | Path, rate: int | None = None) -> None:
+    def __init__(self, path: str | Path, rate: int | None = None,
+                 channel: int | None = None) -> None:
         self.path = Path(path)
-        with open_audio(self.path) as f:  # AudioError naming the file
+        with open_audio(self.path, channel) as f:  # AudioError naming the file
             self.rate_in = int(f.samplerate)
             frames = int(f.frames) if f.frames and f.frames > 0 else 0
         self.rate = int(rate or self.rate_in)
-        self.samples = FileSamples(self.path, self.rate, rate_in=self.rate_in, size_in=frames)
+        self.samples = FileSamples(self.path, self.rate, rate_in=self.rate_in, size_in=frames,
+                                   channel=channel)
 
     @property
     def duration_s(self) -> float:

@@ -8,6 +8,12 @@ from speechcal_core.errors import UsageError
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
 
 
+def add_channel_option(p: argparse.ArgumentParser) -> None:
+    """``--channel N``: one channel of a multi-channel audio file (sync, detect, process)."""
+    p.add_argument("--channel", type=int, default=None, metavar="N",
+                   help="use this audio channel (0-based) instead of mixing all")
+
+
 def add_trigger_options(p: argparse.ArgumentParser) -> None:
     """``--trigger``, ``--sensitivity`` and ``--pronounce``."""
     p.add_argument("--trigger", action="append", metavar="W", help="trigger word (repeatable)")

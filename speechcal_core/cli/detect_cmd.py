@@ -6,6 +6,7 @@ import argparse
 
 from speechcal_core.cli._output import emit_json, progress
 from speechcal_core.cli._speech_options import (
+    add_channel_option,
     add_trigger_options,
     pronunciations,
     sensitivity,
@@ -17,6 +18,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("detect", help="find trigger words in an audio file")
     p.add_argument("audio", metavar="AUDIO")
+    add_channel_option(p)
     add_trigger_options(p)
     p.add_argument("--backend", default="pocketsphinx",
                    help="pocketsphinx (default), faster-whisper, whisperx or example")
@@ -36,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
         args.audio, args.trigger or ["capture"], backend=args.backend,
         transcript=args.transcript, sensitivity=sensitivity(args),
         pronunciations=pronunciations(args), model_dir=args.model_dir,
-        examples=[_span(s) for s in args.example],
+        examples=[_span(s) for s in args.example], channel=args.channel,
     )
     for note in detection.notes:
         progress(f"note: {note}")

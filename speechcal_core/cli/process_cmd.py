@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 from speechcal_core.cli._output import StageProgress, progress
 from speechcal_core.cli._speech_options import (
+    add_channel_option,
     add_trigger_options,
     pronunciations,
     sensitivity,
@@ -23,6 +24,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = subparsers.add_parser("process", help="build a session file from recording and audio")
     p.add_argument("recording", metavar="RECORDING", nargs="+")
     p.add_argument("--audio", required=True, metavar="AUDIO")
+    add_channel_option(p)
     p.add_argument("--target", metavar="TARGET.yaml", help="Kalibr target yaml")
     add_trigger_options(p)
     p.add_argument("--transcript", metavar="F")
@@ -58,6 +60,7 @@ def run(args: argparse.Namespace) -> int:
         pronunciations=words,
         sensitivity=level,
         offset_ns=args.offset_ns,
+        channel=args.channel,
         target=target,
         progress=report,
     )

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from speechcal_core.cli._output import emit_json, progress
+from speechcal_core.cli._speech_options import add_channel_option
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -14,8 +15,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--audio", required=True, metavar="AUDIO",
                    help="microphone file, or an audio topic inside the recording")
     p.add_argument("--json", action="store_true", help="print one JSON document")
-    p.add_argument("--channel", type=int, default=None, metavar="N",
-                   help="use this audio channel (0-based) instead of mixing all")
+    add_channel_option(p)
     p.add_argument("--search-s", type=float, default=20.0, metavar="S",
                    help="look for the clap in this many seconds from each camera's start")
     p.add_argument("--audio-clap", type=float, default=None, metavar="SECONDS",

@@ -130,7 +130,8 @@ def _waveform(session: Session, sound: Audio | None, note: str, report: Progress
     report("reading audio", 0.92)
     try:
         if sound is None:  # block by block: the samples stay in the file
-            return EnvelopePyramid.from_file(session.audio), note
+            return EnvelopePyramid.from_file(session.audio,
+                                             channel=session.audio_channel), note
         # read for processing: the pyramid reads its stretches from the file
         reader = FileSamples(sound.path or session.audio, sound.rate, rate_in=sound.rate,
                              size_in=sound.samples.size, channel=sound.channel)

@@ -35,8 +35,9 @@ class SessionAudio:
     file (a 2-hour file's samples would hold 460 MB at 16 kHz for the whole session).
     """
 
-    def __init__(self, path: str | Path | None) -> None:
+    def __init__(self, path: str | Path | None, channel: int | None = None) -> None:
         self.path = Path(path) if path else None
+        self.channel = channel  # the file's channel the session uses (None: mixed)
         self._index: SpeechIndex | None = None
         self._lock = threading.Lock()
 
@@ -57,9 +58,9 @@ class SessionAudio:
                 report(f"reading {self.path.name} for the search…", 0.05)
                 # decoded and resampled block by block: the file's own rate is never
                 # held whole (3 times the 16 kHz samples at 48 kHz)
-                audio, size_in = load_resampled(self.path, RATE)
+                audio, size_in = load_resampled(self.path, RATE, channel=self.channel)
                 reader = FileSamples(self.path, RATE, rate_in=audio.rate_in_file,
-                                     size_in=size_in)
+                                     size_in=size_in, channel=self.channel)
                 samples = audio.samples
                 del audio
                 report("finding speech in the audio…", 0.4)

@@ -105,6 +105,8 @@ class Session:
     audio: str | None
     sync: SyncModel
     sets: list[FrameSet] = field(default_factory=list)
+    #: the audio file's channel the session uses (0-based); None: all channels mixed
+    audio_channel: int | None = None
     triggers_word: list[str] = field(default_factory=lambda: ["capture"])
     calibration: dict[str, Any] = field(default_factory=dict)
     #: what the sync was found from, as ``speechcal sync`` reports it (claps, cameras)

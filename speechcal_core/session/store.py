@@ -27,6 +27,8 @@ def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
         "schema": SCHEMA,
         "recording": [_relative(p, base) for p in session.recording],
         "audio": _relative(session.audio, base) if session.audio else None,
+        **({"audio_channel": session.audio_channel}
+           if session.audio_channel is not None else {}),
         "trigger_words": session.triggers_word,
         "sync": {**_with_audio_path(session.sync_evidence, lambda a: _relative(a, base)),
                  **session.sync.to_dict()},
@@ -131,10 +133,12 @@ def load_session(path: str | Path) -> Session:
     _check_session_shape(path, data)
     base = path.absolute().parent
     try:
-        known = {"schema", "recording", "audio", "trigger_words", "sync", "sets", "calibration"}
+        known = {"schema", "recording", "audio", "audio_channel", "trigger_words", "sync",
+                 "sets", "calibration"}
         return Session(
             recording=[str(base / p) for p in data["recording"]],
             audio=str(base / data["audio"]) if data.get("audio") else None,
+            audio_channel=_channel(data.get("audio_channel")),
             sync=SyncModel.from_dict(data["sync"]),
             sync_evidence=_with_audio_path(
                 {k: v for k, v in data["sync"].items()
@@ -147,6 +151,15 @@ def load_session(path: str | Path) -> Session:
         )
     except (KeyError, TypeError, ValueError) as exc:
         raise SessionFileError(f"{path}: damaged session file ({_reason(exc)})") from exc
+
+
+def _channel(value: Any) -> int | None:
+    """The stored audio channel (None: all channels mixed); ValueError when it is none."""
+    if value is None:
+        return None
+    if not isinstance(value, int) or isinstance(value, bool) or value < 0:
+        raise ValueError(f"'audio_channel' is {value!r}, not a channel number from 0")
+    return value
 
 
 def _frame_set(path: Path, k: int, data: Any) -> FrameSet:

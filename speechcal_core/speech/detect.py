@@ -78,10 +78,12 @@ def detect_triggers(audio_path: str | Path | Audio | None,
                     sensitivity: float = DEFAULT_SENSITIVITY,
                     pronunciations: Mapping[str, str] | None = None,
                     model_dir: str | Path | None = None,
-                    examples: Sequence[tuple[float, float]] = ()) -> Detection:
+                    examples: Sequence[tuple[float, float]] = (),
+                    channel: int | None = None) -> Detection:
     """Find the trigger words of an audio file, or take them from a transcript.
 
-    ``audio_path`` may also be an already loaded :class:`~speechcal_core.audio.Audio`.
+    ``audio_path`` may also be an already loaded :class:`~speechcal_core.audio.Audio`;
+    ``channel`` picks a file's channel (0-based; None mixes them).
     """
     spec = TriggerSpec(tuple(triggers), sensitivity, dict(pronunciations or {}))
     chosen = make_backend(backend, model_dir=model_dir, transcript=transcript,
@@ -102,7 +104,7 @@ def detect_triggers(audio_path: str | Path | Audio | None,
             audio = audio_path if audio_path.rate == 16000 else audio_path.resampled(16000)
             audio_path = audio.path or "audio"
         else:
-            audio = load_audio(audio_path, rate=16000)
+            audio = load_audio(audio_path, rate=16000, channel=channel)
         duration = audio.duration_s
         words = chosen.words(audio, spec)
     found = match_triggers(words, spec)

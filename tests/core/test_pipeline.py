@@ -110,3 +110,45 @@ def test_an_offset_that_puts_the_audio_outside_the_recording_is_refused(
     last = capsys.readouterr().err.strip().splitlines()[-1]  # after the progress lines
     assert last.startswith("speechcal process: error: --offset-ns 12 puts the audio (0 to ")
     assert "outside the recording's header stamps (" in last and not out.exists()
+
+
+def _stereo(audio: Path, out: Path, mic_channel: int) -> Path:
+    """``audio`` on channel ``mic_channel`` of a two-channel file, silence on the other
+    (a recorder whose second input was unplugged)."""
+    import numpy as np
+    import soundfile as sf
+
+    samples, rate = sf.read(str(audio), dtype="float32")
+    both = np.zeros((samples.size, 2), np.float32)
+    both[:, mic_channel] = samples
+    sf.write(str(out), both, rate)
+    return out
+
+
+def test_the_microphones_channel_is_used_and_kept_in_the_session(
+        tiny_synth: tuple[Path, dict], tmp_path: Path, capsys) -> None:
+    """A two-channel recorder: --channel picks the microphone's for the clap and the
+    words, and the session keeps it for the window's waveform, sound and search."""
+    from speechcal_core.cli import main
+    from speechcal_core.review.loading import load_for_review
+    from speechcal_core.session.store import load_session
+
+    folder, truth = tiny_synth
+    stereo = _stereo(folder / truth["audio"], tmp_path / "stereo.wav", mic_channel=1)
+    words = _true_words(truth, tmp_path / "words.csv")
+    out = tmp_path / "s.json"
+    assert main(["process", str(folder / truth["recording"]), "--audio", str(stereo),
+                 "--channel", "1", "--transcript", str(words), "-o", str(out)]) == 0
+    session = load_session(out)
+    assert session.audio_channel == 1
+    assert abs(session.sync.offset_ns - truth["sync"]["offset_ns"]) < 40_000_000  # clap found
+    inputs = load_for_review(session_path=str(out))
+    try:
+        _t, _mn, mx = inputs.pyramid.envelope(0.0, inputs.pyramid.duration_s, 400)
+        assert float(mx.max()) > 0.05  # the microphone's channel, not the silent one
+    finally:
+        inputs.close()
+    assert main(["detect", str(stereo), "--channel", "0", "--json"]) == 0  # silent channel
+    assert "no speech found" in capsys.readouterr().err
+    assert main(["detect", str(stereo), "--channel", "2"]) == 1
+    assert "has 2 channel(s), channel 2 asked" in capsys.readouterr().err

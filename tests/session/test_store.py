@@ -66,6 +66,22 @@ def test_a_decision_changes_one_line_of_the_file(tmp_path: Path) -> None:
     assert len(changed) == 1 and '"decision": "rejected"' in changed[0][1]
     assert load_session(path).sets == session.sets
 
+
+def test_the_audio_channel_is_kept_and_a_bad_one_is_named(tmp_path: Path) -> None:
+    session = _session(tmp_path)
+    path = tmp_path / "session.json"
+    save_session(session, path)
+    assert "audio_channel" not in json.loads(path.read_text())  # mixed: nothing stored
+    session.audio_channel = 1
+    save_session(session, path)
+    assert load_session(path).audio_channel == 1
+    doc = json.loads(path.read_text())
+    doc["audio_channel"] = "left"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(SessionFileError, match="'audio_channel' is 'left', not a channel "
+                                               "number from 0"):
+        load_session(path)
+
 def test_file_starts_with_schema_and_stores_relative_paths(tmp_path: Path) -> None:
     path = tmp_path / "session.json"
     save_session(_session(tmp_path), path)
