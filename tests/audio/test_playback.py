@@ -218,3 +218,22 @@ def test_a_move_after_a_quiet_interval_restarts_at_once() -> None:
     throttle.cancel()  # paused: nothing waits, and the next play is not held back
     assert not throttle.pending
     assert throttle.request(5.70) == 0.0
+
+
+def test_playback_and_search_read_the_sessions_channel(tmp_path: Path) -> None:
+    """A two-channel file whose microphone is on channel 1: the window plays that channel
+    (mixed it was half as loud, with the other input's noise) and the search indexes it."""
+    from speechcal_core.review.similar import SessionAudio
+
+    rate = 16000
+    tone = 0.5 * np.sin(2 * np.pi * 220 * np.arange(rate) / rate).astype(np.float32)
+    both = np.zeros((rate, 2), np.float32)
+    both[:, 1] = tone
+    path = tmp_path / "stereo.wav"
+    sf.write(path, both, rate)
+    mic = PlaybackAudio(path, channel=1).clip(0.25, 0.5)
+    mixed = PlaybackAudio(path).clip(0.25, 0.5)
+    assert np.abs(mic.pcm).max() == pytest.approx(0.5 * 32768, rel=0.01)
+    assert np.abs(mixed.pcm).max() == pytest.approx(0.25 * 32768, rel=0.01)
+    assert SessionAudio(path, channel=1).index().samples.read(0, 4000).max() > 0.4
+    assert SessionAudio(path, channel=0).index().samples.read(0, 4000).max() == 0.0
