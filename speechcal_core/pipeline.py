@@ -115,7 +115,9 @@ def process_loaded(
 
     report = progress or _noop
     evidence: dict = {}
-    span = recording_span_ns(source)
+    from speechcal_core.sources.base import header_span_ns
+
+    span = header_span_ns(source)
     if offset_ns is not None:
         _check_offset(int(offset_ns), sound.duration_s, span)
         sync = SyncModel(int(offset_ns), 0.0, "manual")
@@ -157,14 +159,6 @@ def process_loaded(
     )
     report("done", 1.0)
     return session
-
-
-def recording_span_ns(source: FrameSource) -> tuple[int, int] | None:
-    """First and last header stamp over the recording's streams (None: no frames)."""
-    streams = [s for s in source.streams if s.count]
-    if not streams:
-        return None
-    return min(s.first_ns for s in streams), max(s.last_ns for s in streams)
 
 
 def _check_offset(offset_ns: int, audio_s: float, span: tuple[int, int] | None) -> None:

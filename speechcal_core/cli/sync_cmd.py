@@ -3,9 +3,13 @@
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from speechcal_core.cli._output import emit_json, progress
 from speechcal_core.cli._speech_options import add_channel_option
+
+if TYPE_CHECKING:
+    from speechcal_core.sources.base import FrameSource
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -63,17 +67,19 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_hand_set_clap(args: argparse.Namespace, audio_s: float, source: object) -> None:
+def _check_hand_set_clap(args: argparse.Namespace, audio_s: float,
+                         source: FrameSource) -> None:
     """A clap set by hand must lie inside the audio and the recording (a typo there gives an
     offset that picks no frame at all): UsageError naming the range otherwise."""
     from speechcal_core.errors import UsageError
+    from speechcal_core.sources.base import header_span_ns
 
     if args.audio_clap is not None and not 0.0 <= args.audio_clap <= audio_s:
         raise UsageError(f"--audio-clap {args.audio_clap:g} lies outside the audio "
                          f"({args.audio} holds 0 to {audio_s:.3f} s)")
-    streams = [s for s in source.streams if s.count]  # type: ignore[attr-defined]
-    if args.video_clap_ns is not None and streams:
-        first, last = min(s.first_ns for s in streams), max(s.last_ns for s in streams)
+    span = header_span_ns(source) if args.video_clap_ns is not None else None
+    if span is not None:
+        first, last = span
         if not first <= args.video_clap_ns <= last:
             raise UsageError(f"--video-clap-ns {args.video_clap_ns} lies outside the "
                              f"recording's header stamps ({first} to {last} ns)")

@@ -105,6 +105,14 @@ class FrameSource(Protocol):
     ) -> None: ...
 
 
+def header_span_ns(source: FrameSource) -> tuple[int, int] | None:
+    """First and last header stamp over ``source``'s streams (None: it has no frames)."""
+    streams = [s for s in source.streams if s.count]
+    if not streams:
+        return None
+    return min(s.first_ns for s in streams), max(s.last_ns for s in streams)
+
+
 class ClosingContext:
     """``with source:`` support shared by every frame source: leaving the block closes it."""
 
