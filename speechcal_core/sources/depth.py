@@ -36,10 +36,9 @@ def stream_depth(source: FrameSource, stream: str) -> int | None:
     if stream in known:
         return known[stream]
     count = next((s.count for s in source.streams if s.name == stream), 0)
+    spread = {round(k * (count - 1) / (SAMPLES - 1)) for k in range(SAMPLES)} if count else ()
     largest: int | None = None
-    for i in sorted({round(k * (count - 1) / max(1, SAMPLES - 1)) for k in range(SAMPLES)}):
-        if count == 0:
-            break
+    for i in sorted(spread):
         try:
             frame = source.frame(stream, i)
         except SourceError:  # a bad frame is skipped
