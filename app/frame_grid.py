@@ -17,6 +17,7 @@ from app.style import (
     WARNING_COLOUR,
     WARNING_SYMBOL,
 )
+from speechcal_core.text import counted
 
 MARKER_COLOUR = QColor(60, 220, 120)
 #: how a tile's caption begins while it shows the frame nearest a set's time
@@ -126,7 +127,10 @@ class CameraTile(QWidget):
 
     @corners.setter
     def corners(self, corners: tuple[tuple[float, float], ...]) -> None:
-        self._corners = tuple(corners)
+        corners = tuple(corners)
+        if corners == self._corners:
+            return  # set again on every playhead refresh: spacing and outline stand
+        self._corners = corners
         self._corner_spacing = corner_spacing(self._corners)
         self._outline = corner_outline(self._corners)
         self.update()
@@ -326,9 +330,8 @@ class WordBand(QWidget):
 def enlarged_note(cameras: int) -> str:
     """What an enlarged camera's tile says at its foot: that others are hidden, and how
     to see them again."""
-    others = cameras - 1
-    return (f"{others} other camera{'' if others == 1 else 's'} hidden · Esc or "
-            "double-click: all cameras")
+    return (f"{counted(cameras - 1, 'other camera')} hidden · Esc or double-click: "
+            "all cameras")
 
 
 def band_text(word: str, state: str | None, source: str = "") -> str:
