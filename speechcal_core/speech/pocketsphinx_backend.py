@@ -5,16 +5,16 @@ compete with their rival words (inflections such as "captured", at a small prior
 say the trigger far more often) and, at a cost per phone, with a free phone loop that
 absorbs everything else. A trigger is reported only where it explains the audio better
 than all of those. How clearly a span is heard (its level above the noise floor) picks
-the grammar's tier: clearly heard spans also weigh
-one-phone neighbours ("rapture", "captor") against the trigger, which noisy spans cannot
-afford (noise lets them win over real triggers). A trigger's bounds come from the same
-Viterbi path, then move to the onset and offset of the word's energy (recognised bounds
-run 30-40 ms early on reverberant speech).
+the grammar's tier. Every tier weighs one-phone neighbours ("rapture", "captor") against
+the trigger, noisier ones at a smaller prior (noise lets them win over real triggers).
+A trigger's bounds come from the same Viterbi path, then move to the onset and offset of
+the word's energy (recognised bounds run 30-40 ms early on reverberant speech).
 The sensitivity sets the phone-loop cost (a dearer filler lets more words pass) and how
 close to the found triggers a span must sound to join them.
 Finally the recording is searched for spans that sound like the triggers found (same
 speaker, same word: see ``self_similarity``), which recovers words lost in noise; spans the
-recogniser heard clearly keep its verdict. Spans it took for an inflection are searched
+recogniser heard clearly keep its verdict, and spans it heard as a near-homophone need a
+much closer match. Spans it took for an inflection are searched
 too: some voices say "capture" so that it hears "capturing".
 A trigger, recognised or found, whose sound runs on without a pause, or resumes after a
 pause too short to end a phrase, is dropped: it is the start of something longer
@@ -62,8 +62,7 @@ class Tier:
 
     ``phone_log10``: log10 cost of one filler phone at sensitivity 0 and 1 (a dearer
     filler lets more words pass). ``confusable_log10``: log10 prior of a confusable word
-    ("rapture", "captor") against a trigger, or None to leave them out: in noise they win
-    over real triggers too often.
+    ("rapture", "captor") against a trigger, or None to leave them out.
     """
 
     min_level_db: float
@@ -83,13 +82,18 @@ TIERS: tuple[Tier, ...] = (
     #: a dearer filler in noisier spans: the recogniser's triggers there are the templates
     #: that find the rest, and a voice it misses entirely is lost (tuning seeds 101-112,
     #: 5 dB: a quiet female voice had no trigger found in two sessions at (-3, -11))
-    Tier(12.0, phone_log10=(-5.0, -13.0), min_peak_db=14.0),
+    #: Near-homophones compete here too, at a smaller prior: where the recogniser hears
+    #: "rapture" the similarity search needs a much closer match (CONTESTED_SHARE), and
+    #: most of its false alarms were such raptures. Seeds 1-3, 5 dB precision 0.947 ->
+    #: 0.975, 10 dB 0.971 -> 0.990, recall unchanged; seeds 101-124 at 10 dB 0.951 ->
+    #: 0.959 (recall -0.001). The clear tier's -10 here lost a 10 dB trigger more.
+    Tier(12.0, phone_log10=(-5.0, -13.0), min_peak_db=14.0, confusable_log10=-12.0),
     #: dearer still in the noisiest spans, now that the posteriorgram search turns the
     #: extra triggers into templates for the rest. Seeds 101-124: 5 dB recall / precision
     #: 0.885 / 0.920 -> 0.910 / 0.926, 10 dB unchanged. The same filler for every span
     #: below 18 dB cost 15 more false alarms at 10 dB; without the peak condition above,
     #: "captain" at the end of a long quiet span passed as the trigger
-    Tier(-math.inf, phone_log10=(-7.0, -15.0)),
+    Tier(-math.inf, phone_log10=(-7.0, -15.0), confusable_log10=-12.0),
 )
 PEAK_PERCENTILE = 98.0
 #: similarity search adds words only in spans heard less clearly than the clearest tier
@@ -131,6 +135,7 @@ class PocketsphinxBackend:
         self._key: tuple | None = None
         self._vocab: set[str] = set()
         self._rivals: set[str] = set()
+        self._confusables: set[str] = set()
 
     def words(self, audio: Audio, spec: TriggerSpec) -> list[Word]:
         """Trigger words and rival words found in ``audio``, in time order."""
@@ -157,21 +162,25 @@ class PocketsphinxBackend:
         for trigger in spec.words:
             seeds = [w for w in refined if w.word == trigger]
             # rivals (inflections) do not keep the search out: some voices say "capture"
-            # so the recogniser hears "capturing", and the search recovers those
-            others = [w for w in refined if w.word != trigger and w.word not in self._rivals]
+            # so the recogniser hears "capturing", and the search recovers those; where it
+            # heard a near-homophone ("rapture") the search needs a much closer match
+            others = [w for w in refined if w.word != trigger and w.word not in self._rivals
+                      and w.word not in self._confusables]
             others += running_on
+            contested = [w for w in refined if w.word in self._confusables]
             levels = [activity.level_db(w.start_s, w.end_s) for w in seeds]
             search, (lo, hi) = _search_for(levels)
             clear = [level >= EXPAND_BELOW_DB for level in levels]
             kept, extra = confirm_and_expand(x, RATE, seeds, activity, others,
                                              lo + (hi - lo) * spec.sensitivity,
-                                             verify=SEED_CHECK, checked=clear, search=search)
+                                             verify=SEED_CHECK, checked=clear, search=search,
+                                             contested=contested)
             # the recogniser is trusted where it hears clearly: similarity adds words only
             # in noisier spans, where it recovers what the recogniser lost
             out += kept + [w for w in extra if EXPAND_MIN_DB <= activity.level_db(
                 w.start_s, w.end_s) < EXPAND_BELOW_DB]
         triggers = [w for w in out if w.word in spec.words]
-        out = [w for w in out if w.word not in self._rivals
+        out = [w for w in out if w.word not in self._rivals | self._confusables
                or not any(t.start_s < w.end_s and w.start_s < t.end_s for t in triggers)]
         return sorted(out, key=lambda w: w.start_s)
 
@@ -206,6 +215,7 @@ class PocketsphinxBackend:
         self._decoder, self._key = decoder, key
         self._vocab = set(spec.words) | set(rivals) | set(confusables)
         self._rivals = set(rivals)
+        self._confusables = set(confusables)
         return decoder
 
 

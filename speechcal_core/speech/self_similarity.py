@@ -40,6 +40,12 @@ MAX_MUTUAL_COST = 0.45
 #: below the seeds' median level (and shrinks for louder spans), within MAX_LEVEL_GAP_DB
 LEVEL_SLOPE = 0.05
 MAX_LEVEL_GAP_DB = 10.0
+#: a span the recogniser heard as another word close to the trigger ("rapture" for
+#: "capture") is taken only below this share of its limit: the operator's triggers must
+#: sound much more alike than the near-homophone usually does. Seeds 1-3 and 101-112 at
+#: 5 and 10 dB: the one real trigger heard as "rapture" lay at 0.47 of its limit, the 8
+#: real raptures the search would take at 0.77-1.0
+CONTESTED_SHARE = 0.6
 
 
 def expand_by_similarity(samples: np.ndarray, rate: int, seeds: list[Word],
@@ -63,6 +69,7 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
                        checked: Sequence[bool] | None = None,
                        level_slope: float | None = None,
                        search: Representation = "mfcc",
+                       contested: Sequence[Word] = (),
                        ) -> tuple[list[Word], list[Word]]:
     """The seeds that sound like the other seeds, and new instances similar to those.
 
@@ -75,10 +82,11 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     A new instance is accepted below ``factor`` times the kept seeds' median closest cost
     (no search where that cost exceeds MAX_MUTUAL_COST: the seeds do not sound alike),
     plus ``level_slope`` times that cost per dB it is heard less clearly than the seeds
-    (``level_slope``, default LEVEL_SLOPE). The check always compares MFCCs: on
-    posteriorgrams a voice with few seeds has no close sibling and loses them (seeds 1-3,
-    20 dB: recall 0.99 -> 0.91). The search, the kept seeds' mutual cost included,
-    compares frames as ``search`` represents them.
+    (``level_slope``, default LEVEL_SLOPE). A span overlapping a word of ``contested``
+    (heard as a near-homophone) must cost less than CONTESTED_SHARE of its limit. The check
+    always compares MFCCs: on posteriorgrams a voice with few seeds has no close sibling and
+    loses them (seeds 1-3, 20 dB: recall 0.99 -> 0.91). The search, the kept seeds' mutual
+    cost included, compares frames as ``search`` represents them.
     """
     if len(seeds) < MIN_SEEDS or not activity.segments:
         return list(seeds), []
@@ -116,9 +124,10 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     limit = _Limit(mutual, factor, slope, activity,
                    float(np.median([activity.level_db(w.start_s, w.end_s) for w in kept])))
     taken = [(w.start_s, w.end_s) for w in [*kept, *blocked]]
+    doubtful = [(w.start_s, w.end_s) for w in contested]
     out: list[Word] = []
     for _ in range(rounds):
-        new = _pick(best, idx, limit, taken, samples, rate, activity, seeds[0].word)
+        new = _pick(best, idx, limit, taken, doubtful, samples, rate, activity, seeds[0].word)
         if not new:
             break
         out += new
@@ -193,8 +202,10 @@ class _BestMatch:
 
 
 def _pick(best: _BestMatch, idx: np.ndarray, limit: _Limit, taken: list[tuple[float, float]],
-          samples: np.ndarray, rate: int, activity: VoiceActivity, word: str) -> list[Word]:
-    """Non-overlapping matches below their limit, best first; ``taken`` grows with them."""
+          doubtful: list[tuple[float, float]], samples: np.ndarray, rate: int,
+          activity: VoiceActivity, word: str) -> list[Word]:
+    """Non-overlapping matches below their limit (CONTESTED_SHARE of it where they overlap
+    a ``doubtful`` span), best first; ``taken`` grows with them."""
     out = []
     for j in np.argsort(best.cost):
         c = float(best.cost[j])
@@ -207,7 +218,8 @@ def _pick(best: _BestMatch, idx: np.ndarray, limit: _Limit, taken: list[tuple[fl
         if any(ts < b and te > a for a, b in taken):
             continue
         taken.append((ts, te))  # the best match of a span decides it, accepted or not
-        if c >= limit.at(ts, te):
+        share = CONTESTED_SHARE if any(ts < b and te > a for a, b in doubtful) else 1.0
+        if c >= share * limit.at(ts, te):
             continue
         bounds = word_bounds(samples, rate, ts, te, activity.floor_at((ts + te) / 2))
         if bounds.runs_on:

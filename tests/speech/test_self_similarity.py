@@ -143,6 +143,34 @@ def test_a_quieter_instance_may_cost_more_than_the_seeds_cost_each_other(
     assert [round(t - quiet, 1) for t in found(0.05)] == [0.0]  # not rapture nor picture
 
 
+def test_a_span_heard_as_a_near_homophone_needs_a_much_closer_match(tmp_path: Path) -> None:
+    items = [("capture", "rms/capture_1"), ("okay", "rms/okay_1"),
+             ("capture", "rms/capture_2"), ("rapture", "rms/rapture_1"),
+             ("capture", "rms/capture_3"), ("hold on", "rms/hold_on_1"),
+             ("capture", "rms/capture_1"), ("rapture", "rms/rapture_2")]
+    scene = make_scene(tmp_path / "rapture.wav", items, snr_db=10.0, seed=0)
+    spans = scene.spans("capture")
+    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in spans[:3]]
+    activity = voice_activity(scene.samples, 16000)
+    # the recogniser heard "rapture" in both raptures and in the last capture
+    heard = [Word("rapture", a, b, 0.8, "pocketsphinx")
+             for a, b in [*scene.spans("rapture"), spans[3]]]
+
+    def found(contested: list[Word]) -> list[float]:
+        _, extra = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
+                                      factor=1.6, verify=None, contested=contested)
+        return [w.t for w in extra]
+
+    def near(found_t: list[float], said: list[float]) -> bool:
+        return len(found_t) == len(said) and all(
+            abs(f - t) < 0.05 for f, t in zip(found_t, sorted(said), strict=True))
+
+    raptures = [(a + b) / 2 for a, b in scene.spans("rapture")]
+    capture = (spans[3][0] + spans[3][1]) / 2
+    assert near(found([]), [*raptures, capture])  # a loose limit takes the raptures
+    assert near(found(heard), [capture])  # the same take as a seed matches closely enough
+
+
 def test_a_match_at_the_start_of_longer_speech_is_no_trigger(tmp_path: Path) -> None:
     # "capture" said straight into "higher": the template matches its start, but the sound
     # runs on without a pause, as in "captured it?"; the same take said alone is found
