@@ -10,7 +10,7 @@ import time
 from pathlib import Path
 
 from speechcal_core.session.model import Session
-from speechcal_core.session.store import SessionFileError, save_session
+from speechcal_core.session.store import SessionFileError, SessionWriter, save_session
 
 SAVE_AS_HINT = "File ▸ Save session as… (Ctrl+Shift+S) writes them to another file"
 
@@ -37,6 +37,7 @@ class SessionSaver:
         self.path: Path | None = None
         self.saved_at: float | None = None  # wall-clock time of the file's last save
         self.error: SessionFileError | None = None  # the last save's failure, if it failed
+        self._writer = SessionWriter()  # re-uses the text of what a save left unchanged
 
     @property
     def unsaved(self) -> bool:
@@ -46,6 +47,7 @@ class SessionSaver:
     def reset(self, path: Path | None) -> None:
         """A session was opened from (or processed into) ``path``."""
         self.path, self.error = path, None
+        self._writer = SessionWriter()
         try:
             self.saved_at = path.stat().st_mtime if path is not None else None
         except OSError:
@@ -56,7 +58,7 @@ class SessionSaver:
         if self.path is None:
             return True
         try:
-            save_session(session, self.path)
+            save_session(session, self.path, self._writer)
         except SessionFileError as exc:
             self.error = exc
             return False
@@ -65,7 +67,7 @@ class SessionSaver:
 
     def save_as(self, session: Session, path: Path) -> None:
         """Save to ``path`` and autosave there from now on; raises SessionFileError."""
-        save_session(session, path)
+        save_session(session, path, self._writer)
         self.path, self.saved_at, self.error = path, time.time(), None
 
     def label(self, now: float) -> tuple[str, str]:

@@ -11,9 +11,12 @@ from speechcal_core.session.model import FrameChoice, FrameSet, Session, Trigger
 from speechcal_core.session.store import (
     SCHEMA,
     SessionFileError,
+    SessionWriter,
     check_session_target,
     load_session,
     save_session,
+    session_text,
+    session_to_dict,
 )
 from speechcal_core.sync.model import SyncModel
 
@@ -65,6 +68,31 @@ def test_a_decision_changes_one_line_of_the_file(tmp_path: Path) -> None:
     changed = [(a, b) for a, b in zip(before, after, strict=True) if a != b]
     assert len(changed) == 1 and '"decision": "rejected"' in changed[0][1]
     assert load_session(path).sets == session.sets
+
+
+def test_an_autosave_writer_reencodes_only_what_was_replaced(tmp_path: Path) -> None:
+    """The window keeps one SessionWriter: a set's details (the bulk of the file) that are
+    the same object as at the last save keep their text; replaced ones are written anew."""
+    session = _session(tmp_path)
+    kept = {"frames": {"/cam0/image_raw": {"points": [[1.5, 2.5]], "ids": [0]}}}
+    session.extra["frame_details"] = {"1": {"frames": {}}, "7": kept}
+    path = tmp_path / "session.json"
+    writer = SessionWriter()
+    save_session(session, path, writer)
+    session.replace_set(session.sets[0].with_decision("accepted"))
+    session.extra["frame_details"]["1"] = {"frames": {}, "score": 0.5}  # replaced
+    save_session(session, path, writer)
+    # the same text as a writer with no memory, and it reads back
+    assert path.read_text() == session_text(session_to_dict(session, path))
+    assert json.loads(path.read_text())["frame_details"] == {
+        "1": {"frames": {}, "score": 0.5}, "7": kept}
+    assert load_session(path).sets == session.sets
+    # unchanged details are not encoded again: the review model replaces a set's details,
+    # never edits them in place, and a change made in place would not reach the file
+    kept["frames"]["/cam0/image_raw"]["ids"] = [9]
+    save_session(session, path, writer)
+    assert '"ids": [0]' in path.read_text()
+    assert '"ids": [9]' in session_text(session_to_dict(session, path))  # no memory
 
 
 def test_the_audio_channel_is_kept_and_a_bad_one_is_named(tmp_path: Path) -> None:
