@@ -6,7 +6,7 @@ import contextlib
 import os
 import shutil
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from speechcal_core.errors import SpeechCalError
@@ -90,16 +90,23 @@ def _aside(target: Path) -> Path:
 
 
 @contextlib.contextmanager
-def staged_directory(target: str | Path, *, force: bool = False) -> Iterator[Path]:
+def staged_directory(target: str | Path, *, force: bool = False,
+                     may_replace: Callable[[Path], str] | None = None) -> Iterator[Path]:
     """Yield a temporary sibling folder that replaces ``target`` only when the block succeeds.
 
     An existing ``target`` (folder, file or link) is an :class:`OutputExistsError` unless
     ``force``; on failure the partial folder is removed and ``target`` is left untouched.
     A replaced ``target`` that cannot be removed afterwards is a :class:`SpeechCalError`
     naming where it was left.
+
+    What is at ``target`` is looked at again once the block is done: a ``target`` that
+    appeared meanwhile (another program, a second export to the same place), or one that
+    ``may_replace`` now objects to (its reason, "" when it may go), is left alone; the
+    finished output is kept at a free sibling name and a :class:`SpeechCalError` says where.
     """
     target = Path(target).absolute()
-    if os.path.lexists(target) and not force:
+    existed = os.path.lexists(target)
+    if existed and not force:
         raise OutputExistsError(f"{target} already exists; choose another folder or pass --force")
     parent = target.parent
     try:
@@ -116,6 +123,7 @@ def staged_directory(target: str | Path, *, force: bool = False) -> Iterator[Pat
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)  # the block's own error is the one to see
         raise
+    _check_still_replaceable(staging, target, existed, may_replace)
     old = _swap_in(staging, target)
     if old is not None:
         try:
@@ -125,6 +133,36 @@ def staged_directory(target: str | Path, *, force: bool = False) -> Iterator[Pat
                 f"{target} is written, but what it replaced could not be removed "
                 f"({exc.strerror}) and is left at {old}; remove it by hand"
             ) from exc
+
+
+def _check_still_replaceable(staging: Path, target: Path, existed: bool,
+                             may_replace: Callable[[Path], str] | None) -> None:
+    """Raise (keeping the finished ``staging`` under a free sibling name) when ``target``
+    appeared while it was written, or ``may_replace`` objects to what is there now."""
+    if not os.path.lexists(target):
+        return
+    problem = "it appeared while this was being written" if not existed else (
+        may_replace(target) if may_replace is not None else "")
+    if not problem:
+        return
+    kept = _free_sibling(target)
+    try:
+        os.replace(staging, kept)
+    except OSError as exc:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise SpeechCalError(f"{target}: left as it is ({problem}), and the new output "
+                             f"could not be kept ({exc.strerror})") from exc
+    raise SpeechCalError(f"{target}: left as it is ({problem}); the new output is complete "
+                         f"at {kept}")
+
+
+def _free_sibling(target: Path) -> Path:
+    """``<target>-new``, or ``-new-2``, ``-new-3``... : the first name not taken."""
+    candidate, n = target.with_name(f"{target.name}-new"), 1
+    while os.path.lexists(candidate):
+        n += 1
+        candidate = target.with_name(f"{target.name}-new-{n}")
+    return candidate
 
 
 def _swap_in(staging: Path, target: Path) -> Path | None:

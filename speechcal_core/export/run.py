@@ -201,7 +201,7 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     report("checking the chosen frames", 0.0)
     plan = make_plan(source, sets, where)
     spec, target_from = export_target(session, target)
-    with staged_directory(out, force=force) as root:
+    with staged_directory(out, force=force, may_replace=not_replaceable) as root:
         outcome, cameras = _write(fmt, source, plan, root, spec,
                                   lambda text, f: report(text, 0.95 * f))
         board = corners_board(session, spec) if fmt in IMAGE_FORMATS else None

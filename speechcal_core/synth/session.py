@@ -41,7 +41,7 @@ def generate_session(
     if problem:  # not even --force replaces it
         raise OutputExistsError(f"{out}: {problem}; choose another folder")
     timeline = plan_session(options)
-    with staged_directory(out, force=force) as staging:
+    with staged_directory(out, force=force, may_replace=not_replaceable) as staging:
         report = (lambda stage: (lambda f: progress(stage, f))) if progress else (lambda _s: None)
         recording = write_recording(timeline, staging, progress=report("video"))
         audio = render_audio(timeline, staging / "audio.ogg", progress=report("audio"))

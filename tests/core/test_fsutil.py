@@ -50,6 +50,38 @@ def test_existing_output_needs_force(tmp_path: Path) -> None:
     assert sorted(p.name for p in target.iterdir()) == ["new.txt"]
 
 
+def test_an_output_that_appears_while_writing_is_left_alone(tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    with pytest.raises(SpeechCalError) as err, staged_directory(target) as staging:
+        (staging / "a.txt").write_text("new")
+        target.mkdir()  # another program, or a second export, writes there meanwhile
+        (target / "notes.txt").write_text("theirs")
+    assert [p.name for p in target.iterdir()] == ["notes.txt"]
+    kept = tmp_path / "out-new"
+    assert (kept / "a.txt").read_text() == "new"
+    assert "appeared while" in str(err.value) and str(kept) in str(err.value)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "out-new"]  # nothing hidden
+
+
+def test_a_forced_replacement_is_checked_again_before_the_swap(tmp_path: Path) -> None:
+    target = tmp_path / "out"
+    target.mkdir()
+    (tmp_path / "out-new").mkdir()  # taken: the output is kept at the next free name
+
+    def may_replace(folder: Path) -> str:
+        return "it holds notes" if (folder / "notes.txt").exists() else ""
+
+    with pytest.raises(SpeechCalError, match="it holds notes"), \
+            staged_directory(target, force=True, may_replace=may_replace) as staging:
+        (staging / "a.txt").write_text("new")
+        (target / "notes.txt").write_text("added while the export ran")
+    assert (target / "notes.txt").exists()
+    assert (tmp_path / "out-new-2" / "a.txt").read_text() == "new"
+    with staged_directory(target / "inner", force=True, may_replace=may_replace) as staging:
+        (staging / "b.txt").write_text("fine")  # nothing objects: replaced as before
+    assert (target / "inner" / "b.txt").exists()
+
+
 def test_written_files_and_folders_get_ordinary_permissions(tmp_path: Path) -> None:
     with staged_directory(tmp_path / "out") as staging:
         atomic_write_text(staging / "a.json", "{}")
