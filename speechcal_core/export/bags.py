@@ -1,13 +1,15 @@
 """rosbag1 and rosbag2 exports: the chosen frames' messages on their original topics.
 
 ``OUT/calibration.bag`` (ROS1, uncompressed) or ``OUT/calibration/`` (a ROS2 bag folder,
-sqlite3 storage, readable by every ROS2 release's default plugin). Messages keep their
-header, encoding and payload (see :mod:`bag_messages`) and their recorded log time; they
-are written in log-time order, each frame once even when two sets chose it.
+sqlite3 storage, metadata version 8, whose QoS profiles are a string: Humble and Iron fail
+on version 9's list, later releases read both). Messages keep their header, encoding and
+payload (see :mod:`bag_messages`) and their recorded log time; they are written in
+log-time order, each frame once even when two sets chose it.
 """
 
 from __future__ import annotations
 
+import sqlite3
 from typing import TYPE_CHECKING
 
 from speechcal_core.export.bag_messages import BagMessage, bag_message
@@ -77,7 +79,7 @@ def write_rosbag2(source: FrameSource, plan: Plan, root: Path, progress: Progres
     progress(f"writing {ROS2_BAG}/", 0.8)
     bag = root / ROS2_BAG
     try:
-        with Writer(bag, version=9, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        with Writer(bag, version=8, storage_plugin=StoragePlugin.SQLITE3) as writer:
             conns = {}
             for m in messages:
                 if m.topic not in conns:
@@ -86,5 +88,7 @@ def write_rosbag2(source: FrameSource, plan: Plan, root: Path, progress: Progres
                 writer.write(conns[m.topic], m.log_time_ns, m.data)
     except OSError as exc:
         raise ExportError(f"{bag}: cannot write the bag ({exc.strerror})") from None
+    except sqlite3.Error as exc:  # the storage plugin's database: a full disk, say
+        raise ExportError(f"{bag}: cannot write the bag ({exc})") from None
     out.written.extend(sorted(f"{ROS2_BAG}/{p.name}" for p in bag.iterdir()))
     return out

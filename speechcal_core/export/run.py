@@ -12,7 +12,9 @@ window waits for its re-scoring instead).
 
 from __future__ import annotations
 
+import contextlib
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -201,7 +203,8 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     report("checking the chosen frames", 0.0)
     plan = make_plan(source, sets, where)
     spec, target_from = export_target(session, target)
-    with staged_directory(out, force=force, may_replace=not_replaceable) as root:
+    with staged_directory(out, force=force, may_replace=not_replaceable) as root, \
+            _named_as(root, out):
         outcome, cameras = _write(fmt, source, plan, root, spec,
                                   lambda text, f: report(text, 0.95 * f))
         board = corners_board(session, spec) if fmt in IMAGE_FORMATS else None
@@ -228,6 +231,16 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     return ExportResult(out, fmt, len(plan.sets), len(outcome.files), len(outcome.written),
                         skipped, target_from if fmt == "kalibr" else "",
                         export_notes(fmt, session, plan, spec, target_from))
+
+
+@contextlib.contextmanager
+def _named_as(staging: Path, out: Path) -> Iterator[None]:
+    """Errors of the block name ``out`` where they named the hidden ``staging`` folder
+    (removed by the time the user reads them)."""
+    try:
+        yield
+    except ExportError as exc:
+        raise ExportError(str(exc).replace(str(staging), str(out.absolute()))) from None
 
 
 def export_session_file(

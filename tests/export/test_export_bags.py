@@ -60,6 +60,19 @@ def test_bag_of_the_same_ros_version_holds_the_source_messages_byte_for_byte(
         assert got[key][1] == rawdata
 
 
+def test_a_ros2_bag_has_metadata_that_humble_and_iron_can_read(session_file,
+                                                                tmp_path: Path) -> None:
+    # their metadata reader takes offered_qos_profiles as a string; version 9's is a list
+    from ruamel.yaml import YAML  # what rosbags reads metadata with
+
+    export_session_file(session_file("ros2-sqlite3", "png"), "rosbag2", tmp_path / "bag")
+    info = YAML(typ="safe").load(tmp_path / "bag" / BAG["rosbag2"] / "metadata.yaml")
+    info = info["rosbag2_bagfile_information"]
+    assert info["version"] == 8 and info["storage_identifier"] == "sqlite3"
+    topics = [t["topic_metadata"] for t in info["topics_with_message_count"]]
+    assert topics and all(isinstance(t["offered_qos_profiles"], str) for t in topics)
+
+
 @pytest.mark.parametrize(("source_fmt", "encoding", "export_fmt"), [
     ("ros1", "jpeg", "rosbag2"),
     ("ros2-sqlite3", "bayer_rggb8", "rosbag1"),

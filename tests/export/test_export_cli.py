@@ -133,6 +133,29 @@ def test_cancelled_export_leaves_nothing_and_keeps_the_old_folder(session_file, 
     assert _leftovers(tmp_path) == []
 
 
+@pytest.mark.parametrize("fmt", ["rosbag2", "folders"])
+def test_a_full_disk_is_one_line_naming_the_output_and_leaves_nothing(session_file, tmp_path,
+                                                                       fmt) -> None:
+    import resource
+    import signal
+
+    def small_files() -> None:  # writes past 20 kB fail as on a full disk
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (20_000, 20_000))
+
+    path, out = session_file(), tmp_path / "exp"
+    result = subprocess.run(
+        [sys.executable, "-m", "speechcal_core.cli", "export", str(path), "--format", fmt,
+         "--out", str(out)],
+        capture_output=True, text=True, timeout=120, preexec_fn=small_files,
+    )
+    assert result.returncode == 1
+    error = result.stderr.strip().splitlines()[-1]
+    assert error.startswith("speechcal export: error: ") and "Traceback" not in result.stderr
+    assert str(out) in error and ".partial" not in error  # the folder the user asked for
+    assert not out.exists() and _leftovers(tmp_path) == []
+
+
 def test_bad_session_file_is_one_line_exit_1(tmp_path: Path, capsys) -> None:
     bad = tmp_path / "bad.json"
     bad.write_text("{not json")
