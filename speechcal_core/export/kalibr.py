@@ -23,8 +23,10 @@ TARGET_FILE = "target.yaml"
 
 
 def kalibr_folders(plan: Plan) -> dict[str, str]:
-    """Stream -> ``camN`` in export order."""
-    return {stream: f"cam{k}" for k, stream in enumerate(plan.streams)}
+    """Stream -> ``camN``, N its place in the recording: a camera without frames in the
+    export leaves its number free rather than shifting the others' (an earlier camchain
+    keeps matching)."""
+    return {stream: f"cam{plan.recording_streams.index(stream)}" for stream in plan.streams}
 
 
 def write_kalibr(

@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING
 
 from speechcal_core.export.corners import corners_problem
 from speechcal_core.target import TargetSpec
+from speechcal_core.text import listed
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -21,7 +22,7 @@ KALIBR_APPROX_SYNC_NS = 20_000_000
 def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
                  target_from: str) -> list[str]:
     """The export's notes (:attr:`ExportResult.notes`) for format ``fmt``."""
-    notes = []
+    notes = [left_out_note(fmt, plan)]
     if fmt == "kalibr":
         notes.append(target_note(session, spec, target_from))
     if fmt in ("kalibr", "folders"):
@@ -29,6 +30,21 @@ def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
     if fmt in ("rosbag1", "rosbag2"):
         notes.append(approx_sync_note(plan.sets))
     return [note for note in notes if note]
+
+
+def left_out_note(fmt: str, plan: Plan) -> str:
+    """Which cameras of the recording have no frame in any exported set ("" if none)."""
+    missing = plan.left_out
+    if not missing:
+        return ""
+    one = len(missing) == 1
+    note = (f"{listed(missing)} {'has' if one else 'have'} no frame in any exported set "
+            f"and {'is' if one else 'are'} left out")
+    if fmt == "kalibr":
+        numbers = ", ".join(f"cam{plan.recording_streams.index(s)}" for s in missing)
+        note += (f"; the other cameras keep their numbers (no {numbers} "
+                 f"folder{'' if one else 's'})")
+    return note
 
 
 def approx_sync_note(sets: Sequence[FrameSet]) -> str:

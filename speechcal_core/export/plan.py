@@ -61,10 +61,16 @@ class PlannedFrame:
 class Plan:
     """Cameras in export order and every frame to write."""
 
-    streams: list[str]
+    streams: list[str]  # the recording's streams that have a frame in the export
     sets: list[FrameSet]
     names: dict[int, str]  # set id -> shared file stem
     frames: list[PlannedFrame]
+    recording_streams: list[str]  # all of the recording's streams, in its order
+
+    @property
+    def left_out(self) -> list[str]:
+        """The recording's streams without a frame in any exported set."""
+        return [s for s in self.recording_streams if s not in self.streams]
 
     def frames_of(self, set_id: int) -> list[PlannedFrame]:
         return [f for f in self.frames if f.frame_set.id == set_id]
@@ -116,7 +122,7 @@ def make_plan(source: FrameSource, sets: list[FrameSet], where: str) -> Plan:
         for s in sets
         for f in sorted((f for f in s.frames if f.index >= 0), key=lambda f: order[f.stream])
     ]
-    return Plan(streams, sets, names, frames)
+    return Plan(streams, sets, names, frames, known)
 
 
 @dataclass

@@ -54,6 +54,26 @@ def test_kalibr_export_names_files_alike_across_cameras(session_file, tmp_path: 
                                "corners") for note in result.notes)
 
 
+def test_a_camera_without_frames_leaves_its_kalibr_number_free(session_file,
+                                                                tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from speechcal_core.session.store import save_session
+
+    path = session_file()
+    session = load_session(path)
+    for s in list(session.sets):  # /cam0 has no frame in any set: /cam1 stays cam1
+        session.replace_set(replace(s, frames=tuple(
+            replace(f, index=-1) if f.stream.startswith("/cam0") else f for f in s.frames)))
+    save_session(session, path)
+    result = export_session_file(path, "kalibr", tmp_path / "kalibr")
+    assert sorted(p.name for p in (tmp_path / "kalibr").iterdir() if p.is_dir()) == ["cam1"]
+    assert ("/cam0/image_raw has no frame in any exported set and is left out; the other "
+            "cameras keep their numbers (no cam0 folder)") in result.notes
+    folders = export_session_file(path, "folders", tmp_path / "folders")
+    assert "/cam0/image_raw has no frame in any exported set and is left out" in folders.notes
+
+
 def test_kalibr_pngs_hold_exactly_the_decoded_source_frames(session_file, tmp_path) -> None:
     path = session_file("ros1", "jpeg")
     out = tmp_path / "kalibr"
