@@ -105,6 +105,7 @@ def staged_directory(target: str | Path, *, force: bool = False,
     finished output is kept at a free sibling name and a :class:`SpeechCalError` says where.
     """
     target = Path(target).absolute()
+    _refuse_working_folder(target)
     existed = os.path.lexists(target)
     if existed and not force:
         raise OutputExistsError(f"{target} already exists; choose another folder or pass --force")
@@ -133,6 +134,20 @@ def staged_directory(target: str | Path, *, force: bool = False,
                 f"{target} is written, but what it replaced could not be removed "
                 f"({exc.strerror}) and is left at {old}; remove it by hand"
             ) from exc
+
+
+def _refuse_working_folder(target: Path) -> None:
+    """A ``target`` that is (or holds) the current folder is never replaced: the shell
+    would be left in a deleted folder, showing nothing, as if nothing had been written."""
+    try:
+        here = Path.cwd().resolve()
+    except OSError:
+        return  # the current folder is gone already
+    plain = Path(os.path.normpath(target))  # a link at the target itself is replaced, not
+    real = plain.parent.resolve() / plain.name  # what it points to
+    if real == here or real in here.parents:
+        raise SpeechCalError(f"{target} is the current folder (or holds it); give the output "
+                             "a new folder's name, such as ./export")
 
 
 def _check_still_replaceable(staging: Path, target: Path, existed: bool,

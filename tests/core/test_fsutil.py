@@ -82,6 +82,18 @@ def test_a_forced_replacement_is_checked_again_before_the_swap(tmp_path: Path) -
     assert (target / "inner" / "b.txt").exists()
 
 
+def test_the_current_folder_is_never_replaced(tmp_path: Path,
+                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    work = tmp_path / "work"
+    (work / "inner").mkdir(parents=True)
+    monkeypatch.chdir(work / "inner")
+    for target in (Path("."), work, Path("..")):  # it, or a folder holding it
+        with pytest.raises(SpeechCalError, match="current folder"), \
+                staged_directory(target, force=True):
+            pass
+    assert (work / "inner").is_dir() and list(tmp_path.iterdir()) == [work]
+
+
 def test_written_files_and_folders_get_ordinary_permissions(tmp_path: Path) -> None:
     with staged_directory(tmp_path / "out") as staging:
         atomic_write_text(staging / "a.json", "{}")
