@@ -14,8 +14,8 @@ close to the found triggers a span must sound to join them.
 Finally the recording is searched for spans that sound like the triggers found (same
 speaker, same word: see ``self_similarity``), which recovers words lost in noise; spans the
 recogniser heard clearly keep its verdict, and spans it heard as a near-homophone need a
-much closer match. Spans it took for an inflection are searched
-too: some voices say "capture" so that it hears "capturing".
+much closer match. Spans it took for an inflection are searched too: some voices say
+"capture" so that it hears "capturing".
 A trigger, recognised or found, whose sound runs on without a pause, or resumes after a
 pause too short to end a phrase, is dropped: it is the start of something longer
 ("captured it?"). Operators say the trigger word on its own.
@@ -86,7 +86,8 @@ TIERS: tuple[Tier, ...] = (
     #: "rapture" the similarity search needs a much closer match (CONTESTED_SHARE), and
     #: most of its false alarms were such raptures. Seeds 1-3, 5 dB precision 0.947 ->
     #: 0.975, 10 dB 0.971 -> 0.990, recall unchanged; seeds 101-124 at 10 dB 0.951 ->
-    #: 0.959 (recall -0.001). The clear tier's -10 here lost a 10 dB trigger more.
+    #: 0.959 (same recall), at 5 dB 0.932 -> 0.939 (recall 0.910 -> 0.908). The clear
+    #: tier's -10 here lost a 10 dB trigger more.
     Tier(12.0, phone_log10=(-5.0, -13.0), min_peak_db=14.0, confusable_log10=-12.0),
     #: dearer still in the noisiest spans, now that the posteriorgram search turns the
     #: extra triggers into templates for the rest. Seeds 101-124: 5 dB recall / precision
