@@ -135,8 +135,8 @@ def _rival_distance(pron: Pron, other: Pron) -> int | None:
 def confusable_words(prons: tuple[Pron, ...], exclude: set[str]) -> list[str]:
     """Common words one phone away from a trigger, same length ("rapture", "captor").
 
-    Rivals for clearly heard speech only: in noise they win over real triggers too often.
-    Looser neighbourhoods (shared opening or ending: "captain", "globe's" for "clubs")
+    Noisier speech weighs them at a smaller prior (the decoding tiers): in noise they win
+    over real triggers too often. Looser neighbourhoods (shared opening or ending: "captain", "globe's" for "clubs")
     took real triggers from recorded human speech even at 25 dB.
     """
     return list(_confusables(tuple(sorted(prons)), tuple(sorted(exclude))))
