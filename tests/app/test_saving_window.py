@@ -95,6 +95,30 @@ def test_failed_autosave_warns_keeps_decisions_and_clears_after_a_later_save(
     assert [s.decision for s in saved.sets[:2]] == ["accepted", "rejected"]
 
 
+def test_a_file_another_window_saved_meanwhile_is_not_overwritten(
+    qtbot, open_window, session_in_folder: Path
+) -> None:
+    first = open_window(session_in_folder)
+    second = open_window(session_in_folder)  # the same session opened twice
+    qtbot.keyClick(second, Qt.Key.Key_R)
+    assert load_session(session_in_folder).sets[0].decision == "rejected"
+    first.activateWindow()  # the keys are the active window's shortcuts
+    qtbot.waitUntil(first.isActiveWindow, timeout=5_000)
+    qtbot.keyClick(first, Qt.Key.Key_A)
+    assert first.model.session.sets[0].decision == "accepted"  # kept in the window
+    assert load_session(session_in_folder).sets[0].decision == "rejected"  # not overwritten
+    assert first.saved_label.text() == f"{WARNING_SYMBOL} not saved · Ctrl+Shift+S saves elsewhere"
+    assert "another window or program changed the file" in first.status_text.text()
+    assert "Save session as" in first.saved_label.toolTip()
+    second.activateWindow()
+    qtbot.waitUntil(second.isActiveWindow, timeout=5_000)
+    qtbot.keyClick(second, Qt.Key.Key_K)  # the window that wrote it last saves on
+    qtbot.keyClick(second, Qt.Key.Key_A)
+    assert second.saved_label.text() == "saved just now"
+    assert [s.decision for s in load_session(session_in_folder).sets[:2]] == [
+        "rejected", "accepted"]
+
+
 def test_a_failed_save_stays_on_the_status_line_beside_newer_work_until_a_save_works(
     qtbot, open_window, session_in_folder: Path
 ) -> None:
