@@ -12,7 +12,12 @@ import time
 from pathlib import Path
 
 from speechcal_core.session.model import Session
-from speechcal_core.session.store import SessionFileError, SessionWriter, save_session
+from speechcal_core.session.store import (
+    SessionFileError,
+    SessionWriter,
+    file_stamp,
+    save_session,
+)
 
 SAVE_AS_HINT = "File ▸ Save session as… (Ctrl+Shift+S) writes them to another file"
 
@@ -40,7 +45,7 @@ class SessionSaver:
         self.saved_at: float | None = None  # wall-clock time of the file's last save
         self.error: SessionFileError | None = None  # the last save's failure, if it failed
         self._writer = SessionWriter()  # re-uses the text of what a save left unchanged
-        self._on_disk: tuple[int, int] | None = None  # the file as this window left it
+        self._on_disk: tuple[int, int, int] | None = None  # the file as this window left it
 
     @property
     def unsaved(self) -> bool:
@@ -51,7 +56,7 @@ class SessionSaver:
         """A session was opened from (or processed into) ``path``."""
         self.path, self.error = path, None
         self._writer = SessionWriter()
-        self._on_disk = _file_stamp(path) if path is not None else None
+        self._on_disk = file_stamp(path) if path is not None else None
         try:
             self.saved_at = path.stat().st_mtime if path is not None else None
         except OSError:
@@ -61,27 +66,20 @@ class SessionSaver:
         """Autosave to :attr:`path`; False (and :attr:`error` set) when it failed."""
         if self.path is None:
             return True
-        now = _file_stamp(self.path)
-        if now is not None and self._on_disk is not None and now != self._on_disk:
-            self.error = SessionFileError(
-                f"{self.path}: cannot save the session: another window or program changed "
-                "the file since this window saved it, and it is not overwritten (open it "
-                "again to see that version)")
-            return False
         try:
-            save_session(session, self.path, self._writer)
+            save_session(session, self.path, self._writer, expect=self._on_disk)
         except SessionFileError as exc:
             self.error = exc
             return False
         self.saved_at, self.error = time.time(), None
-        self._on_disk = _file_stamp(self.path)
+        self._on_disk = file_stamp(self.path)
         return True
 
     def save_as(self, session: Session, path: Path) -> None:
         """Save to ``path`` and autosave there from now on; raises SessionFileError."""
         save_session(session, path, self._writer)
         self.path, self.saved_at, self.error = path, time.time(), None
-        self._on_disk = _file_stamp(path)
+        self._on_disk = file_stamp(path)
 
     def label(self, now: float) -> tuple[str, str]:
         """The status line's text and tooltip: the last save, or a warning."""
@@ -94,11 +92,3 @@ class SessionSaver:
         stamp = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(self.saved_at))
         return saved_text(self.saved_at, now), f"{self.path}\nlast saved {stamp}"
 
-
-def _file_stamp(path: Path) -> tuple[int, int] | None:
-    """The file's modification time (ns) and size; None when it is not there."""
-    try:
-        info = path.stat()
-    except OSError:
-        return None
-    return info.st_mtime_ns, info.st_size

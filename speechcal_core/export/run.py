@@ -254,11 +254,12 @@ def export_session_file(
     progress: Progress | None = None,
 ) -> ExportResult:
     """:func:`export_frame_sets` on a session file, opening its recording."""
-    from speechcal_core.session.store import load_session
+    from speechcal_core.session.store import file_stamp, load_session
     from speechcal_core.sources import open_recording
 
     session_path = Path(session_path)
     out = Path(out).absolute()
+    stamp = file_stamp(session_path)
     session = load_session(session_path)
     sets = _preflight(session, fmt, out, force=force, include_undecided=include_undecided,
                       session_path=session_path)
@@ -266,7 +267,8 @@ def export_session_file(
     report = progress or _noop
     report("opening the recording", 0.0)
     with open_recording(session.recording) as source:
-        rescored = _rescore_waiting(session, source, session_path, include_undecided, report)
+        rescored = _rescore_waiting(session, source, session_path, stamp, include_undecided,
+                                    report)
         if rescored:
             sets = select_sets(session, include_undecided=include_undecided,
                                where=str(session_path))
@@ -287,9 +289,12 @@ def _scaled(report: Progress, start: float, span: float | None = None) -> Progre
 
 
 def _rescore_waiting(session: Session, source: FrameSource, session_path: Path,
-                     include_undecided: bool, report: Progress) -> int:
+                     stamp: tuple[int, int, int] | None, include_undecided: bool,
+                     report: Progress) -> int:
     """Re-score the sets a closed review left with nearest frames, if any is to be
-    exported, then the checks over them, and save the session file; returns how many.
+    exported, then the checks over them, and save the session file (unless it changed
+    since it was read, at ``stamp``: a window's decisions are not overwritten); returns
+    how many.
 
     What the review window does when the session is opened again, done here so the
     export holds best still frames and the session file says which ones.
@@ -309,7 +314,7 @@ def _rescore_waiting(session: Session, source: FrameSource, session_path: Path,
     report("checking the calibration over the re-scored sets", RESCORE_SHARE * 0.95)
     recheck_due(session, stream_sizes(source))
     try:
-        save_session(session, session_path)
+        save_session(session, session_path, expect=stamp)  # not over a window's decisions
     except SessionFileError as exc:  # the export is right all the same
         report(f"{exc}; the session file keeps the nearest frames", RESCORE_SHARE)
     return len(rescored)

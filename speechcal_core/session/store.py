@@ -39,16 +39,36 @@ def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
 
 
 def save_session(session: Session, path: str | Path,
-                 writer: SessionWriter | None = None) -> None:
+                 writer: SessionWriter | None = None,
+                 expect: tuple[int, int, int] | None = None) -> None:
     """Write atomically; the previous version stays as ``<path>.bak``. A ``writer`` kept
-    from save to save re-uses the text of what did not change (autosave)."""
+    from save to save re-uses the text of what did not change (autosave). With ``expect``
+    (the :func:`file_stamp` the file had when it was read or last saved), a file that
+    another window or program changed since is not overwritten: SessionFileError."""
     path = Path(path)
+    now = file_stamp(path)
+    if expect is not None and now is not None and now != expect:
+        raise SessionFileError(
+            f"{path}: cannot save the session: another window or program changed the file "
+            "since it was read here, and it is not overwritten (open it again to see that "
+            "version)")
     document = session_to_dict(session, path)
     text = writer.text(document) if writer is not None else session_text(document)
     try:
         atomic_write_text(path, text, keep_backup=True)
     except OSError as exc:
         raise _save_error(path, exc.strerror or str(exc)) from exc
+
+
+def file_stamp(path: str | Path) -> tuple[int, int, int] | None:
+    """A file's inode, modification time (ns) and size, to tell later whether it changed
+    (an atomic save makes a new file; an edit in place moves the time); None when it is
+    not there."""
+    try:
+        info = Path(path).stat()
+    except OSError:
+        return None
+    return info.st_ino, info.st_mtime_ns, info.st_size
 
 
 def session_text(document: dict[str, Any]) -> str:

@@ -136,8 +136,9 @@ def confusable_words(prons: tuple[Pron, ...], exclude: set[str]) -> list[str]:
     """Common words one phone away from a trigger, same length ("rapture", "captor").
 
     Noisier speech weighs them at a smaller prior (the decoding tiers): in noise they win
-    over real triggers too often. Looser neighbourhoods (shared opening or ending: "captain", "globe's" for "clubs")
-    took real triggers from recorded human speech even at 25 dB.
+    over real triggers too often. Looser neighbourhoods (shared opening or ending:
+    "captain", "globe's" for "clubs") took real triggers from recorded human speech even
+    at 25 dB.
     """
     return list(_confusables(tuple(sorted(prons)), tuple(sorted(exclude))))
 

@@ -70,6 +70,26 @@ def test_cli_export_rescores_waiting_sets_first_and_saves_them(
     assert "rescored" not in json.loads(capsys.readouterr().out)
 
 
+def test_a_session_file_a_window_saved_during_the_export_is_not_overwritten(
+    waiting_session: Path, tmp_path: Path,
+) -> None:
+    from speechcal_core.export import export_session_file
+
+    def window_saves(text: str, _fraction: float) -> None:
+        if text.startswith("checking the calibration"):  # re-scored, not yet saved
+            decided = load_session(waiting_session)
+            decided.replace_set(decided.sets[1].with_decision("rejected"))
+            save_session(decided, waiting_session)  # as the review window's autosave
+            seen.append(text)
+
+    seen: list[str] = []
+    result = export_session_file(waiting_session, "kalibr", tmp_path / "kalibr",
+                                 progress=window_saves)
+    assert seen and result.sets == 2  # the export is made all the same
+    kept = load_session(waiting_session)
+    assert kept.sets[1].decision == "rejected"  # the window's decision stays
+
+
 def test_exporting_an_open_session_with_waiting_sets_is_refused(
     waiting_session: Path, tmp_path: Path,
 ) -> None:

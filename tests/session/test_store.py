@@ -13,6 +13,7 @@ from speechcal_core.session.store import (
     SessionFileError,
     SessionWriter,
     check_session_target,
+    file_stamp,
     load_session,
     save_session,
     session_text,
@@ -93,6 +94,23 @@ def test_an_autosave_writer_reencodes_only_what_was_replaced(tmp_path: Path) -> 
     save_session(session, path, writer)
     assert '"ids": [0]' in path.read_text()
     assert '"ids": [9]' in session_text(session_to_dict(session, path))  # no memory
+
+
+def test_a_file_changed_since_it_was_read_is_not_overwritten(tmp_path: Path) -> None:
+    path = tmp_path / "session.json"
+    session = _session(tmp_path)
+    save_session(session, path)
+    read_at = file_stamp(path)
+    other = load_session(path)  # another window decides and saves
+    other.replace_set(other.sets[0].with_decision("rejected"))
+    save_session(other, path)
+    session.replace_set(session.sets[0].with_decision("accepted"))
+    with pytest.raises(SessionFileError, match="another window or program changed the file"):
+        save_session(session, path, expect=read_at)
+    assert load_session(path).sets[0].decision == "rejected"
+    save_session(session, path, expect=file_stamp(path))  # read again: saved
+    assert load_session(path).sets[0].decision == "accepted"
+    assert file_stamp(tmp_path / "missing.json") is None
 
 
 def test_the_audio_channel_is_kept_and_a_bad_one_is_named(tmp_path: Path) -> None:
