@@ -24,6 +24,7 @@ pause too short to end a phrase, is dropped: it is the start of something longer
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -49,6 +50,7 @@ if TYPE_CHECKING:
 
 RATE = 16000
 FRAME_S = 0.01
+ALTERNATE_SUFFIX = re.compile(r"\(\d+\)$")  # "record(2)": a word's second pronunciation
 PHONE_PREFIX = "ph_"
 #: narrow beams keep a phone loop fast; bestpath is off (its lattice costs seconds)
 DECODER_OPTIONS: dict[str, Any] = {
@@ -287,13 +289,20 @@ def decode_span(decoder: Any, samples: np.ndarray, offset_s: float,
     decoder.end_utt()
     out = []
     for seg in decoder.seg() or []:
-        if seg.word not in vocab:
+        word = dictionary_word(seg.word)
+        if word not in vocab:
             continue
         start = offset_s + seg.start_frame * FRAME_S
         end = offset_s + (seg.end_frame + 1) * FRAME_S
-        out.append(Word(seg.word, start, end, float(min(1.0, max(0.0, seg.ascore))),
+        out.append(Word(word, start, end, float(min(1.0, max(0.0, seg.ascore))),
                         "pocketsphinx"))
     return out
+
+
+def dictionary_word(decoded: str) -> str:
+    """The word a decoded entry spells: "record(2)" (the dictionary's second pronunciation
+    of "record") is "record"."""
+    return ALTERNATE_SUFFIX.sub("", decoded)
 
 
 def _dedupe(words: list[Word]) -> list[Word]:

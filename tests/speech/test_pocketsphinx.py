@@ -51,6 +51,17 @@ def test_several_trigger_words_at_once(tmp_path: Path) -> None:
     assert {w.word for w in result.triggers} == {"capture", "snapshot"}
 
 
+def test_a_word_heard_in_its_second_dictionary_pronunciation_is_found(tmp_path: Path) -> None:
+    # the dictionary has record, record(2) and record(3); the recogniser names the one it
+    # heard, and "record(2)" is the word "record"
+    items = [("record", f"{voice}/record_1") for voice in ("slt", "rms", "awb", "kal16")]
+    scene = make_scene(tmp_path / "record.wav", items, snr_db=30.0)
+    result = detect_triggers(scene.path, ["record"])
+    said = [(a + b) / 2 for a, b in scene.spans("record")]
+    assert [w.word for w in result.triggers] == ["record"] * 4
+    assert all(abs(w.t - t) < 0.1 for w, t in zip(result.triggers, said, strict=True))
+
+
 def test_word_outside_the_dictionary_takes_a_user_pronunciation(tmp_path: Path) -> None:
     scene = make_scene(tmp_path / "oov.wav", [("capture", "slt/capture_1")])
     with pytest.raises(SpeechError, match="--pronounce"):
