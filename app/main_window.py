@@ -32,7 +32,7 @@ from app.export_action import ExportAction
 from app.frame_grid import NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
 from app.rescore_action import RescoreAction
-from app.session_saver import SessionSaver
+from app.session_saver import SessionSaver, free_name_beside
 from app.set_table import SetTable, clock_text
 from app.similar_action import SimilarAction
 from app.status_line import StatusLine
@@ -45,7 +45,7 @@ from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
 from speechcal_core.review.summary import FILTERS, flag_words
-from speechcal_core.session.store import SessionFileError, load_session
+from speechcal_core.session.store import SessionChangedError, SessionFileError, load_session
 from speechcal_core.sync.estimate import clap_off
 from speechcal_core.text import counted
 
@@ -505,7 +505,7 @@ class ReviewWindow(QMainWindow):
         if self.inputs is not None:
             self._retired.append(self.inputs)
         self.inputs = inputs
-        self.saver.reset(inputs.session_path)
+        self.saver.reset(inputs.session_path, inputs.session_stamp)
         self.status.end("save")
         self.save_as_action.setEnabled(True)
         self._update_saved_label()
@@ -762,8 +762,10 @@ class ReviewWindow(QMainWindow):
         if self.model is None:
             return False
         current = self.saver.path or Path("session.json")
-        # a failing save's folder is likely to fail again: start from home then
-        start_at = str(Path.home() / current.name if self.saver.unsaved else current)
+        if isinstance(self.saver.error, SessionChangedError):  # another window's: beside it
+            start_at = str(free_name_beside(current))
+        else:  # a failing save's folder is likely to fail again: start from home then
+            start_at = str(Path.home() / current.name if self.saver.unsaved else current)
         path, _ = QFileDialog.getSaveFileName(self, "Save session as", start_at,
                                               "SpeechCal sessions (*.json)")
         return bool(path) and self.save_session_as(Path(path))

@@ -52,11 +52,13 @@ class SessionSaver:
         """Whether the window holds changes its file does not have."""
         return self.error is not None
 
-    def reset(self, path: Path | None) -> None:
-        """A session was opened from (or processed into) ``path``."""
+    def reset(self, path: Path | None,
+              stamp: tuple[int, int, int] | None = None) -> None:
+        """A session was opened from (or processed into) ``path``, whose file was as
+        ``stamp`` says when it was read (``file_stamp``; by default, as it is now)."""
         self.path, self.error = path, None
         self._writer = SessionWriter()
-        self._on_disk = file_stamp(path) if path is not None else None
+        self._on_disk = stamp if stamp is not None or path is None else file_stamp(path)
         try:
             self.saved_at = path.stat().st_mtime if path is not None else None
         except OSError:
@@ -92,3 +94,11 @@ class SessionSaver:
         stamp = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(self.saved_at))
         return saved_text(self.saved_at, now), f"{self.path}\nlast saved {stamp}"
 
+
+def free_name_beside(path: Path) -> Path:
+    """``<stem>-2<suffix>`` beside ``path`` (or -3, -4...): the first name not taken, to
+    save a window's decisions next to a session file another window changed."""
+    n = 2
+    while (candidate := path.with_name(f"{path.stem}-{n}{path.suffix}")).exists():
+        n += 1
+    return candidate

@@ -9,7 +9,12 @@ from typing import TYPE_CHECKING
 
 from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.session.model import Session
-from speechcal_core.session.store import check_recording_present, load_session, save_session
+from speechcal_core.session.store import (
+    check_recording_present,
+    file_stamp,
+    load_session,
+    save_session,
+)
 
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio, EnvelopePyramid
@@ -30,6 +35,9 @@ class ReviewInputs:
     #: (at the end of the recording) the drift
     claps_audio_s: tuple[float, ...] = ()
     note: str = ""
+    #: the session file as it was read or written here (``file_stamp``): a file that
+    #: differs at the next save was changed by someone else meanwhile
+    session_stamp: tuple[int, int, int] | None = None
 
     def close(self) -> None:
         self.source.close()
@@ -64,6 +72,7 @@ def load_for_review(
     if session_path is not None:
         report("reading session", 0.05)
         path = Path(session_path)
+        stamp = file_stamp(path)  # before reading: a change while reading shows later
         session = load_session(path)
     elif recording:
         if audio is None:
@@ -71,11 +80,13 @@ def load_for_review(
         path = Path(new_session_path) if new_session_path else default_session_path(recording)
         if path.exists():
             report(f"reading existing session {path.name}", 0.05)
+            stamp = file_stamp(path)
             session = load_session(path)
             note = f"opened the existing {path.name} (review work kept)"
             moved = _follow_moved_files(session, recording, audio)
             if moved:
-                save_session(session, path)
+                save_session(session, path, expect=stamp)
+                stamp = file_stamp(path)
                 note += f"; {moved}"
             if not any(_same_file(r, kept) for r in recording for kept in session.recording):
                 note += (f"; it is the session of {', '.join(session.recording)}, not of "
@@ -96,6 +107,7 @@ def load_for_review(
                 session = process_loaded(source, sound, list(recording), audio,
                                          progress=lambda t, f: report(t, 0.9 * f))
                 save_session(session, path)
+                stamp = file_stamp(path)
             except BaseException:
                 source.close()
                 raise
@@ -115,7 +127,7 @@ def load_for_review(
     except BaseException:
         source.close()
         raise
-    return ReviewInputs(session, source, pyramid, path, claps, note)
+    return ReviewInputs(session, source, pyramid, path, claps, note, stamp)
 
 
 def _waveform(session: Session, sound: Audio | None, note: str, report: Progress

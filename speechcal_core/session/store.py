@@ -20,6 +20,10 @@ class SessionFileError(SpeechCalError):
     """A session file that cannot be read, or comes from a newer SpeechCal."""
 
 
+class SessionChangedError(SessionFileError):
+    """A session file that someone else changed since it was read: not overwritten."""
+
+
 def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
     """The JSON document, ``schema`` first, paths relative to the session file's folder."""
     base = session_path.absolute().parent
@@ -48,10 +52,9 @@ def save_session(session: Session, path: str | Path,
     path = Path(path)
     now = file_stamp(path)
     if expect is not None and now is not None and now != expect:
-        raise SessionFileError(
-            f"{path}: cannot save the session: another window or program changed the file "
-            "since it was read here, and it is not overwritten (open it again to see that "
-            "version)")
+        raise SessionChangedError(
+            f"{path.name} changed since it was read here (another window or program saved "
+            f"it) and is left as it is; open it again to see that version ({path})")
     document = session_to_dict(session, path)
     text = writer.text(document) if writer is not None else session_text(document)
     try:

@@ -96,7 +96,7 @@ def test_failed_autosave_warns_keeps_decisions_and_clears_after_a_later_save(
 
 
 def test_a_file_another_window_saved_meanwhile_is_not_overwritten(
-    qtbot, open_window, session_in_folder: Path
+    qtbot, open_window, session_in_folder: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     first = open_window(session_in_folder)
     second = open_window(session_in_folder)  # the same session opened twice
@@ -108,8 +108,15 @@ def test_a_file_another_window_saved_meanwhile_is_not_overwritten(
     assert first.model.session.sets[0].decision == "accepted"  # kept in the window
     assert load_session(session_in_folder).sets[0].decision == "rejected"  # not overwritten
     assert first.saved_label.text() == f"{WARNING_SYMBOL} not saved · Ctrl+Shift+S saves elsewhere"
-    assert "another window or program changed the file" in first.status_text.text()
+    assert "▲ not saved: review.json changed since it was read here (another window or " \
+        "program saved it)" in first.status_text.text()  # the reason before the path
     assert "Save session as" in first.saved_label.toolTip()
+    offered: list[str] = []  # Save as... starts beside the session, under a free name
+    monkeypatch.setattr(QFileDialog, "getSaveFileName",
+                        lambda _parent, _title, start, _filter: offered.append(start) or ("", ""))
+    qtbot.keyClick(first, Qt.Key.Key_S, Qt.KeyboardModifier.ControlModifier
+                   | Qt.KeyboardModifier.ShiftModifier)
+    assert offered == [str(session_in_folder.with_name("review-2.json"))]
     second.activateWindow()
     qtbot.waitUntil(second.isActiveWindow, timeout=5_000)
     qtbot.keyClick(second, Qt.Key.Key_K)  # the window that wrote it last saves on
@@ -117,6 +124,30 @@ def test_a_file_another_window_saved_meanwhile_is_not_overwritten(
     assert second.saved_label.text() == "saved just now"
     assert [s.decision for s in load_session(session_in_folder).sets[:2]] == [
         "rejected", "accepted"]
+
+
+def test_a_file_saved_elsewhere_while_the_window_opens_it_is_not_overwritten(
+    qtbot, session_in_folder: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    load = app.main_window.load_for_review
+
+    def another_window_saves_meanwhile(**kw):
+        inputs = load(**kw)  # read; the window has not taken it over yet
+        decided = load_session(session_in_folder)
+        decided.replace_set(decided.sets[1].with_decision("rejected"))
+        save_session(decided, session_in_folder)
+        return inputs
+
+    monkeypatch.setattr(app.main_window, "load_for_review", another_window_saves_meanwhile)
+    window = ReviewWindow()
+    window.setProperty("headless", True)
+    qtbot.addWidget(window)
+    window.show()
+    window.open(session_path=str(session_in_folder))
+    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    assert load_session(session_in_folder).sets[1].decision == "rejected"  # kept
+    assert window.saved_label.text().startswith(WARNING_SYMBOL)
 
 
 def test_a_failed_save_stays_on_the_status_line_beside_newer_work_until_a_save_works(

@@ -10,6 +10,7 @@ import pytest
 from speechcal_core.session.model import FrameChoice, FrameSet, Session, Trigger
 from speechcal_core.session.store import (
     SCHEMA,
+    SessionChangedError,
     SessionFileError,
     SessionWriter,
     check_session_target,
@@ -105,7 +106,7 @@ def test_a_file_changed_since_it_was_read_is_not_overwritten(tmp_path: Path) -> 
     other.replace_set(other.sets[0].with_decision("rejected"))
     save_session(other, path)
     session.replace_set(session.sets[0].with_decision("accepted"))
-    with pytest.raises(SessionFileError, match="another window or program changed the file"):
+    with pytest.raises(SessionChangedError, match="another window or program saved it"):
         save_session(session, path, expect=read_at)
     assert load_session(path).sets[0].decision == "rejected"
     save_session(session, path, expect=file_stamp(path))  # read again: saved
