@@ -36,7 +36,7 @@ from app.session_saver import SessionSaver, free_name_beside
 from app.set_table import SetTable, clock_text
 from app.similar_action import SimilarAction
 from app.status_line import StatusLine
-from app.style import DECISION_SYMBOLS, WARNING_COLOUR, WARNING_SYMBOL
+from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from app.tasks import BackgroundTask, start
 from app.waveform import WaveformView
 from speechcal_core.audio import AUDIO_SUFFIXES
@@ -700,7 +700,7 @@ class ReviewWindow(QMainWindow):
             text = f"calibration check failed: {self.checker.last_error}"
         warn = summary.warning
         self.check_label.setText(f"{WARNING_SYMBOL} {text}" if warn else text)
-        self.check_label.setStyleSheet(f"color: {WARNING_COLOUR.name()}" if warn else "")
+        self.check_label.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if warn else "")
         self.check_label.setToolTip("\n".join(summary.cameras))
 
     def release_retired(self) -> None:
@@ -732,7 +732,7 @@ class ReviewWindow(QMainWindow):
                             "ms off the others" for c in off)
         text = f"{audio_start_text(lead)} · drift {sync.drift * 1e6:.1f} ppm · {how}{worst}"
         self.sync_line.setText(f"{WARNING_SYMBOL} {text}" if off else text)
-        self.sync_line.setStyleSheet(f"color: {WARNING_COLOUR.name()}" if off else "")
+        self.sync_line.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if off else "")
         warnings = session.sync_evidence.get("warnings") or []
         self.sync_line.setToolTip("\n".join(str(w) for w in warnings) if off else "")
 
@@ -751,7 +751,7 @@ class ReviewWindow(QMainWindow):
         text, tip = self.saver.label(time.time())
         warn = self.saver.unsaved
         self.saved_label.setText(f"{WARNING_SYMBOL} {text}" if warn else text)
-        style = f"color: {WARNING_COLOUR.name()}" if warn else ""
+        style = f"color: {WARNING_TEXT_COLOUR.name()}" if warn else ""
         if self.saved_label.styleSheet() != style:  # this runs every second
             self.saved_label.setStyleSheet(style)
         self.saved_label.setToolTip(tip)

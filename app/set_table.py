@@ -16,7 +16,7 @@ from PySide6.QtWidgets import (
     QTableWidgetItem,
 )
 
-from app.style import DECISION_SYMBOLS, DECISION_TEXT_COLOURS, WARNING_COLOUR, WARNING_SYMBOL
+from app.style import DECISION_SYMBOLS, DECISION_TEXT_COLOURS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from speechcal_core.frames.sets import BLURRED_BELOW, MIN_CORNERS
 from speechcal_core.review.summary import camera_lines, summarize, trigger_line, word_text
 from speechcal_core.session.model import FrameSet
@@ -165,7 +165,7 @@ class SetTable(QTableWidget):
             if col == DECISION:
                 item.setForeground(QBrush(DECISION_TEXT_COLOURS[s.decision]))
             if warned.get(col):
-                item.setForeground(QBrush(WARNING_COLOUR))
+                item.setForeground(QBrush(WARNING_TEXT_COLOUR))
             item.setToolTip(details)
             self.setItem(row, col, item)
         return True

@@ -17,7 +17,7 @@ from app.main_window import ReviewWindow
 from app.session_saver import saved_text
 from app.set_table import column
 from app.status_line import QUIET_S
-from app.style import WARNING_COLOUR, WARNING_SYMBOL
+from app.style import WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from speechcal_core.session.store import load_session, save_session
 
 
@@ -52,7 +52,7 @@ def assert_warned(window: ReviewWindow) -> None:
     assert f"{WARNING_SYMBOL} not saved: " in window.status_text.text()
     assert "cannot save the session" in window.status_text.text()
     assert "cannot save the session" in label.toolTip()
-    assert WARNING_COLOUR.name() in label.styleSheet()
+    assert WARNING_TEXT_COLOUR.name() in label.styleSheet()
     assert "Save session as" in label.toolTip()
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 from PySide6.QtCore import Qt
 
 from app.set_table import column
-from app.style import WARNING_COLOUR
+from app.style import WARNING_TEXT_COLOUR
 from speechcal_core.review.model import set_time_ns
 from speechcal_core.session.store import load_session, save_session
 
@@ -39,9 +39,9 @@ def test_quality_columns_show_the_worst_camera_and_warn_in_amber_with_a_symbol(
     table = window.table
     sharp, corners = table.item(0, column("worst sharp")), table.item(0, column("fewest corners"))
     assert sharp.text() == "▲ 0.18"
-    assert sharp.foreground().color() == WARNING_COLOUR
+    assert sharp.foreground().color() == WARNING_TEXT_COLOUR
     assert corners.text() == "96"
-    assert corners.foreground().color() != WARNING_COLOUR
+    assert corners.foreground().color() != WARNING_TEXT_COLOUR
     cam1 = first.frames[1].stream
     assert f"{cam1}: sharpness 0.18, 96 corners  ▲ blurred" in sharp.toolTip()
     # nearest-frame sets carry no figures
