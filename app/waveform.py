@@ -122,6 +122,10 @@ class WaveformView(pg.PlotWidget):
         self.playhead_button.clicked.connect(self.show_playhead)
         self.playhead_button.hide()
         self.getViewBox().sigXRangeChanged.connect(lambda *_: self._range_changed())
+        # the envelope has a column per pixel: drawn before the layout settles (600 px of
+        # a 1400 px view) it looked blocky until the next zoom
+        self._drawn_width = 0
+        self.getViewBox().sigResized.connect(lambda *_: self._resized())
         self.scene().sigMouseClicked.connect(self._clicked)
 
     def _to_ns(self, x: float) -> int:
@@ -233,6 +237,12 @@ class WaveformView(pg.PlotWidget):
         if showed_whole:
             self.show_whole()
 
+    def _resized(self) -> None:
+        """Draw again when the view is a tenth wider or narrower than the drawing."""
+        width = int(self.getViewBox().width())
+        if abs(width - self._drawn_width) > 0.1 * max(self._drawn_width, 1):
+            self.redraw()
+
     def _range_changed(self) -> None:
         self.whole_button.setVisible(self.zoomed_in())
         self._place_playhead_button()
@@ -281,6 +291,7 @@ class WaveformView(pg.PlotWidget):
         a0 = float(self.sync.to_audio(self._to_ns(x0)))
         a1 = float(self.sync.to_audio(self._to_ns(x1)))
         width = max(100, int(self.getViewBox().width()))
+        self._drawn_width = width
         t, mn, mx = self.pyramid.envelope(max(a0, 0.0), max(a1, 0.0), width)
         if self.pyramid.unreadable and not self._told_unreadable:
             self._told_unreadable = True

@@ -11,10 +11,11 @@ import pytest
 from PySide6.QtCore import QPoint, QPointF, Qt
 from truth_sessions import truth_session
 
+from app.main_window import ReviewWindow
 from speechcal_core.session.store import save_session
 
 
-def test_moved_audio_file_is_named_once_on_the_status_line(open_window, tiny_synth,
+def test_moved_audio_file_is_named_once_on_the_status_line(qtbot, tiny_synth,
                                                           tmp_path: Path) -> None:
     folder, truth = tiny_synth
     copy = tmp_path / "session"
@@ -22,7 +23,13 @@ def test_moved_audio_file_is_named_once_on_the_status_line(open_window, tiny_syn
     session = truth_session(copy, truth)
     session.sync_evidence = {"claps": truth["claps"]}
     save_session(session, tmp_path / "review.json")
-    window = open_window(tmp_path / "review.json")
+    window = ReviewWindow()
+    window.setProperty("headless", True)
+    qtbot.addWidget(window)
+    window.resize(900, 600)  # the whole view drawn from the envelope's levels: no samples
+    window.show()            # read yet (a wide view of this short audio reads them all)
+    window.open(session_path=str(tmp_path / "review.json"))
+    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
     waveform = window.waveform
     audio = waveform.pyramid.source.path
     assert str(copy) in str(audio)
@@ -39,6 +46,18 @@ def test_moved_audio_file_is_named_once_on_the_status_line(open_window, tiny_syn
     waveform.setXRange(x0 - 1.0, x0 - 0.95, padding=0)
     waveform.setXRange(x0 + 0.5, x0 + 1.0, padding=0)
     assert "coarse levels" not in window.status_text.text()  # said once only
+
+
+def test_the_envelope_has_a_column_per_pixel_of_the_laid_out_view(window, qtbot) -> None:
+    wave = window.waveform
+
+    def columns() -> int:
+        return len(wave._upper.xData)
+
+    for size in ((1400, 900), (1024, 640)):
+        window.resize(*size)
+        width = int(wave.getViewBox().width())
+        qtbot.waitUntil(lambda w=width: abs(columns() - w) <= 0.1 * w, timeout=5_000)
 
 
 def test_a_click_on_the_waveform_moves_the_playhead_there(window, qtbot) -> None:
