@@ -4,7 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from speechcal_core.speech.timing import SEARCH_AFTER_S, refine_bounds, word_bounds
+from speechcal_core.speech.timing import (
+    MAX_ONSET_DELAY_S,
+    SEARCH_AFTER_S,
+    refine_bounds,
+    word_bounds,
+)
 
 RATE = 16000
 
@@ -30,6 +35,19 @@ def test_bounds_move_to_the_energy_and_a_word_ending_in_a_pause_does_not_run_on(
     assert abs(bounds.start_s - 1.0) <= 0.03 and abs(bounds.end_s - 1.5) <= 0.03
     assert not bounds.runs_on  # 0.3 s of quiet before the next burst
     assert refine_bounds(x, RATE, 1.04, 1.45, _floor_db(x)) == bounds[:2]
+
+
+def test_a_quiet_opening_sound_keeps_the_onset_near_the_recognised_start() -> None:
+    # a hiss above the speech band ("s" of "snapshot") from 1.0, then the vowel from 1.15:
+    # the speech band's energy starts with the vowel, the word with the hiss
+    rng = np.random.default_rng(1)
+    x = _bursts((1.15, 1.5))
+    hiss = rng.standard_normal(int(0.15 * RATE))
+    hiss = np.fft.irfft(np.fft.rfft(hiss) * (np.fft.rfftfreq(hiss.size, 1 / RATE) > 4500))
+    x[int(1.0 * RATE):int(1.15 * RATE)] += (0.05 * hiss).astype(np.float32)
+    bounds = word_bounds(x, RATE, 1.0, 1.5, _floor_db(x))
+    assert bounds.start_s == 1.0 + MAX_ONSET_DELAY_S  # not the vowel's 1.15
+    assert abs(bounds.end_s - 1.5) <= 0.03
 
 
 def test_a_word_whose_sound_goes_on_past_the_search_runs_on() -> None:
