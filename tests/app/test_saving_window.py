@@ -127,7 +127,7 @@ def test_a_file_another_window_saved_meanwhile_is_not_overwritten(
 
 
 def test_a_file_saved_elsewhere_while_the_window_opens_it_is_not_overwritten(
-    qtbot, session_in_folder: Path, monkeypatch: pytest.MonkeyPatch
+    qtbot, open_window, session_in_folder: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     load = app.main_window.load_for_review
 
@@ -139,12 +139,7 @@ def test_a_file_saved_elsewhere_while_the_window_opens_it_is_not_overwritten(
         return inputs
 
     monkeypatch.setattr(app.main_window, "load_for_review", another_window_saves_meanwhile)
-    window = ReviewWindow()
-    window.setProperty("headless", True)
-    qtbot.addWidget(window)
-    window.show()
-    window.open(session_path=str(session_in_folder))
-    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    window = open_window(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_A)
     assert load_session(session_in_folder).sets[1].decision == "rejected"  # kept
     assert window.saved_label.text().startswith(WARNING_SYMBOL)
