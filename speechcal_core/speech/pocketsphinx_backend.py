@@ -183,7 +183,8 @@ class PocketsphinxBackend:
             out += kept + [w for w in extra if EXPAND_MIN_DB <= activity.level_db(
                 w.start_s, w.end_s) < EXPAND_BELOW_DB]
         triggers = [w for w in out if w.word in spec.words]
-        out = [w for w in out if w.word not in self._rivals | self._confusables
+        neighbours = self._rivals | self._confusables
+        out = [w for w in out if w.word not in neighbours
                or not any(t.start_s < w.end_s and w.start_s < t.end_s for t in triggers)]
         return sorted(out, key=lambda w: w.start_s)
 
