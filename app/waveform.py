@@ -11,7 +11,7 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QFontMetrics
 from PySide6.QtWidgets import QToolButton
 
-from app.style import DECISION_COLOURS, DECISION_SYMBOLS, PLAYHEAD_COLOUR
+from app.style import BACKGROUND, DECISION_COLOURS, DECISION_SYMBOLS, PLAYHEAD_COLOUR
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -54,7 +54,7 @@ class WaveformView(pg.PlotWidget):
     audio_unreadable = Signal(str)
 
     def __init__(self, origin_ns: int, parent=None) -> None:
-        super().__init__(parent, background=(30, 32, 36))
+        super().__init__(parent, background=BACKGROUND)
         self.origin_ns = origin_ns
         self.pyramid: EnvelopePyramid | None = None
         self._told_unreadable = False
@@ -327,7 +327,10 @@ class WaveformView(pg.PlotWidget):
         for s, (start, end) in zip(sets, spans, strict=True):
             region = pg.LinearRegionItem((start, end), movable=False)
             region.setZValue(5)
-            label = pg.TextItem("", anchor=(0.5, 0.0))
+            # over the playhead and claps, on the plot's own colour: the playhead stands
+            # at a set's time, right through the middle of its label
+            label = pg.TextItem("", anchor=(0.5, 0.0), fill=pg.mkBrush(BACKGROUND))
+            label.setZValue(30)
             label.setPos((start + end) / 2, 1.0)
             self._marks_of[s.id] = (region, label)
             self._paint_mark(s)
