@@ -11,7 +11,8 @@ from speech_scenes import RATE, Scene, clip, make_scene, real_speech
 
 from speechcal_core.audio import Audio, load_audio
 from speechcal_core.speech import SpeechError, TriggerSpec, detect_triggers
-from speechcal_core.speech.pocketsphinx_backend import PocketsphinxBackend
+from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
+from speechcal_core.speech.pocketsphinx_backend import TIERS, PocketsphinxBackend, phone_log10
 
 
 def _hits(scene: Scene, times: list[float], text: str, tol: float = 0.05) -> int:
@@ -134,6 +135,37 @@ def test_higher_sensitivity_never_finds_fewer_words(capture_scene: Scene) -> Non
     counts = [len(detect_triggers(capture_scene.path, ["capture"], sensitivity=s).triggers)
               for s in (0.0, 0.5, 1.0)]
     assert counts == sorted(counts) and counts[0] < counts[-1]
+
+
+def test_the_filler_grows_dearer_with_sensitivity_and_fastest_above_the_default() -> None:
+    for tier in TIERS:
+        at_zero, at_default, at_one = tier.phone_log10
+        costs = [phone_log10(tier, s) for s in (0.0, 0.25, DEFAULT_SENSITIVITY, 0.75, 1.0)]
+        assert costs[0] == at_zero and costs[2] == at_default and costs[4] == at_one
+        assert costs == sorted(costs, reverse=True)
+        assert at_default - at_one > at_zero - at_default
+
+
+def test_sensitivity_one_finds_most_of_a_word_the_default_misses(tmp_path: Path) -> None:
+    # the defaults are tuned on "capture"; "record" in four voices at 10 dB, with
+    # "recorder" said too, is mostly missed at the default
+    items = []
+    for voice in ("slt", "rms", "awb", "kal16"):
+        items += [("record", f"{voice}/record_{take}") for take in (1, 2, 3)]
+        items.append(("recorder", f"{voice}/recorder_1"))
+    scene = make_scene(tmp_path / "record.wav", items, snr_db=10.0)
+    said = [(a + b) / 2 for a, b in scene.spans("record")]
+
+    def found(sensitivity: float) -> tuple[int, int]:
+        times = [w.t for w in detect_triggers(scene.path, ["record"],
+                                              sensitivity=sensitivity).triggers]
+        hits = sum(any(abs(t - s) < 0.15 for t in times) for s in said)
+        return hits, len(times) - hits
+
+    default_hits, _ = found(DEFAULT_SENSITIVITY)
+    hits, others = found(1.0)
+    assert default_hits < len(said) / 2
+    assert hits >= 2 * len(said) / 3 and others == 0
 
 
 def test_every_trigger_is_found_among_near_homophones_in_one_voice(tmp_path: Path) -> None:
