@@ -320,28 +320,18 @@ class WaveformView(pg.PlotWidget):
         self._sets_x = None
         if self.sync is None:
             return
-        spans = [(self._to_x(int(self.sync.to_session(s.trigger.start_s))),
-                  self._to_x(int(self.sync.to_session(s.trigger.end_s)))) for s in sets]
-        if spans:
-            self._sets_x = (min(a for a, _ in spans), max(b for _, b in spans))
-        for s, (start, end) in zip(sets, spans, strict=True):
-            region = pg.LinearRegionItem((start, end), movable=False)
+        for s in sets:
+            region = pg.LinearRegionItem(movable=False)
             region.setZValue(5)
             # over the playhead and claps, on the plot's own colour: the playhead stands
             # at a set's time, right through the middle of its label
             label = pg.TextItem("", anchor=(0.5, 0.0), fill=pg.mkBrush(BACKGROUND))
             label.setZValue(30)
-            label.setPos((start + end) / 2, 1.0)
             self._marks_of[s.id] = (region, label)
-            self._paint_mark(s)
-            width = QFontMetrics(label.textItem.font()).horizontalAdvance(label.toPlainText())
-            self._labels.append(((start + end) / 2, label, width))
             for item in (region, label):
                 self.addItem(item)
                 self._markers.append(item)
-        self._labels.sort(key=lambda entry: entry[0])
-        self._keep_marks_within_whole()
-        self._thin_labels()
+        self._move_marks(sets)
 
     def _move_marks(self, sets: list[FrameSet]) -> None:
         """Put the marks of ``sets`` (the ones shown) where the sync now places them."""
