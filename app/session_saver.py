@@ -59,10 +59,8 @@ class SessionSaver:
         self.path, self.error = path, None
         self._writer = SessionWriter()
         self._on_disk = stamp if stamp is not None or path is None else file_stamp(path)
-        try:
-            self.saved_at = path.stat().st_mtime if path is not None else None
-        except OSError:
-            self.saved_at = None
+        # the stamp's modification time (ns): when the file was last saved
+        self.saved_at = self._on_disk[1] / 1e9 if self._on_disk is not None else None
 
     def save(self, session: Session) -> bool:
         """Autosave to :attr:`path`; False (and :attr:`error` set) when it failed."""
