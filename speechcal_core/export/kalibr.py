@@ -23,10 +23,15 @@ TARGET_FILE = "target.yaml"
 
 
 def kalibr_folders(plan: Plan) -> dict[str, str]:
-    """Stream -> ``camN``, N its place in the recording: a camera without frames in the
+    """Stream -> ``camN`` for the exported cameras (:func:`kalibr_camera`)."""
+    return {stream: kalibr_camera(plan, stream) for stream in plan.streams}
+
+
+def kalibr_camera(plan: Plan, stream: str) -> str:
+    """``camN``, N the stream's place in the recording: a camera without frames in the
     export leaves its number free rather than shifting the others' (an earlier camchain
     keeps matching)."""
-    return {stream: f"cam{plan.recording_streams.index(stream)}" for stream in plan.streams}
+    return f"cam{plan.recording_streams.index(stream)}"
 
 
 def write_kalibr(

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from speechcal_core.export.corners import corners_problem
+from speechcal_core.export.kalibr import kalibr_camera
 from speechcal_core.target import TargetSpec
 from speechcal_core.text import listed
 
@@ -41,7 +42,7 @@ def left_out_note(fmt: str, plan: Plan) -> str:
     note = (f"{listed(missing)} {'has' if one else 'have'} no frame in any exported set "
             f"and {'is' if one else 'are'} left out")
     if fmt == "kalibr":
-        numbers = ", ".join(f"cam{plan.recording_streams.index(s)}" for s in missing)
+        numbers = ", ".join(kalibr_camera(plan, s) for s in missing)
         note += (f"; the other cameras keep their numbers (no {numbers} "
                  f"folder{'' if one else 's'})")
     return note
