@@ -20,6 +20,9 @@ MAX_RIVALS = 250
 #: rivals are words people say: known to the language model above this unigram log10 p
 MIN_UNIGRAM_LOG10 = -7.0
 
+#: "record(2)": an entry for a word's second (third...) pronunciation
+ALTERNATE_SUFFIX = re.compile(r"\(\d+\)$")
+
 Pron = tuple[str, ...]
 
 
@@ -40,11 +43,14 @@ def load_dictionary(path: str | None = None) -> dict[str, tuple[Pron, ...]]:
             parts = line.split()
             if len(parts) < 2:
                 continue
-            word = parts[0]
-            if word.endswith(")"):
-                word = re.sub(r"\(\d+\)$", "", word)
-            entries.setdefault(word, []).append(tuple(parts[1:]))
+            entries.setdefault(dictionary_word(parts[0]), []).append(tuple(parts[1:]))
     return {w: tuple(ps) for w, ps in entries.items()}
+
+
+def dictionary_word(entry: str) -> str:
+    """The word a dictionary entry (or a decoded word) spells: "record(2)", the
+    dictionary's second pronunciation of "record", is "record"."""
+    return ALTERNATE_SUFFIX.sub("", entry) if entry.endswith(")") else entry
 
 
 def parse_phones(word: str, phones: str) -> Pron:

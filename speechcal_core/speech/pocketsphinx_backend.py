@@ -24,7 +24,6 @@ pause too short to end a phrase, is dropped: it is the start of something longer
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -35,6 +34,7 @@ from speechcal_core.speech.errors import SpeechError
 from speechcal_core.speech.lexicon import (
     PHONES,
     confusable_words,
+    dictionary_word,
     model_dir,
     pronunciations,
     rival_words,
@@ -51,7 +51,6 @@ if TYPE_CHECKING:
 
 RATE = 16000
 FRAME_S = 0.01
-ALTERNATE_SUFFIX = re.compile(r"\(\d+\)$")  # "record(2)": a word's second pronunciation
 PHONE_PREFIX = "ph_"
 #: narrow beams keep a phone loop fast; bestpath is off (its lattice costs seconds)
 DECODER_OPTIONS: dict[str, Any] = {
@@ -310,12 +309,6 @@ def decode_span(decoder: Any, samples: np.ndarray, offset_s: float,
         out.append(Word(word, start, end, float(min(1.0, max(0.0, seg.ascore))),
                         "pocketsphinx"))
     return out
-
-
-def dictionary_word(decoded: str) -> str:
-    """The word a decoded entry spells: "record(2)" (the dictionary's second pronunciation
-    of "record") is "record"."""
-    return ALTERNATE_SUFFIX.sub("", decoded)
 
 
 def _dedupe(words: list[Word]) -> list[Word]:
