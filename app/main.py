@@ -15,6 +15,7 @@ from speechcal_core.fsutil import folder_write_problem
 
 if TYPE_CHECKING:
     from app.main_window import ReviewWindow
+    from speechcal_core.speech.matching import TriggerSpec
 
 #: how long the exit waits for cancelled background work to stop
 STOP_WAIT_S = 30.0
@@ -60,9 +61,12 @@ def run_review(
     new_session_path: str | None = None,
     screenshot: str | None = None,
     offer_demo: bool = True,
+    triggers: TriggerSpec | None = None,
+    channel: int | None = None,
 ) -> int:
     """Open the window on the given input; with ``screenshot`` render it to PNG and exit.
-    A recording's new session is saved at ``new_session_path`` (default: beside it)."""
+    A recording's new session is saved at ``new_session_path`` (default: beside it) and
+    detects ``triggers`` in the audio's ``channel`` (defaults: "capture", all channels)."""
     if screenshot:
         check_screenshot_path(screenshot)  # before minutes of loading, not after
     if screenshot and not has_display():
@@ -80,7 +84,8 @@ def run_review(
     window.demo_button.setVisible(offer_demo)
     if session_path or recording:
         window.open(session_path=session_path, recording=list(recording or []) or None,
-                    audio=audio, new_session_path=new_session_path)
+                    audio=audio, new_session_path=new_session_path, triggers=triggers,
+                    channel=channel)
     window.show()
     try:
         if screenshot:

@@ -44,8 +44,9 @@ from speechcal_core.audio.playback import RestartThrottle, word_span
 from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
-from speechcal_core.review.summary import FILTERS, flag_words
+from speechcal_core.review.summary import FILTERS, flag_words, no_sets_hint
 from speechcal_core.session.store import SessionChangedError, SessionFileError, load_session
+from speechcal_core.speech.matching import TriggerSpec
 from speechcal_core.sync.estimate import clap_off
 from speechcal_core.text import counted
 
@@ -302,6 +303,12 @@ class ReviewWindow(QMainWindow):
         right_layout.addLayout(self._build_filter_row())
         self.table = SetTable()
         right_layout.addWidget(self.table, 1)
+        self.no_sets_label = QLabel("")  # why the list is empty, and what to do
+        self.no_sets_label.setWordWrap(True)
+        self.no_sets_label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.no_sets_label.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()};")
+        self.no_sets_label.hide()
+        right_layout.addWidget(self.no_sets_label)
         buttons = QHBoxLayout()
         for label, action in (("[A] accept", "accept"), ("[R] reject", "reject")):
             buttons.addWidget(self._action_button(label, action))
@@ -383,12 +390,15 @@ class ReviewWindow(QMainWindow):
             self.open(session_path=path)
 
     def open(self, *, session_path: str | None = None, recording: list[str] | None = None,
-             audio: str | None = None, new_session_path: str | None = None) -> None:
+             audio: str | None = None, new_session_path: str | None = None,
+             triggers: TriggerSpec | None = None, channel: int | None = None) -> None:
         """Load a session file, or process a recording + audio (its session saved at
-        ``new_session_path``, by default beside the recording), on a worker thread."""
+        ``new_session_path``, by default beside the recording; ``triggers`` and
+        ``channel`` as for ``load_for_review``), on a worker thread."""
         self._start(lambda report: load_for_review(
             session_path=session_path, recording=recording, audio=audio,
-            new_session_path=new_session_path, progress=report), "opening…")
+            new_session_path=new_session_path, triggers=triggers, channel=channel,
+            progress=report), "opening…")
 
     def _start(self, work, text: str) -> None:
         if not self._may_drop_unsaved():
@@ -543,6 +553,7 @@ class ReviewWindow(QMainWindow):
         self.exporter.reset("another session was opened before it could start")
         self._update_sync_line()
         self._update_counts()
+        self._apply_filter()  # an empty list says why (no_sets_hint)
         if n:
             self.model.go_to_set(0)
         else:
@@ -671,6 +682,9 @@ class ReviewWindow(QMainWindow):
         for name, button in self.filter_buttons.items():
             button.setChecked(name == model.filter)
         total = len(model.session.sets)
+        hint = no_sets_hint(model.session)
+        self.no_sets_label.setText(f"{WARNING_SYMBOL} {hint}" if hint else "")
+        self.no_sets_label.setVisible(bool(hint))
         if len(shown) == total:
             text = ""
         elif shown:

@@ -1,4 +1,4 @@
-"""Trigger-word options shared by ``detect`` and ``process``."""
+"""Trigger-word options shared by ``detect``, ``process`` and ``review``."""
 
 from __future__ import annotations
 

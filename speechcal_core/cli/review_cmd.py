@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import argparse
 
+from speechcal_core.cli._speech_options import (
+    add_channel_option,
+    add_trigger_options,
+    pronunciations,
+    sensitivity,
+)
 from speechcal_core.errors import UsageError
+from speechcal_core.speech.matching import DEFAULT_SENSITIVITY, TriggerSpec
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -16,6 +23,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="where a recording's session is kept (default: beside the recording, "
                         "RECORDING.speechcal.json); opened if it exists")
     p.add_argument("--screenshot", metavar="PNG", help="render the window to PNG and exit")
+    add_trigger_options(p)  # for a recording processed into a new session
+    add_channel_option(p)
     return p
 
 
@@ -23,17 +32,25 @@ def run(args: argparse.Namespace) -> int:
     """Run the subcommand."""
     session_path = None
     recording = None
+    triggers = None
     if len(args.inputs) == 1 and args.inputs[0].endswith(".json"):
         session_path = args.inputs[0]
         if args.audio or args.session:
             raise UsageError("--audio and --session go with a recording, not with a session "
                              "file")
+        if _detection_options_given(args):
+            raise UsageError("--trigger, --sensitivity, --pronounce and --channel go with a "
+                             "recording the review processes, not with a session file: "
+                             "speechcal review RECORDING --audio AUDIO --trigger W")
     elif args.session and not args.inputs:
         raise UsageError("--session goes with a recording: RECORDING --audio AUDIO --session "
                          "SESSION.json")
     elif args.inputs:
         recording, audio = _recording_and_audio(args.inputs, args.audio)
         args.audio = audio
+        if _detection_options_given(args):
+            triggers = TriggerSpec(tuple(args.trigger or ("capture",)), sensitivity(args),
+                                   pronunciations(args))
     from app.main import has_display, run_review
 
     if not has_display() and not args.screenshot:
@@ -41,7 +58,14 @@ def run(args: argparse.Namespace) -> int:
             "no display (DISPLAY is not set): run it on a desktop, or use --screenshot PNG"
         )
     return run_review(session_path=session_path, recording=recording, audio=args.audio,
-                      new_session_path=args.session, screenshot=args.screenshot)
+                      new_session_path=args.session, screenshot=args.screenshot,
+                      triggers=triggers, channel=args.channel)
+
+
+def _detection_options_given(args: argparse.Namespace) -> bool:
+    """Whether any option of trigger detection was given (they apply to a new session)."""
+    return bool(args.trigger or args.pronounce or args.channel is not None
+                or args.sensitivity != DEFAULT_SENSITIVITY)
 
 
 def _recording_and_audio(inputs: list[str], audio: str | None) -> tuple[list[str], str]:

@@ -19,6 +19,7 @@ from speechcal_core.session.store import (
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio, EnvelopePyramid
     from speechcal_core.sources.base import FrameSource
+    from speechcal_core.speech.matching import TriggerSpec
 
 Progress = Callable[[str, float], None]
 
@@ -56,12 +57,16 @@ def load_for_review(
     recording: Sequence[str] | None = None,
     audio: str | None = None,
     new_session_path: str | Path | None = None,
+    triggers: TriggerSpec | None = None,
+    channel: int | None = None,
     progress: Progress | None = None,
 ) -> ReviewInputs:
     """Open a session file, or process ``recording`` + ``audio`` into a new session.
 
     A new session is saved at ``new_session_path``, by default beside the recording; an
-    existing session there is opened instead of being overwritten.
+    existing session there is opened instead of being overwritten. A new session detects
+    ``triggers`` (default: "capture" at the default sensitivity) in the audio's
+    ``channel`` (0-based; None mixes them).
     """
     from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
@@ -95,6 +100,8 @@ def load_for_review(
                 note += (f"; it uses the audio {session.audio}, not {audio}: to process "
                          f"with {Path(audio).name}, move {path.name} away or give another "
                          f"session file")
+            else:
+                note += _settings_note(session, path, triggers, channel)
         else:
             from speechcal_core.pipeline import process_loaded
 
@@ -103,8 +110,12 @@ def load_for_review(
             source = open_recording(list(recording))
             try:
                 report("reading the audio", 0.1)
-                sound = load_audio(audio)
+                sound = load_audio(audio, channel=channel)
+                spec = triggers or _default_triggers()
                 session = process_loaded(source, sound, list(recording), audio,
+                                         trigger_words=spec.words,
+                                         sensitivity=spec.sensitivity,
+                                         pronunciations=spec.pronunciations,
                                          progress=lambda t, f: report(t, 0.9 * f))
                 save_session(session, path)
                 stamp = file_stamp(path)
@@ -112,6 +123,8 @@ def load_for_review(
                 source.close()
                 raise
             note = f"new session saved as {path.name}"
+            if session.sets:  # without sets the list itself says why (no_sets_hint)
+                note += "".join(f"; {n}" for n in session.extra.get("detection_notes", []))
     else:
         raise UsageError("nothing to open: give a session file or a recording with --audio")
 
@@ -128,6 +141,30 @@ def load_for_review(
         source.close()
         raise
     return ReviewInputs(session, source, pyramid, path, claps, note, stamp)
+
+
+def _default_triggers() -> TriggerSpec:
+    from speechcal_core.speech.matching import TriggerSpec
+
+    return TriggerSpec()
+
+
+def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
+                   channel: int | None) -> str:
+    """Why an existing session does not follow the trigger words or channel asked for
+    (its detection is kept with its review work), or ""."""
+    asked = []
+    if triggers is not None and tuple(triggers.words) != tuple(session.triggers_word):
+        asked.append(f"trigger word {', '.join(triggers.words)} (it has "
+                     f"{', '.join(session.triggers_word)})")
+    if channel is not None and channel != session.audio_channel:
+        had = "all channels mixed" if session.audio_channel is None \
+            else f"channel {session.audio_channel}"
+        asked.append(f"audio channel {channel} (it has {had})")
+    if not asked:
+        return ""
+    return (f"; not detected again with {' and '.join(asked)}: move {path.name} away or "
+            f"give another session file to process anew")
 
 
 def _waveform(session: Session, sound: Audio | None, note: str, report: Progress

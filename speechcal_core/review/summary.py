@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
-    from speechcal_core.session.model import FrameChoice, FrameSet
+    from speechcal_core.session.model import FrameChoice, FrameSet, Session
 
 #: the frame-set list's filters, in the order a key press cycles through them
 FILTERS = ("all", "undecided", "accepted", "rejected")
@@ -130,3 +130,17 @@ def _camera_line(f: FrameChoice) -> str:
         figures = f"sharpness {sharp}, {corners} corners"
     flags = [fl for fl in f.flags if not (f.index < 0 and fl == "no-frame")]
     return f"{f.stream}: {figures}" + (f"  ▲ {flag_words(flags)}" if flags else "")
+
+
+def no_sets_hint(session: Session) -> str:
+    """Why a session has no frame sets and what the operator can do ("" when it has some):
+    the detector's notes (no speech, no trigger word found, ...) and the ways to sets."""
+    if session.sets:
+        return ""
+    notes = [str(n).rstrip() for n in session.extra.get("detection_notes") or []]
+    words = ", ".join(f"“{w}”" for w in session.triggers_word) or "trigger word"
+    said = " ".join(n if n.endswith((".", "?", "!")) else f"{n}." for n in notes if n) \
+        or f"No {words} was found in the audio."
+    return (f"{said} Said another word? Open the recording again with --trigger WORD and "
+            f"a new --session file. Or put the playhead on a spoken trigger, press T to add "
+            f"a set, then S to find more like it.")

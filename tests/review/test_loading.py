@@ -133,3 +133,20 @@ def test_a_moved_recording_given_with_the_session_is_followed_and_the_review_kep
     saved = load_session(session_path)
     assert [Path(p).resolve() for p in saved.recording] == [new_recording]
     assert Path(saved.audio).resolve() == new_audio and saved.sets[0].decision == "accepted"
+
+
+def test_an_existing_session_keeps_its_trigger_words_and_says_so(
+        tiny_synth, tmp_path: Path) -> None:
+    from speechcal_core.speech.matching import TriggerSpec
+
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    load_for_review(recording=[recording], audio=audio).close()
+    inputs = load_for_review(recording=[recording], audio=audio,
+                             triggers=TriggerSpec(("snapshot",)), channel=0)
+    inputs.close()
+    assert inputs.session.triggers_word == ["capture"]
+    assert ("not detected again with trigger word snapshot (it has capture) and audio "
+            "channel 0 (it has all channels mixed)") in inputs.note
+    same = load_for_review(recording=[recording], audio=audio, triggers=TriggerSpec())
+    same.close()
+    assert "detected again" not in same.note

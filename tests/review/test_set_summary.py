@@ -8,6 +8,7 @@ from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
 from speechcal_core.review.summary import (
     FILTERS,
     camera_lines,
+    no_sets_hint,
     passes,
     shown_indices,
     summarize,
@@ -217,3 +218,16 @@ def test_after_a_removal_under_a_filter_the_next_shown_set_becomes_current() -> 
     model.first_set()
     model.remove_set()  # the filter shows nothing now: the set that took its place
     assert model.shown() == [] and model.current_set.id == 4
+
+
+def test_an_empty_session_says_why_and_how_to_get_sets() -> None:
+    session = Session(recording=["rec.bag"], audio="mic.ogg", sync=SyncModel(0, 0.0),
+                      sets=[], triggers_word=["capture"],
+                      extra={"detection_notes": ["mic.ogg: no trigger word (capture) found"]})
+    hint = no_sets_hint(session)
+    assert hint.startswith("mic.ogg: no trigger word (capture) found. Said another word?")
+    assert "--trigger WORD" in hint and "press T" in hint and "then S" in hint
+    session.extra = {}  # a session from elsewhere, without the detector's notes
+    assert no_sets_hint(session).startswith("No “capture” was found in the audio.")
+    session.sets = [frame_set(1)]
+    assert no_sets_hint(session) == ""

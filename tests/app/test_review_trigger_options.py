@@ -1,0 +1,77 @@
+"""``speechcal review RECORDING --audio AUDIO --trigger W``: the operator's own trigger word
+(and sensitivity, pronunciations, audio channel) for the session the review makes."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from speechcal_core.cli import main
+
+
+@pytest.fixture(scope="module")
+def snapshot_synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
+    """A 14 s, 1-camera synthetic session whose operator says "snapshot"."""
+    from speechcal_core.synth.options import SynthOptions
+    from speechcal_core.synth.session import generate_session
+
+    out = tmp_path_factory.mktemp("snapshot") / "session"
+    generate_session(out, SynthOptions(cameras=1, duration=14.0, width=160, height=120,
+                                       seed=21, claps=1, trigger_word="snapshot"))
+    return out, json.loads((out / "truth.json").read_text())
+
+
+def test_the_review_finds_the_trigger_word_it_is_given(
+        snapshot_synth: tuple[Path, dict], tmp_path: Path) -> None:
+    folder, truth = snapshot_synth
+    recording, audio = folder / truth["recording"], folder / truth["audio"]
+    target = tmp_path / "snapshot.json"
+    assert main(["review", str(recording), "--audio", str(audio), "--session", str(target),
+                 "--trigger", "Snapshot!", "--channel", "0",
+                 "--screenshot", str(tmp_path / "x.png")]) == 0
+    session = json.loads(target.read_text())
+    assert session["trigger_words"] == ["snapshot"]
+    assert session["audio_channel"] == 0
+    said = [(t["start_s"] + t["end_s"]) / 2 for t in truth["triggers"]]
+    found = [(s["trigger"]["start_s"] + s["trigger"]["end_s"]) / 2 for s in session["sets"]]
+    assert {s["trigger"]["word"] for s in session["sets"]} == {"snapshot"}
+    assert len(found) >= len(said) - 1
+    assert all(min(abs(f - t) for t in said) < 0.1 for f in found)
+
+
+def test_trigger_options_with_a_session_file_are_a_usage_error(
+        truth_session_file: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["review", str(truth_session_file), "--trigger", "snapshot"]) == 2
+    assert "go with a recording the review processes" in capsys.readouterr().err
+
+
+def test_a_bad_sensitivity_is_a_usage_error_before_anything_opens(
+        tiny_synth: tuple[Path, dict], capsys: pytest.CaptureFixture[str]) -> None:
+    folder, truth = tiny_synth
+    code = main(["review", str(folder / truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--sensitivity", "2"])
+    assert code == 2
+    assert "--sensitivity 2: give a value from 0 to 1" in capsys.readouterr().err
+
+
+def test_a_session_without_sets_says_why_beside_the_empty_list(
+        qtbot, truth_session_file: Path) -> None:
+    from app.main_window import ReviewWindow
+    from speechcal_core.session.store import load_session, save_session
+
+    session = load_session(truth_session_file)
+    session.sets = []
+    session.extra["detection_notes"] = ["audio.ogg: no trigger word (capture) found"]
+    save_session(session, truth_session_file)
+    window = ReviewWindow()
+    window.setProperty("headless", True)
+    qtbot.addWidget(window)
+    window.show()
+    window.open(session_path=str(truth_session_file))
+    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    assert window.no_sets_label.isVisible()
+    assert "no trigger word (capture) found. Said another word?" in window.no_sets_label.text()
+    window.model.add_set()  # the operator adds one at the playhead: the hint goes
+    qtbot.waitUntil(lambda: not window.no_sets_label.isVisible(), timeout=5_000)
