@@ -15,11 +15,11 @@ from speechcal_core.session.store import (
     load_session,
     save_session,
 )
+from speechcal_core.speech.matching import TriggerSpec
 
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio, EnvelopePyramid
     from speechcal_core.sources.base import FrameSource
-    from speechcal_core.speech.matching import TriggerSpec
 
 Progress = Callable[[str, float], None]
 
@@ -111,7 +111,7 @@ def load_for_review(
             try:
                 report("reading the audio", 0.1)
                 sound = load_audio(audio, channel=channel)
-                spec = triggers or _default_triggers()
+                spec = triggers or TriggerSpec()
                 session = process_loaded(source, sound, list(recording), audio,
                                          trigger_words=spec.words,
                                          sensitivity=spec.sensitivity,
@@ -141,12 +141,6 @@ def load_for_review(
         source.close()
         raise
     return ReviewInputs(session, source, pyramid, path, claps, note, stamp)
-
-
-def _default_triggers() -> TriggerSpec:
-    from speechcal_core.speech.matching import TriggerSpec
-
-    return TriggerSpec()
 
 
 def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
