@@ -7,8 +7,6 @@ absorbs everything else. A trigger is reported only where it explains the audio 
 than all of those. How clearly a span is heard (its level above the noise floor) picks
 the grammar's tier. Every tier weighs one-phone neighbours ("rapture", "captor") against
 the trigger, noisier ones at a smaller prior (noise lets them win over real triggers).
-The noisiest tier's decoder hears the audio slightly lower in frequency, closer to the
-model's typical voice (a quiet high voice is lost in noise otherwise).
 A trigger's bounds come from the same Viterbi path, then move to the onset and offset of
 the word's energy (recognised bounds run 30-40 ms early on reverberant speech).
 The sensitivity sets the phone-loop cost (a dearer filler lets more words pass) and how
@@ -84,10 +82,6 @@ class Tier:
     #: log10 prior of a rival (an inflection) against a trigger: operators say the
     #: trigger far more often, and some voices end "capture" so it sounds like "captured"
     rival_log10: float = -2.0
-    #: frequency warp of the decoder for this tier (vocal tract length normalisation): the
-    #: audio at ``warp`` times a frequency is heard where the model expects that frequency,
-    #: so formants above the model's typical ones move down to them; None: no warp
-    warp: float | None = None
 
 
 #: from the clearest spans down; the last tier takes everything else
@@ -107,13 +101,8 @@ TIERS: tuple[Tier, ...] = (
     #: extra triggers into templates for the rest. Seeds 101-124: 5 dB recall / precision
     #: 0.885 / 0.920 -> 0.910 / 0.926, 10 dB unchanged. The same filler for every span
     #: below 18 dB cost 15 more false alarms at 10 dB; without the peak condition above,
-    #: "captain" at the end of a long quiet span passed as the trigger.
-    #: Its decoder hears the audio 5 % lower: a quiet female voice (slt) lost in noise
-    #: was nearly all the misses at 5 dB. Tuning seeds 101-124 at 5 dB, recall / false
-    #: alarms: 893 / 58 -> 909 / 54 (slt missed 88 -> 71 times), 10 dB 954 / 40 -> 960 / 40;
-    #: a warp of 1.10 or 1.15 gained less (902 / 54, 904 / 58), and warping the middle
-    #: tier too lost at 5 dB (890 / 62). Seeds 1-3, 5 dB: 198 / 5 -> 200 / 6
-    Tier(-math.inf, phone_log10=(-7.0, -11.0, -23.0), confusable_log10=-12.0, warp=1.05),
+    #: "captain" at the end of a long quiet span passed as the trigger
+    Tier(-math.inf, phone_log10=(-7.0, -11.0, -23.0), confusable_log10=-12.0),
 )
 PEAK_PERCENTILE = 98.0
 #: similarity search adds words only in spans heard less clearly than the clearest tier
@@ -151,7 +140,7 @@ class PocketsphinxBackend:
     def __init__(self, expand: bool = True) -> None:
         self.expand = expand
         self.last_activity: VoiceActivity | None = None  # of the last call, for reports
-        self._decoders: dict[float | None, Any] = {}  # by warp, all with every tier's search
+        self._decoder: Any = None
         self._key: tuple | None = None
         self._vocab: set[str] = set()
         self._rivals: set[str] = set()
@@ -160,16 +149,14 @@ class PocketsphinxBackend:
     def words(self, audio: Audio, spec: TriggerSpec) -> list[Word]:
         """Trigger words and rival words found in ``audio``, in time order."""
         x = audio.resampled(RATE).samples if audio.rate != RATE else audio.samples
-        decoders = self._prepare(spec)
+        decoder = self._prepare(spec)
         activity = voice_activity(x, RATE)
         self.last_activity = activity
         found: list[Word] = []
         for start, end in activity.segments:
             a, b = int(start * RATE), int(end * RATE)
-            k = _tier_index(activity.level_db(start, end),
-                            activity.level_db(start, end, PEAK_PERCENTILE))
-            decoder = decoders[TIERS[k].warp]
-            decoder.activate_search(f"tier{k}")
+            decoder.activate_search(_tier_name(activity.level_db(start, end),
+                                               activity.level_db(start, end, PEAK_PERCENTILE)))
             found.extend(decode_span(decoder, x[a:b], start, self._vocab))
         refined, running_on = [], []
         for w in _dedupe(found):
@@ -207,26 +194,17 @@ class PocketsphinxBackend:
                or not any(t.start_s < w.end_s and w.start_s < t.end_s for t in triggers)]
         return sorted(out, key=lambda w: w.start_s)
 
-    def _prepare(self, spec: TriggerSpec) -> dict[float | None, Any]:
-        """Decoders (one per tier warp) for a trigger configuration, reused for every span."""
+    def _prepare(self, spec: TriggerSpec) -> Any:
+        """One decoder per trigger configuration, reused for every span."""
         key = (spec.words, tuple(sorted(spec.pronunciations.items())), spec.sensitivity)
-        if self._decoders and key == self._key:
-            return self._decoders
-        self._decoders = {}
-        for warp in dict.fromkeys(tier.warp for tier in TIERS):
-            self._decoders[warp] = self._decoder_for(spec, warp)
-        self._key = key
-        return self._decoders
-
-    def _decoder_for(self, spec: TriggerSpec, warp: float | None) -> Any:
-        """A decoder hearing the audio with frequency ``warp`` (None: as it is), with the
-        trigger words, their rivals and confusables, the phones and every tier's search."""
+        if self._decoder is not None and key == self._key:
+            return self._decoder
         import pocketsphinx
 
         mdir = model_dir()
         decoder = pocketsphinx.Decoder(hmm=str(mdir / "en-us"),
                                        dict=str(mdir / "cmudict-en-us.dict"), lm=None,
-                                       **DECODER_OPTIONS, **_warp_options(warp))
+                                       **DECODER_OPTIONS)
         user = dict(spec.pronunciations)
         rivals: list[str] = []
         confusables: list[str] = []
@@ -244,24 +222,11 @@ class PocketsphinxBackend:
         for k, tier in enumerate(TIERS):
             decoder.add_fsg(f"tier{k}",
                             _spot_grammar(logmath, spec, rivals, confusables, phones, tier))
+        self._decoder, self._key = decoder, key
         self._vocab = set(spec.words) | set(rivals) | set(confusables)
         self._rivals = set(rivals)
         self._confusables = set(confusables)
         return decoder
-
-
-def _warp_options(warp: float | None) -> dict[str, str]:
-    """Decoder options for a frequency warp (none for None).
-
-    pocketsphinx keeps each warp type's parameters in process-wide state, and leaves it
-    alone when given the same parameter text again, even after a decoder of that type
-    without parameters set it neutral. Unwarped decoders use the default type
-    (inverse_linear) without parameters and warped ones only "affine", so neither undoes
-    the other: "affine" with slope 1/warp is inverse_linear's warp.
-    """
-    if warp is None:
-        return {}
-    return {"warp_type": "affine", "warp_params": f"{1.0 / warp:.6f} 0"}
 
 
 def _search_for(seed_levels: list[float]) -> tuple[Representation, tuple[float, float]]:
@@ -272,14 +237,14 @@ def _search_for(seed_levels: list[float]) -> tuple[Representation, tuple[float, 
     return "mfcc", SIMILARITY_FACTOR
 
 
-def _tier_index(level_db: float, peak_db: float = -math.inf) -> int:
-    """The tier (its search is ``tier{k}``) for a span at ``level_db`` above the noise
-    floor whose loudest moment stands ``peak_db`` above it."""
+def _tier_name(level_db: float, peak_db: float = -math.inf) -> str:
+    """The search (one per tier) for a span at ``level_db`` above the noise floor whose
+    loudest moment stands ``peak_db`` above it."""
     for k, tier in enumerate(TIERS):
         if level_db >= tier.min_level_db or (
                 tier.min_peak_db is not None and peak_db >= tier.min_peak_db):
-            return k
-    return len(TIERS) - 1
+            return f"tier{k}"
+    return f"tier{len(TIERS) - 1}"
 
 
 def phone_log10(tier: Tier, sensitivity: float) -> float:

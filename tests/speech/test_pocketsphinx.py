@@ -146,10 +146,9 @@ def test_the_filler_grows_dearer_with_sensitivity_and_fastest_above_the_default(
         assert at_default - at_one > at_zero - at_default
 
 
-def test_sensitivity_one_finds_twice_as_much_of_a_word_the_default_misses(
-        tmp_path: Path) -> None:
+def test_sensitivity_one_finds_most_of_a_word_the_default_misses(tmp_path: Path) -> None:
     # the defaults are tuned on "capture"; "record" in four voices at 10 dB, with
-    # "recorder" said too, is mostly missed at the default (3 of 12 here; 6 at 1)
+    # "recorder" said too, is mostly missed at the default
     items = []
     for voice in ("slt", "rms", "awb", "kal16"):
         items += [("record", f"{voice}/record_{take}") for take in (1, 2, 3)]
@@ -166,7 +165,7 @@ def test_sensitivity_one_finds_twice_as_much_of_a_word_the_default_misses(
     default_hits, _ = found(DEFAULT_SENSITIVITY)
     hits, others = found(1.0)
     assert default_hits < len(said) / 2
-    assert hits >= 2 * default_hits and others == 0
+    assert hits >= 2 * len(said) / 3 and others == 0
 
 
 def test_every_trigger_is_found_among_near_homophones_in_one_voice(tmp_path: Path) -> None:
