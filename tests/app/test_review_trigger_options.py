@@ -57,21 +57,15 @@ def test_a_bad_sensitivity_is_a_usage_error_before_anything_opens(
 
 
 def test_a_session_without_sets_says_why_beside_the_empty_list(
-        qtbot, truth_session_file: Path) -> None:
-    from app.main_window import ReviewWindow
+        open_window, truth_session_file: Path) -> None:
     from speechcal_core.session.store import load_session, save_session
 
     session = load_session(truth_session_file)
     session.sets = []
     session.extra["detection_notes"] = ["audio.ogg: no trigger word (capture) found"]
     save_session(session, truth_session_file)
-    window = ReviewWindow()
-    window.setProperty("headless", True)
-    qtbot.addWidget(window)
-    window.show()
-    window.open(session_path=str(truth_session_file))
-    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    window = open_window(truth_session_file)
     assert window.no_sets_label.isVisible()
     assert "no trigger word (capture) found. Said another word?" in window.no_sets_label.text()
     window.model.add_set()  # the operator adds one at the playhead: the hint goes
-    qtbot.waitUntil(lambda: not window.no_sets_label.isVisible(), timeout=5_000)
+    assert not window.no_sets_label.isVisible()
