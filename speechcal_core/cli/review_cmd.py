@@ -11,7 +11,7 @@ from speechcal_core.cli._speech_options import (
     sensitivity,
 )
 from speechcal_core.errors import UsageError
-from speechcal_core.speech.matching import DEFAULT_SENSITIVITY, TriggerSpec
+from speechcal_core.speech.matching import DEFAULT_SENSITIVITY, DEFAULT_TRIGGERS, TriggerSpec
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
         recording, audio = _recording_and_audio(args.inputs, args.audio)
         args.audio = audio
         if _detection_options_given(args):
-            triggers = TriggerSpec(tuple(args.trigger or ("capture",)), sensitivity(args),
+            triggers = TriggerSpec(tuple(args.trigger or DEFAULT_TRIGGERS), sensitivity(args),
                                    pronunciations(args))
     from app.main import has_display, run_review
 
