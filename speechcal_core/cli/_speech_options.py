@@ -24,6 +24,13 @@ def add_trigger_options(p: argparse.ArgumentParser) -> None:
                    help="ARPAbet pronunciation of a word missing from the dictionary")
 
 
+def detection_options_given(args: argparse.Namespace) -> bool:
+    """Whether any of ``add_trigger_options``' and ``add_channel_option``'s options was
+    given (differs from its default)."""
+    return bool(args.trigger or args.pronounce or args.channel is not None
+                or args.sensitivity != DEFAULT_SENSITIVITY)
+
+
 def pronunciations(args: argparse.Namespace) -> dict[str, str]:
     """``--pronounce WORD=PHONES`` options as a mapping; UsageError for a malformed one."""
     out = {}

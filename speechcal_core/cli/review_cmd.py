@@ -7,11 +7,12 @@ import argparse
 from speechcal_core.cli._speech_options import (
     add_channel_option,
     add_trigger_options,
+    detection_options_given,
     pronunciations,
     sensitivity,
 )
 from speechcal_core.errors import UsageError
-from speechcal_core.speech.matching import DEFAULT_SENSITIVITY, DEFAULT_TRIGGERS, TriggerSpec
+from speechcal_core.speech.matching import DEFAULT_TRIGGERS, TriggerSpec
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -38,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
         if args.audio or args.session:
             raise UsageError("--audio and --session go with a recording, not with a session "
                              "file")
-        if _detection_options_given(args):
+        if detection_options_given(args):
             raise UsageError("--trigger, --sensitivity, --pronounce and --channel go with a "
                              "recording the review processes, not with a session file: "
                              "speechcal review RECORDING --audio AUDIO --trigger W")
@@ -48,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.inputs:
         recording, audio = _recording_and_audio(args.inputs, args.audio)
         args.audio = audio
-        if _detection_options_given(args):
+        if detection_options_given(args):
             triggers = TriggerSpec(tuple(args.trigger or DEFAULT_TRIGGERS), sensitivity(args),
                                    pronunciations(args))
     from app.main import has_display, run_review
@@ -60,12 +61,6 @@ def run(args: argparse.Namespace) -> int:
     return run_review(session_path=session_path, recording=recording, audio=args.audio,
                       new_session_path=args.session, screenshot=args.screenshot,
                       triggers=triggers, channel=args.channel)
-
-
-def _detection_options_given(args: argparse.Namespace) -> bool:
-    """Whether any option of trigger detection was given (they apply to a new session)."""
-    return bool(args.trigger or args.pronounce or args.channel is not None
-                or args.sensitivity != DEFAULT_SENSITIVITY)
 
 
 def _recording_and_audio(inputs: list[str], audio: str | None) -> tuple[list[str], str]:
