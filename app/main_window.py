@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence, QShortcut
@@ -46,9 +47,11 @@ from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
 from speechcal_core.review.summary import FILTERS, flag_words, no_sets_hint
 from speechcal_core.session.store import SessionChangedError, SessionFileError, load_session
-from speechcal_core.speech.matching import TriggerSpec
 from speechcal_core.sync.estimate import clap_off
 from speechcal_core.text import counted
+
+if TYPE_CHECKING:
+    from speechcal_core.speech.matching import TriggerSpec
 
 EMPTY_TEXT = (
     "<h2>Open a calibration session</h2>"
@@ -673,7 +676,8 @@ class ReviewWindow(QMainWindow):
         self._apply_filter()
 
     def _apply_filter(self) -> None:
-        """Show the rows the model's filter passes; its button checked, a count if hiding."""
+        """Show the rows the model's filter passes; its button checked, a count if hiding,
+        and under an empty list why it is empty (it runs whenever the sets change)."""
         model = self.model
         if model is None:
             return
