@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -79,11 +79,13 @@ def detect_triggers(audio_path: str | Path | Audio | None,
                     pronunciations: Mapping[str, str] | None = None,
                     model_dir: str | Path | None = None,
                     examples: Sequence[tuple[float, float]] = (),
-                    channel: int | None = None) -> Detection:
+                    channel: int | None = None,
+                    progress: Callable[[float], None] | None = None) -> Detection:
     """Find the trigger words of an audio file, or take them from a transcript.
 
     ``audio_path`` may also be an already loaded :class:`~speechcal_core.audio.Audio`;
-    ``channel`` picks a file's channel (0-based; None mixes them).
+    ``channel`` picks a file's channel (0-based; None mixes them). ``progress`` is
+    called with the share of the speech decoded (pocketsphinx only); it may raise to stop.
     """
     spec = TriggerSpec(tuple(triggers), sensitivity, dict(pronunciations or {}))
     chosen = make_backend(backend, model_dir=model_dir, transcript=transcript,
@@ -106,6 +108,8 @@ def detect_triggers(audio_path: str | Path | Audio | None,
         else:
             audio = load_audio(audio_path, rate=16000, channel=channel)
         duration = audio.duration_s
+        if progress is not None and hasattr(chosen, "progress"):
+            chosen.progress = progress
         words = chosen.words(audio, spec)
     found = match_triggers(words, spec)
     if not found:

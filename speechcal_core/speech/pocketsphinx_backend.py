@@ -24,6 +24,7 @@ pause too short to end a phrase, is dropped: it is the start of something longer
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -137,8 +138,11 @@ class PocketsphinxBackend:
 
     name = "pocketsphinx"
 
-    def __init__(self, expand: bool = True) -> None:
+    def __init__(self, expand: bool = True,
+                 progress: Callable[[float], None] | None = None) -> None:
         self.expand = expand
+        #: called with the share of the speech decoded so far (0..1); it may raise to stop
+        self.progress = progress
         self.last_activity: VoiceActivity | None = None  # of the last call, for reports
         self._decoder: Any = None
         self._key: tuple | None = None
@@ -153,7 +157,12 @@ class PocketsphinxBackend:
         activity = voice_activity(x, RATE)
         self.last_activity = activity
         found: list[Word] = []
+        total = sum(end - start for start, end in activity.segments) or 1.0
+        done = 0.0
         for start, end in activity.segments:
+            if self.progress is not None:
+                self.progress(done / total)
+            done += end - start
             a, b = int(start * RATE), int(end * RATE)
             decoder.activate_search(_tier_name(activity.level_db(start, end),
                                                activity.level_db(start, end, PEAK_PERCENTILE)))
