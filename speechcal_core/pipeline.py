@@ -12,6 +12,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from speechcal_core.review.detect_again import PRONUNCIATIONS_KEY, SENSITIVITY_KEY
 from speechcal_core.session.model import FrameSet, Session, Trigger
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
 from speechcal_core.sync.model import SyncModel
@@ -144,6 +145,10 @@ def process_loaded(
                               options=frame_options, progress=frames_progress)
     outside = outside_recording_note(analysis.sets, span, sync)
     notes = [*notes, outside] if outside else notes
+    # what the review's "find trigger words" starts from (a transcript has no settings)
+    settings = {} if transcript is not None else {
+        SENSITIVITY_KEY: float(sensitivity),
+        **({PRONUNCIATIONS_KEY: dict(pronunciations)} if pronunciations else {})}
     session = Session(
         recording=[str(Path(p).absolute()) for p in recording],
         audio=str(Path(audio).absolute()),
@@ -154,7 +159,7 @@ def process_loaded(
         sync_evidence=evidence,
         calibration=analysis.calibration,
         extra={**analysis.extra, "target": asdict(target),
-               "target_assumed": assumed,
+               "target_assumed": assumed, **settings,
                **({"detection_notes": notes} if notes else {})},
     )
     report("done", 1.0)

@@ -11,6 +11,8 @@ import pytest
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
 TINY = dict(cameras=3, fisheye=1, duration=14.0, width=256, height=192, seed=21, claps=1)
+SNAPSHOT = dict(cameras=1, duration=14.0, width=160, height=120, seed=21, claps=1,
+                trigger_word="snapshot")
 #: noisy speech (5 dB SNR), 12 triggers in four voices, five of them in the voice "rms"
 NOISY = dict(cameras=1, duration=40.0, width=160, height=120, seed=3, snr_db=5.0, claps=1)
 
@@ -61,6 +63,33 @@ def searched_session_file(_searched_session, tmp_path: Path) -> Path:
 
     path = tmp_path / "searched.json"
     save_session(_searched_session, path)
+    return path
+
+
+@pytest.fixture(scope="session")
+def snapshot_synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
+    """A 14 s, 1-camera synthetic session whose operator says "snapshot" (folder, truth)."""
+    return _synth(tmp_path_factory, "snapshot", SNAPSHOT)
+
+
+@pytest.fixture(scope="session")
+def _capture_session_of_snapshots(snapshot_synth: tuple[Path, dict]):
+    """The "snapshot" session processed as if its word were the default "capture"."""
+    from speechcal_core.pipeline import process_recording
+
+    folder, truth = snapshot_synth
+    return process_recording([str(folder / truth["recording"])], str(folder / truth["audio"]))
+
+
+@pytest.fixture
+def wrong_word_session_file(_capture_session_of_snapshots, tmp_path: Path) -> Path:
+    """A session file over the "snapshot" session detected with "capture": no sets."""
+    import copy
+
+    from speechcal_core.session.store import save_session
+
+    path = tmp_path / "wrong-word.json"
+    save_session(copy.deepcopy(_capture_session_of_snapshots), path)
     return path
 
 

@@ -29,6 +29,7 @@ from speechcal_core.review.checks import (
     checks_request,
     stream_sizes,
 )
+from speechcal_core.review.detect_again import DetectResult, record_settings
 from speechcal_core.review.rescore import (
     RescoreRequest,
     RescoreResult,
@@ -495,12 +496,31 @@ class ReviewModel:
         within :data:`ADD_MIN_GAP_NS` of a set (one added or found meanwhile too) is
         skipped. All of them are one undo step; the current set stays current.
         """
+        return self._add_found([Trigger(w.word, w.start_s, w.end_s, w.score, SIMILAR_SOURCE)
+                                for w in result.words])
+
+    def apply_detected(self, result: DetectResult) -> list[int]:
+        """Add a set for every trigger word detected again that no set covers (as
+        :meth:`apply_similar` does, the detector's ``source`` kept); returns their ids.
+
+        When it found any, the request's words and sensitivity become the session's
+        (``record_settings``): its words come first, the word of a set added with T.
+        """
+        if result.words:
+            record_settings(self.session, result.request)
+        added = self._add_found([Trigger(w.word, w.start_s, w.end_s, w.score,
+                                         w.source or "detector") for w in result.words])
+        if result.words and not added:
+            self._save()  # the settings changed, no set did
+        return added
+
+    def _add_found(self, triggers: list[Trigger]) -> list[int]:
+        """New undecided sets for the ``triggers`` no set covers, as one undo step."""
         next_id = max((s.id for s in self.session.sets), default=0) + 1
         times = [set_time_ns(s) for s in self.session.sets] + \
             [s.t_ns for s in self.session.sets]
         added: list[tuple[FrameSet, int, object]] = []
-        for word in result.words:
-            trigger = Trigger(word.word, word.start_s, word.end_s, word.score, SIMILAR_SOURCE)
+        for trigger in triggers:
             new = self._new_set(trigger, set_id=next_id)
             if any(abs(new.t_ns - t) < ADD_MIN_GAP_NS for t in times):
                 continue

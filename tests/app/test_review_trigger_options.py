@@ -11,18 +11,6 @@ import pytest
 from speechcal_core.cli import main
 
 
-@pytest.fixture(scope="module")
-def snapshot_synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
-    """A 14 s, 1-camera synthetic session whose operator says "snapshot"."""
-    from speechcal_core.synth.options import SynthOptions
-    from speechcal_core.synth.session import generate_session
-
-    out = tmp_path_factory.mktemp("snapshot") / "session"
-    generate_session(out, SynthOptions(cameras=1, duration=14.0, width=160, height=120,
-                                       seed=21, claps=1, trigger_word="snapshot"))
-    return out, json.loads((out / "truth.json").read_text())
-
-
 def test_the_review_finds_the_trigger_word_it_is_given(
         snapshot_synth: tuple[Path, dict], tmp_path: Path) -> None:
     folder, truth = snapshot_synth
