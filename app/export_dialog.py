@@ -20,6 +20,8 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.dialog_fit import fit_height
+
 #: export format -> what the operator reads in the list
 FORMAT_LABELS = {
     "kalibr": "Kalibr — cam0/, cam1/… <stamp>.png + target.yaml + corners",
@@ -136,20 +138,8 @@ class ExportDialog(QDialog):
             self.summary.setText("No accepted frame sets yet: accept sets (A) first")
         elif why:  # said before any replace question: no answer makes it possible
             self.summary.setText(f"Cannot export there: {why}")
-        self._fit_height()
+        fit_height(self)
 
     def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
-        self._fit_height()  # narrower: the summary wraps onto more lines
-
-    def _fit_height(self) -> None:
-        """Tall enough for the summary's lines at the dialog's width: a longer text grows
-        the dialog instead of squashing the fields above it."""
-        layout = self.layout()
-        if layout is None:
-            return
-        needed = layout.totalHeightForWidth(self.width()) if layout.hasHeightForWidth() \
-            else layout.totalSizeHint().height()
-        self.setMinimumHeight(needed)
-        if self.height() < needed:
-            self.resize(self.width(), needed)
+        fit_height(self)  # narrower: the summary wraps onto more lines

@@ -28,6 +28,7 @@ from PySide6.QtWidgets import (
 
 from app.audio_player import AudioPlayer
 from app.checks_action import ChecksAction
+from app.detect_action import DetectAction
 from app.elided_label import ElidedLabel
 from app.export_action import ExportAction
 from app.frame_grid import NEAREST_CAPTION, FrameGrid
@@ -45,7 +46,13 @@ from speechcal_core.audio.playback import RestartThrottle, word_span
 from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
-from speechcal_core.review.summary import FILTERS, flag_words, no_sets_hint
+from speechcal_core.review.summary import (
+    FILTERS,
+    FIND_WORDS,
+    FIND_WORDS_KEY,
+    flag_words,
+    no_sets_hint,
+)
 from speechcal_core.session.store import SessionChangedError, SessionFileError, load_session
 from speechcal_core.sync.estimate import clap_off
 from speechcal_core.text import counted
@@ -166,6 +173,7 @@ class ReviewWindow(QMainWindow):
         self.rescorer = RescoreAction(self)
         self.checker = ChecksAction(self)
         self.similar = SimilarAction(self)
+        self.detector = DetectAction(self)
         self.player = AudioPlayer(self, say=lambda text: self.status.end("audio", text))
         self._build_actions()
         self.setAcceptDrops(True)
@@ -269,6 +277,15 @@ class ReviewWindow(QMainWindow):
             action.triggered.connect(lambda _=False, a=name: self.run_action(a))
             self.addAction(action)  # the shortcut works with the menu closed
             self.edit_menu.addAction(action)
+        self.edit_menu.addSeparator()
+        self.detect_action = QAction(f"{FIND_WORDS}…", self)
+        self.detect_action.setShortcut(QKeySequence(FIND_WORDS_KEY))
+        self.detect_action.setToolTip("Detect trigger words again: other words, or another "
+                                      "sensitivity; the sets found are added")
+        self.detect_action.triggered.connect(self.detector.choose)
+        self.detect_action.setEnabled(False)
+        self.addAction(self.detect_action)
+        self.edit_menu.addAction(self.detect_action)
         self._update_edit_menu()
 
     def _update_edit_menu(self, *_args: object) -> None:
@@ -489,6 +506,7 @@ class ReviewWindow(QMainWindow):
         self.exporter.cancel()
         self.rescorer.cancel()
         self.similar.cancel()
+        self.detector.cancel()
 
     def _on_failed(self, message: str) -> None:
         self.task = None
@@ -515,12 +533,14 @@ class ReviewWindow(QMainWindow):
         self.rescorer.reset()  # what runs belongs to the previous session's model
         self.checker.reset()
         self.similar.reset()
+        self.detector.reset()
         if self.inputs is not None:
             self._retired.append(self.inputs)
         self.inputs = inputs
         self.saver.reset(inputs.session_path, inputs.session_stamp)
         self.status.end("save")
         self.save_as_action.setEnabled(True)
+        self.detect_action.setEnabled(bool(inputs.session.audio))
         self._update_saved_label()
         self.model = ReviewModel(inputs.session, inputs.source, autosave=self._autosave)
         self.loader = FrameLoader(inputs.source, parent=self)
@@ -948,7 +968,7 @@ class ReviewWindow(QMainWindow):
         """The window's work running on worker threads (opening, export, re-scoring,
         checks, search)."""
         tasks = [self.task, self.exporter.task, self.rescorer.task, self.checker.task,
-                 self.similar.task]
+                 self.similar.task, self.detector.task]
         return [t for t in tasks if t is not None]
 
     def closeEvent(self, event) -> None:
@@ -966,6 +986,7 @@ class ReviewWindow(QMainWindow):
         self.rescorer.shutdown()
         self.checker.shutdown()
         self.similar.shutdown()
+        self.detector.shutdown()
         # a recording closes once no frame decode reads it (at once, or as the decode
         # still running ends: the window does not wait for it)
         loaders = {id(lo.source): lo for lo in self._old_loaders}

@@ -9,7 +9,8 @@ line (job ``"similar"``) and cancels.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from app.background_action import BackgroundAction
 from speechcal_core.review.similar import SessionAudio, result_message
@@ -25,10 +26,12 @@ DELAY_MS = 50
 NAMED_SETS = 8
 
 
-def found_message(result: SimilarResult, added: list[int]) -> str:
-    """The status line's report of a finished search, naming the sets it added (by the
-    ids the list shows), so one search's result reads apart from the next one's."""
-    text = result_message(result, len(added))
+def found_message(result: Any, added: list[int],
+                  message: Callable[[Any, int], str] = result_message) -> str:
+    """The status line's report of a finished search (``message(result, count)``, by
+    default a "find more like this" one), naming the sets it added (by the ids the list
+    shows), so one search's result reads apart from the next one's."""
+    text = message(result, len(added))
     if not added:
         return text
     names = ", ".join(f"#{set_id}" for set_id in added[:NAMED_SETS])

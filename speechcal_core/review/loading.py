@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from speechcal_core.errors import SpeechCalError, UsageError
+from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY
 from speechcal_core.session.model import Session
 from speechcal_core.session.store import (
     check_recording_present,
@@ -157,6 +158,9 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
         asked.append(f"audio channel {channel} (it has {had})")
     if not asked:
         return ""
+    if channel is None or channel == session.audio_channel:  # only other words asked for
+        return (f"; not detected again with {asked[0]}: Edit ▸ {FIND_WORDS}… "
+                f"({FIND_WORDS_KEY}) adds its sets and keeps the review work")
     return (f"; not detected again with {' and '.join(asked)}: move {path.name} away or "
             f"give another session file to process anew")
 

@@ -132,6 +132,11 @@ def _camera_line(f: FrameChoice) -> str:
     return f"{f.stream}: {figures}" + (f"  ▲ {flag_words(flags)}" if flags else "")
 
 
+#: the window's command that detects trigger words again, and its key
+FIND_WORDS = "Find trigger words"
+FIND_WORDS_KEY = "Ctrl+F"
+
+
 def no_sets_hint(session: Session) -> str:
     """Why a session has no frame sets and what the operator can do ("" when it has some):
     the detector's notes (no speech, no trigger word found, ...) and the ways to sets."""
@@ -141,6 +146,6 @@ def no_sets_hint(session: Session) -> str:
     words = ", ".join(f"“{w}”" for w in session.triggers_word) or "trigger word"
     said = " ".join(n if n.endswith((".", "?", "!")) else f"{n}." for n in notes if n) \
         or f"No {words} was found in the audio."
-    return (f"{said} Said another word? Open the recording again with --trigger WORD and "
-            f"a new --session file. Or put the playhead on a spoken trigger, press T to add "
-            f"a set, then S to find more like it.")
+    return (f"{said} Said another word? Edit ▸ {FIND_WORDS}… ({FIND_WORDS_KEY}) looks for "
+            f"it. Or put the playhead on a spoken trigger, press T to add a set, then S to "
+            f"find more like it.")

@@ -150,3 +150,8 @@ def test_an_existing_session_keeps_its_trigger_words_and_says_so(
     same = load_for_review(recording=[recording], audio=audio, triggers=TriggerSpec())
     same.close()
     assert "detected again" not in same.note
+    other_word = load_for_review(recording=[recording], audio=audio,
+                                 triggers=TriggerSpec(("snapshot",)))
+    other_word.close()
+    assert ("not detected again with trigger word snapshot (it has capture): Edit ▸ Find "
+            "trigger words… (Ctrl+F) adds its sets and keeps the review work") in other_word.note

@@ -226,7 +226,8 @@ def test_an_empty_session_says_why_and_how_to_get_sets() -> None:
                       extra={"detection_notes": ["mic.ogg: no trigger word (capture) found"]})
     hint = no_sets_hint(session)
     assert hint.startswith("mic.ogg: no trigger word (capture) found. Said another word?")
-    assert "--trigger WORD" in hint and "press T" in hint and "then S" in hint
+    assert "Edit ▸ Find trigger words… (Ctrl+F)" in hint
+    assert "press T" in hint and "then S" in hint
     session.extra = {}  # a session from elsewhere, without the detector's notes
     assert no_sets_hint(session).startswith("No “capture” was found in the audio.")
     session.sets = [frame_set(1)]

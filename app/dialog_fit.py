@@ -1,0 +1,18 @@
+"""Dialogs whose wrapped text grows: tall enough for it at their width."""
+
+from __future__ import annotations
+
+from PySide6.QtWidgets import QWidget
+
+
+def fit_height(dialog: QWidget) -> None:
+    """Make ``dialog`` tall enough for its layout's wrapped lines at its width: a longer
+    text grows the dialog instead of squashing the fields above it."""
+    layout = dialog.layout()
+    if layout is None:
+        return
+    needed = layout.totalHeightForWidth(dialog.width()) if layout.hasHeightForWidth() \
+        else layout.totalSizeHint().height()
+    dialog.setMinimumHeight(needed)
+    if dialog.height() < needed:
+        dialog.resize(dialog.width(), needed)

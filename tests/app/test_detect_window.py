@@ -1,0 +1,64 @@
+"""Find trigger words in the window (Edit ▸ Find trigger words…, Ctrl+F): a session
+detected with the wrong word gets its sets from the word the operator types, found off
+the UI thread; a word the detector cannot look for keeps the dialog open and says why."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QDialogButtonBox
+
+
+def _find(qtbot, dialog, text: str) -> None:
+    dialog.words_edit.setText(text)
+    qtbot.mouseClick(dialog.buttons.button(QDialogButtonBox.StandardButton.Ok),
+                     Qt.MouseButton.LeftButton)
+
+
+def test_the_word_typed_fills_the_empty_list(qtbot, open_window,
+                                             wrong_word_session_file: Path) -> None:
+    window = open_window(wrong_word_session_file)
+    assert window.table.rowCount() == 0
+    assert "Edit ▸ Find trigger words… (Ctrl+F) looks for it" in window.no_sets_label.text()
+    assert window.detect_action.isEnabled()
+    qtbot.keyClick(window, Qt.Key.Key_F, Qt.KeyboardModifier.ControlModifier)
+    dialog = window.detector.dialog
+    assert dialog is not None and dialog.isVisible()
+    assert dialog.words_edit.text() == "capture" and dialog.sensitivity == 0.5
+
+    _find(qtbot, dialog, "snapshot, kalibrr")  # a word the dictionary lacks
+    assert dialog.isVisible() and dialog.problem.isVisible()
+    assert "“kalibrr” is not in the pocketsphinx dictionary" in dialog.problem.text()
+    assert not window.detector.busy()
+
+    dialog.slider.setValue(60)
+    assert dialog.value_label.text() == "0.60"
+    _find(qtbot, dialog, "Snapshot!")
+    assert not dialog.isVisible()
+    assert window.status.running("detect")
+    qtbot.waitUntil(lambda: window.detector.last is not None, timeout=60_000)
+
+    result, added = window.detector.last
+    assert window.table.rowCount() == len(added) >= 2
+    assert not window.no_sets_label.isVisible()
+    assert f"found {len(result.words)} × “snapshot” at sensitivity 0.60: " \
+        f"{len(added)} new undecided sets" in window.status_text.text()
+    window.detect_action.trigger()  # the next search starts from this one's settings
+    assert window.detector.dialog.words_edit.text() == "snapshot, capture"
+    assert window.detector.dialog.sensitivity == 0.6
+    window.detector.dialog.reject()
+    window.run_action("undo")  # one undo takes them all back
+    assert window.table.rowCount() == 0
+
+
+def test_a_detection_can_be_cancelled(qtbot, open_window,
+                                      wrong_word_session_file: Path) -> None:
+    from speechcal_core.review.detect_again import detect_request
+
+    window = open_window(wrong_word_session_file)
+    window.detector.start(detect_request(window.model.session, "snapshot", 0.5))
+    window.cancel_task()
+    qtbot.waitUntil(lambda: not window.detector.busy(), timeout=60_000)
+    assert "finding trigger words cancelled" in window.status_text.text()
+    assert window.table.rowCount() == 0 and window.detector.last is None
