@@ -627,8 +627,9 @@ class ReviewWindow(QMainWindow):
         if current is not None:
             idx = model.session.sets.index(current) + 1  # the list's # column is the id
             said = clock_text((current.t_ns - start_ns) / 1e9)
-            set_text = (f"set #{current.id} ({idx} of {len(model.session.sets)}), said at "
-                        f"{said}   skew {current.skew_ns / 1e6:.1f} ms   ")
+            # the skew before the time said: at 1024 px the line shows about this much
+            set_text = (f"set #{current.id} ({idx}/{len(model.session.sets)}) · skew "
+                        f"{current.skew_ns / 1e6:.1f} ms · said at {said} · ")
         self.info_line.set_full_text(
             set_text + f"t = {rel:.3f} s from start ({model.playhead_ns / 1e9:.3f} s)")
 

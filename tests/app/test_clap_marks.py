@@ -86,7 +86,7 @@ def test_info_line_names_the_set_by_the_id_the_list_shows(
     window.model.remove_set()  # positions and ids part ways
     current = window.model.current_set
     n = len(window.model.session.sets)
-    assert f"set #{current.id} (2 of {n}), said at " in window.info_line.text()
+    assert window.info_line.full_text.startswith(f"set #{current.id} (2/{n}) · skew ")
 
 
 def test_info_line_says_when_the_word_was_said_as_the_list_does(
@@ -97,7 +97,7 @@ def test_info_line_says_when_the_word_was_said_as_the_list_does(
     window.model.go_to_set(2)
     row = window.model.session.sets.index(window.model.current_set)
     listed = window.table.item(row, 1).text()
-    assert f", said at {listed}   skew " in window.info_line.full_text
+    assert f" · said at {listed} · t = " in window.info_line.full_text
 
 
 def _two_claps_file(truth_session_file: Path, tmp_path: Path, shift_s: float = 0.0) -> Path:

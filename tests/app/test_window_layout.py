@@ -64,6 +64,9 @@ def test_the_window_fits_1100_px_and_keeps_its_width_between_sets(qtbot, window)
         assert window.width() == 1100
     assert window.info_line.toolTip().startswith("set #")  # the set leads, then the time
     assert " s from start (" in window.info_line.toolTip()
+    window.resize(1024, 700)  # a small laptop screen: the set's skew still shows
+    qtbot.waitUntil(lambda: window.width() == 1024)
+    assert " ms" in window.info_line.text() and "skew" in window.info_line.text()
 
 
 def test_the_waveform_keeps_its_height_in_the_smallest_window(qtbot, window) -> None:
