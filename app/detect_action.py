@@ -45,6 +45,7 @@ class DetectAction(BackgroundAction):
             return
         text, sensitivity = detection_settings(model.session)
         session = model.session
+        self._close_dialog()
         self.dialog = DetectDialog(self.window, text, sensitivity,
                                    lambda t, s: detect_request(session, t, s))
         self.dialog.accepted.connect(self._dialog_accepted)
@@ -55,9 +56,10 @@ class DetectAction(BackgroundAction):
         self.start(self.dialog.request)
 
     def start(self, request: DetectRequest) -> None:
-        """Detect as ``request`` says, on a worker thread."""
+        """Detect as ``request`` says, on a worker thread (not for another session's
+        audio: a request made before another session opened is dropped)."""
         model = self.window.model
-        if model is None or self.task is not None:
+        if model is None or self.task is not None or request.audio != model.session.audio:
             return
         self.last_error = ""
         self.window.status.begin("detect", request.text)
@@ -73,8 +75,16 @@ class DetectAction(BackgroundAction):
             self.task.cancel()
 
     def reset(self) -> None:
-        """Another session opens: the detection under way is for the previous one."""
+        """Another session opens: the dialog and the detection under way are for the
+        previous one."""
+        self._close_dialog()
         self.cancel()
+
+    def _close_dialog(self) -> None:
+        if self.dialog is not None:
+            self.dialog.reject()
+            self.dialog.deleteLater()
+            self.dialog = None
 
     def _finished(self, result: DetectResult) -> None:
         model = self.take_model()
@@ -86,8 +96,9 @@ class DetectAction(BackgroundAction):
         self.window.status.end("detect", found_message(result, added, result_message))
 
     def _failed(self, message: str) -> None:
-        self.take_model()
-        if message == "cancelled":
+        if self.take_model() is None:  # another session is shown: nothing to say of it
+            self.window.status.end("detect")
+        elif message == "cancelled":
             self.window.status.end("detect", "finding trigger words cancelled")
         else:
             self.last_error = message

@@ -20,12 +20,12 @@ from PySide6.QtWidgets import (
 from app.dialog_fit import fit_height
 from app.style import WARNING_TEXT_COLOUR
 from speechcal_core.errors import UsageError
-from speechcal_core.review.detect_again import DetectRequest
+from speechcal_core.review.detect_again import EXAMPLE, DetectRequest
 
 EXPLANATION = (
     "Words found that no set covers become new undecided sets; the sets in the list and "
     "your decisions on them stay as they are. A word the dictionary lacks takes its "
-    "pronunciation after it: kalibr=K AE L IH B ER.")
+    f"pronunciation after it, up to the next comma: {EXAMPLE}, capture.")
 
 
 class DetectDialog(QDialog):
@@ -50,9 +50,12 @@ class DetectDialog(QDialog):
         self.slider.setValue(round(sensitivity * 100))
         self.slider.setToolTip("Higher finds more words, and more that are not the trigger")
         self.value_label = QLabel("")
+        # as wide as its widest text: the slider does not move under the mouse
+        self.value_label.setMinimumWidth(
+            self.value_label.fontMetrics().horizontalAdvance("0.00 (default)"))
         self.slider.valueChanged.connect(self._show_value)
         slider_row = QHBoxLayout()
-        slider_row.addWidget(QLabel("fewer false"))
+        slider_row.addWidget(QLabel("fewer false alarms"))
         slider_row.addWidget(self.slider, 1)
         slider_row.addWidget(QLabel("find more"))
         slider_row.addWidget(self.value_label)
@@ -96,6 +99,7 @@ class DetectDialog(QDialog):
     def _hide_problem(self, _text: str) -> None:
         if self.problem.isVisible():
             self.problem.hide()
+            self.setMinimumHeight(0)  # fit_height raised it for the reason's lines
             self.adjustSize()
 
     def _show_value(self, value: int) -> None:

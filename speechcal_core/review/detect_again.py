@@ -10,6 +10,7 @@ and the decisions on them, stay as they are.
 
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -23,6 +24,8 @@ from speechcal_core.speech.matching import DEFAULT_SENSITIVITY, TriggerSpec, nor
 
 Progress = Callable[[str, float], None]
 
+#: how a pronunciation is written, in messages
+EXAMPLE = "kalibr=K AE L IH B ER"
 #: session file keys of the detection settings last used (beside ``"trigger_words"``)
 SENSITIVITY_KEY = "trigger_sensitivity"
 PRONUNCIATIONS_KEY = "trigger_pronunciations"
@@ -78,16 +81,14 @@ def parse_trigger_text(text: str) -> tuple[tuple[str, ...], dict[str, str]]:
     words: list[str] = []
     prons: dict[str, str] = {}
     for entry in (e.strip() for e in text.split(",")):
-        if "=" in entry:
-            word, _, phones = entry.partition("=")
-            word = normalize_word(word)
-            if not word or not phones.strip():
+        left, has_phones, phones = entry.partition("=")
+        plain = [w for w in (normalize_word(x) for x in left.split()) if w]
+        if has_phones:  # the last word before "=" takes the phones, up to the comma
+            if not plain or not phones.strip():
                 raise UsageError(f"“{entry}” gives no word or no phones; write a "
-                                 "pronunciation as word=K AE P CH ER")
-            prons[word] = " ".join(phones.upper().split())
-            words.append(word)
-        else:
-            words += [w for w in (normalize_word(x) for x in entry.split()) if w]
+                                 f"pronunciation as {EXAMPLE}")
+            prons[plain[-1]] = " ".join(phones.upper().split())
+        words += plain
     return tuple(dict.fromkeys(words)), prons
 
 
@@ -99,10 +100,16 @@ def detect_request(session: Session, text: str, sensitivity: float) -> DetectReq
     if not session.audio:
         raise UsageError("this session has no audio file to find words in")
     words, prons = parse_trigger_text(text)
+    if not words:
+        raise UsageError("no trigger word given: type at least one, e.g. capture")
+    bad = [w for w in words if not re.fullmatch(r"[\w']+", w)]
+    if bad:
+        raise UsageError(f"“{bad[0]}” is not a single word: separate words with commas or "
+                         "spaces")
     try:
         spec = TriggerSpec(words, sensitivity, prons)
     except SpeechUsageError as exc:
-        raise UsageError(str(exc).replace("--trigger ", "")) from exc
+        raise UsageError(str(exc)) from exc
     for word in spec.words:
         try:
             pronunciations(word, dict(spec.pronunciations))
@@ -111,7 +118,7 @@ def detect_request(session: Session, text: str, sensitivity: float) -> DetectReq
                 raise UsageError(str(exc)) from exc
             raise UsageError(
                 f"“{word}” is not in the pocketsphinx dictionary: write its pronunciation "
-                f"after it, e.g. {word}=K AE P CH ER (ARPAbet phones)") from exc
+                f"after it in ARPAbet phones, as in {EXAMPLE}") from exc
     return DetectRequest(spec.words, spec.sensitivity, session.audio, session.audio_channel,
                          dict(spec.pronunciations))
 
@@ -126,6 +133,27 @@ def detection_settings(session: Session) -> tuple[str, float]:
     sensitivity = float(value) if isinstance(value, (int, float)) \
         and not isinstance(value, bool) and 0.0 <= value <= 1.0 else DEFAULT_SENSITIVITY
     return text, sensitivity
+
+
+#: what :func:`record_settings` changes: the trigger words, sensitivity, pronunciations
+Settings = tuple[list[str], object, object]
+
+
+def settings_of(session: Session) -> Settings:
+    """The session's detection settings, for :func:`restore_settings` (an undo)."""
+    return (list(session.triggers_word), session.extra.get(SENSITIVITY_KEY),
+            session.extra.get(PRONUNCIATIONS_KEY))
+
+
+def restore_settings(session: Session, settings: Settings) -> None:
+    """Put back what :func:`settings_of` gave (a key it found missing is removed)."""
+    words, sensitivity, prons = settings
+    session.triggers_word = list(words)
+    for key, value in ((SENSITIVITY_KEY, sensitivity), (PRONUNCIATIONS_KEY, prons)):
+        if value is None:
+            session.extra.pop(key, None)
+        else:
+            session.extra[key] = value
 
 
 def record_settings(session: Session, request: DetectRequest) -> None:

@@ -149,7 +149,7 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
     """Why an existing session does not follow the trigger words or channel asked for
     (its detection is kept with its review work), or ""."""
     asked = []
-    if triggers is not None and tuple(triggers.words) != tuple(session.triggers_word):
+    if triggers is not None and not set(triggers.words) <= set(session.triggers_word):
         asked.append(f"trigger word {', '.join(triggers.words)} (it has "
                      f"{', '.join(session.triggers_word)})")
     if channel is not None and channel != session.audio_channel:

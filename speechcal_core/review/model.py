@@ -29,7 +29,12 @@ from speechcal_core.review.checks import (
     checks_request,
     stream_sizes,
 )
-from speechcal_core.review.detect_again import DetectResult, record_settings
+from speechcal_core.review.detect_again import (
+    DetectResult,
+    record_settings,
+    restore_settings,
+    settings_of,
+)
 from speechcal_core.review.rescore import (
     RescoreRequest,
     RescoreResult,
@@ -410,10 +415,16 @@ class ReviewModel:
             frame_set = self.session.sets[index]  # as it is now (re-scored, decided)
             details = self._drop_set(index)
             return ("remove", frame_set, index, details)
-        if kind == "add_many":
-            return ("remove_many", self._drop_sets(entry[1]))
-        if kind == "remove_many":
-            return ("add_many", self._insert_sets(entry[1]))
+        if kind in ("add_many", "remove_many"):
+            # an entry may carry detection settings: to put back now, and the ones now
+            settings = entry[2:]
+            if settings:
+                restore_settings(self.session, settings[0])
+            if kind == "add_many":
+                undone: tuple = ("remove_many", self._drop_sets(entry[1]))
+            else:
+                undone = ("add_many", self._insert_sets(entry[1]))
+            return (*undone, *settings[::-1])
         _kind, frame_set, index, details = entry
         self._insert_set(frame_set, index, details)
         return ("add", frame_set.id)
@@ -504,13 +515,17 @@ class ReviewModel:
         :meth:`apply_similar` does, the detector's ``source`` kept); returns their ids.
 
         When it found any, the request's words and sensitivity become the session's
-        (``record_settings``): its words come first, the word of a set added with T.
+        (``record_settings``): its words come first, the word of a set added with T. The
+        undo step that takes the sets back puts the earlier settings back too.
         """
+        before = settings_of(self.session)
         if result.words:
             record_settings(self.session, result.request)
         added = self._add_found([Trigger(w.word, w.start_s, w.end_s, w.score,
                                          w.source or "detector") for w in result.words])
-        if result.words and not added:
+        if added:  # undo restores the settings, redo records them again
+            self._undo[-1] = (*self._undo[-1], before, settings_of(self.session))
+        elif result.words:
             self._save()  # the settings changed, no set did
         return added
 

@@ -146,6 +146,7 @@ def no_sets_hint(session: Session) -> str:
     words = ", ".join(f"“{w}”" for w in session.triggers_word) or "trigger word"
     said = " ".join(n if n.endswith((".", "?", "!")) else f"{n}." for n in notes if n) \
         or f"No {words} was found in the audio."
-    return (f"{said} Said another word? Edit ▸ {FIND_WORDS}… ({FIND_WORDS_KEY}) looks for "
-            f"it. Or put the playhead on a spoken trigger, press T to add a set, then S to "
-            f"find more like it.")
+    other = f" Said another word? Edit ▸ {FIND_WORDS}… ({FIND_WORDS_KEY}) looks for it." \
+        if session.audio else ""
+    return (f"{said}{other} Or put the playhead on a spoken trigger, press T to add a set, "
+            f"then S to find more like it.")

@@ -62,3 +62,22 @@ def test_a_detection_can_be_cancelled(qtbot, open_window,
     qtbot.waitUntil(lambda: not window.detector.busy(), timeout=60_000)
     assert "finding trigger words cancelled" in window.status_text.text()
     assert window.table.rowCount() == 0 and window.detector.last is None
+
+
+def test_a_dialog_left_open_closes_when_another_session_opens(
+        qtbot, open_window, wrong_word_session_file: Path, truth_session_file: Path) -> None:
+    """Its words were for the other session's audio: they never land in this one."""
+    from speechcal_core.review.detect_again import detect_request
+
+    window = open_window(wrong_word_session_file)
+    window.detect_action.trigger()
+    assert window.detector.dialog.isVisible()
+    first = window.model
+    stale = detect_request(first.session, "snapshot", 0.5)  # what the dialog would start
+    window.open(session_path=str(truth_session_file))
+    qtbot.waitUntil(lambda: window.model is not first, timeout=30_000)
+    assert window.detector.dialog is None  # closed with the session it was for
+    sets = [s.id for s in window.model.session.sets]
+    window.detector.start(stale)
+    assert not window.detector.busy()  # another session's audio: refused
+    assert [s.id for s in window.model.session.sets] == sets

@@ -32,6 +32,9 @@ def test_typed_words_are_split_normalised_and_may_carry_a_pronunciation() -> Non
     assert parse_trigger_text(" capture  snapshot ,capture") == (("capture", "snapshot"), {})
     assert parse_trigger_text("capture, Kalibr = k ae l ih b er") == (
         ("capture", "kalibr"), {"kalibr": "K AE L IH B ER"})
+    # the word right before "=" takes the phones, up to the next comma
+    assert parse_trigger_text("capture kalibr=K AE L IH B ER, snapshot") == (
+        ("capture", "kalibr", "snapshot"), {"kalibr": "K AE L IH B ER"})
     with pytest.raises(UsageError, match="gives no word or no phones"):
         parse_trigger_text("=K AE")
 
@@ -39,11 +42,15 @@ def test_typed_words_are_split_normalised_and_may_carry_a_pronunciation() -> Non
 def test_words_the_detector_cannot_look_for_are_refused_with_what_to_type(
         wrong_word_session_file: Path) -> None:
     session = load_session(wrong_word_session_file)
-    with pytest.raises(UsageError, match=r"no trigger word given; pass at least one, e\.g\. "
+    with pytest.raises(UsageError, match=r"no trigger word given: type at least one, e\.g\. "
                                          r"capture"):
         detect_request(session, " , ", 0.5)
+    with pytest.raises(UsageError, match="“foo-bar” is not a single word: separate words "
+                                         "with commas or spaces"):
+        detect_request(session, "capture, foo-bar", 0.5)
     with pytest.raises(UsageError, match=r"“kalibrr” is not in the pocketsphinx dictionary: "
-                                         r"write its pronunciation after it, e\.g\. kalibrr="):
+                                         r"write its pronunciation after it in ARPAbet phones, "
+                                         r"as in kalibr=K AE L IH B ER"):
         detect_request(session, "capture, kalibrr", 0.5)
     with pytest.raises(UsageError, match="unknown phones"):
         detect_request(session, "kalibrr=K AE L QQ", 0.5)
@@ -90,8 +97,32 @@ def test_the_word_said_becomes_sets_and_the_session_keeps_it(
     message = result_message(result, len(added))
     assert message.startswith(f"found {len(result.words)} × “snapshot” at sensitivity 0.60")
 
-    model.undo()
+    model.undo()  # the sets go, and the settings they were found with
     assert model.session.sets == []
+    stored = load_session(wrong_word_session_file)
+    assert stored.triggers_word == ["capture"] and stored.extra[SENSITIVITY_KEY] == 0.5
+    model.redo()
+    stored = load_session(wrong_word_session_file)
+    assert len(stored.sets) == len(added) and stored.triggers_word == ["snapshot", "capture"]
+    assert stored.extra[SENSITIVITY_KEY] == 0.6
+
+
+def test_a_detection_stops_between_spans_when_its_progress_raises(
+        wrong_word_session_file: Path) -> None:
+    class Stop(Exception):
+        pass
+
+    calls: list[float] = []
+
+    def progress(_text: str, fraction: float) -> None:
+        calls.append(fraction)
+        if fraction > 0.1:  # the audio is read: decoding has begun
+            raise Stop
+
+    request = detect_request(load_session(wrong_word_session_file), "snapshot", 0.5)
+    with pytest.raises(Stop):
+        request.run(progress)
+    assert calls[-1] < 1.0
 
 
 def test_detecting_again_keeps_the_sets_there_and_their_decisions(

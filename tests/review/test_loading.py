@@ -155,3 +155,9 @@ def test_an_existing_session_keeps_its_trigger_words_and_says_so(
     other_word.close()
     assert ("not detected again with trigger word snapshot (it has capture): Edit ▸ Find "
             "trigger words… (Ctrl+F) adds its sets and keeps the review work") in other_word.note
+    other_word.session.triggers_word = ["snapshot", "capture"]  # found with Ctrl+F since
+    save_session(other_word.session, other_word.session_path)
+    again = load_for_review(recording=[recording], audio=audio,
+                            triggers=TriggerSpec(("snapshot",)))
+    again.close()
+    assert "detected again" not in again.note

@@ -228,6 +228,9 @@ def test_an_empty_session_says_why_and_how_to_get_sets() -> None:
     assert hint.startswith("mic.ogg: no trigger word (capture) found. Said another word?")
     assert "Edit ▸ Find trigger words… (Ctrl+F)" in hint
     assert "press T" in hint and "then S" in hint
+    session.audio = None  # nothing to find another word in
+    assert "Ctrl+F" not in no_sets_hint(session) and "press T" in no_sets_hint(session)
+    session.audio = "mic.ogg"
     session.extra = {}  # a session from elsewhere, without the detector's notes
     assert no_sets_hint(session).startswith("No “capture” was found in the audio.")
     session.sets = [frame_set(1)]
