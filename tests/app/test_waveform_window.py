@@ -123,3 +123,20 @@ def test_a_playhead_out_of_the_zoomed_view_has_a_button_that_goes_to_it(window,
     waveform.setXRange(x - 3.0, x - 2.0, padding=0)  # before it
     qtbot.waitUntil(lambda: waveform.playhead_button.isVisible())
     assert waveform.playhead_button.text() == "playhead ▶"
+
+
+def test_an_offset_edit_moves_the_envelope_then_draws_it_anew(window, qtbot) -> None:
+    """A held ``]`` moves the envelope as drawn (no recomputing on every step); once the
+    edits pause it is drawn anew for the new offset, where it lies the same."""
+    import numpy as np
+
+    wave = window.waveform
+    before = np.array(wave._upper.getData()[0])
+    for _ in range(5):
+        window.run_action("offset_plus_ms")
+    assert wave._upper.pos().x() == pytest.approx(0.005)
+    assert np.array_equal(wave._upper.getData()[0], before)  # moved, not recomputed
+    qtbot.waitUntil(lambda: wave._upper.pos().x() == 0.0, timeout=5_000)
+    xs = np.array(wave._upper.getData()[0])
+    assert not np.array_equal(xs, before)  # columns for the new offset
+    assert wave._drawn_sync == window.model.session.sync  # drawn with the sync in force
