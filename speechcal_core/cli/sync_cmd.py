@@ -37,8 +37,9 @@ def run(args: argparse.Namespace) -> int:
     from speechcal_core.sync.pipeline import sync_recording, sync_with_video_clap
     from speechcal_core.sync.sources import load_sync_audio
 
-    if args.search_s <= 0:
-        raise UsageError(f"--search-s must be positive, got {args.search_s:g}")
+    if not args.search_s > 0 or args.search_s == float("inf"):  # nan fails the first
+        raise UsageError(f"--search-s must be a positive number of seconds, got "
+                         f"{args.search_s:g}")
     with open_recording(args.recording) as source:
         audio, stamped = load_sync_audio(args.audio, args.recording, channel=args.channel)
         _check_hand_set_clap(args, audio.duration_s, source)

@@ -169,18 +169,23 @@ def load_session(path: str | Path) -> Session:
             f"{path}: not a session file (not JSON text); a session file is what 'speechcal "
             f"process' writes, a recording opens with its audio (speechcal review RECORDING "
             f"--audio AUDIO)") from None
+    except IsADirectoryError:
+        raise SessionFileError(f"{path}: a folder, not a session file; give the session's "
+                               f".json file") from None
     except OSError as exc:
         raise SessionFileError(f"{path}: cannot read the session file ({exc})") from exc
     except json.JSONDecodeError as exc:
-        bak = _backup(path)
-        hint = f"; the previous version is in {bak.name}" if bak else ""
-        raise SessionFileError(f"{path}: not valid JSON (line {exc.lineno}){hint}") from exc
+        raise SessionFileError(f"{path}: not valid JSON (line {exc.lineno}), the file is "
+                               f"damaged{_way_back(path)}") from exc
+    except RecursionError:
+        raise SessionFileError(f"{path}: not a session file (its JSON nests too deeply)"
+                               ) from None
     if not isinstance(data, dict) or "schema" not in data:
         raise SessionFileError(f"{path}: not a SpeechCal session file (no 'schema' key)")
     schema = data["schema"]
     if not isinstance(schema, int) or isinstance(schema, bool) or schema < 1:
-        raise SessionFileError(f"{path}: damaged session file ('schema' is {schema!r}, "
-                               f"not a whole number such as {SCHEMA})")
+        raise SessionFileError(f"{path}: damaged session file ('schema' is {schema!r}, not "
+                               f"a schema number from 1 to {SCHEMA}){_way_back(path)}")
     if schema > SCHEMA:
         raise SessionFileError(
             f"{path}: written by a newer SpeechCal (schema {schema}, this version reads up to "
@@ -190,6 +195,7 @@ def load_session(path: str | Path) -> Session:
     _check_session_shape(path, data)
     base = path.absolute().parent
     try:
+        _check_set_ids(data["sets"] if isinstance(data.get("sets"), list) else [])
         known = {"schema", "recording", "audio", "audio_channel", "trigger_words", "sync",
                  "sets", "calibration"}
         return Session(
@@ -206,8 +212,27 @@ def load_session(path: str | Path) -> Session:
             calibration=dict(data.get("calibration", {})),
             extra={k: v for k, v in data.items() if k not in known},
         )
-    except (KeyError, TypeError, ValueError) as exc:
-        raise SessionFileError(f"{path}: damaged session file ({_reason(exc)})") from exc
+    except (KeyError, TypeError, ValueError, OverflowError) as exc:
+        raise SessionFileError(f"{path}: damaged session file ({_reason(exc)})"
+                               f"{_way_back(path)}") from exc
+
+
+def _way_back(path: Path) -> str:
+    """How to get a usable session back: its previous version, or processing anew."""
+    bak = _backup(path)
+    if bak:
+        return f"; the previous version is in {bak.name}"
+    return "; restore it from a copy, or process the recording again (speechcal process)"
+
+
+def _check_set_ids(sets: list[Any]) -> None:
+    """ValueError naming a set id found twice (every set is found by its id)."""
+    seen: set[Any] = set()
+    for s in sets:
+        set_id = s.get("id") if isinstance(s, dict) else None
+        if set_id is not None and set_id in seen:
+            raise ValueError(f"set id {set_id} appears twice")
+        seen.add(set_id)
 
 
 def _channel(value: Any) -> int | None:
@@ -223,7 +248,7 @@ def _frame_set(path: Path, k: int, data: Any) -> FrameSet:
     """Set ``k`` (0-based) of the file, or SessionFileError naming it and what is wrong."""
     try:
         return FrameSet.from_dict(data)
-    except (KeyError, TypeError, ValueError, AttributeError) as exc:
+    except (KeyError, TypeError, ValueError, AttributeError, OverflowError) as exc:
         name = f"set {data['id']}" if isinstance(data, dict) and "id" in data else \
             f"set number {k + 1} in the list"
         bak = _backup(path)

@@ -42,6 +42,10 @@ class SyncModel:
 
     @classmethod
     def from_dict(cls, data: dict) -> SyncModel:
-        """Inverse of :meth:`to_dict`."""
+        """Inverse of :meth:`to_dict`; ValueError for an offset or drift that is no number
+        (a hand-edited ``NaN``)."""
         source = str(data.get("source", "auto"))
-        return cls(int(data["offset_ns"]), float(data.get("drift", 0.0)), source)
+        drift = float(data.get("drift", 0.0))
+        if not np.isfinite(drift) or drift <= -1.0:
+            raise ValueError(f"the sync's drift is {drift}, not a clock rate error")
+        return cls(int(data["offset_ns"]), drift, source)

@@ -203,7 +203,10 @@ def _edited(tmp_path: Path, edit) -> Path:
 
 
 @pytest.mark.parametrize(("edit", "says"), [
-    (lambda d: d.update(schema="1"), "'schema' is '1', not a whole number"),
+    (lambda d: d.update(schema="1"), "'schema' is '1', not a schema number from 1 to"),
+    (lambda d: d["sync"].update(drift=float("nan")), "the sync's drift is nan"),
+    (lambda d: d["sync"].update(offset_ns=float("inf")), "cannot convert float infinity"),
+    (lambda d: d["sets"].append(dict(d["sets"][0])), "set id 1 appears twice"),
     (lambda d: d["sets"][0].update(decision="yes"),
      "set 1: decision 'yes' is none of accepted, rejected, undecided"),
     (lambda d: d["sets"][0].pop("trigger"), "set 1: the key 'trigger' is missing"),
@@ -218,6 +221,25 @@ def test_a_hand_edit_gone_wrong_names_the_set_and_what_is_wrong(tmp_path: Path, 
     assert str(exc.value).startswith(f"{path}: damaged session file")
     assert says in str(exc.value) and "\n" not in str(exc.value)
     assert ".bak" not in str(exc.value)  # saved once: there is no earlier version to offer
+
+
+@pytest.mark.parametrize(("damage", "says"), [
+    (lambda p: p.write_text(p.read_text()[:40]),
+     "not valid JSON (line 4), the file is damaged; restore it from a copy, or process the "
+     "recording again (speechcal process)"),
+    (lambda p: p.write_text("[" * 100_000 + "]" * 100_000),
+     "not a session file (its JSON nests too deeply)"),
+    (lambda p: (p.unlink(), p.mkdir()), "a folder, not a session file; give the session's "
+                                         ".json file"),
+])
+def test_a_file_that_is_no_session_says_what_it_is_and_what_to_do(tmp_path: Path, damage,
+                                                                 says: str) -> None:
+    path = tmp_path / "session.json"
+    save_session(_session(tmp_path), path)
+    damage(path)
+    with pytest.raises(SessionFileError) as exc:
+        load_session(path)
+    assert str(exc.value) == f"{path}: {says}"
 
 
 def test_a_damaged_set_offers_the_earlier_version_when_there_is_one(tmp_path: Path) -> None:

@@ -122,6 +122,11 @@ def test_bad_audio_gives_one_line_reasons_and_manual_path_works(
                      "--video-clap-ns", str(clap_ns), *bad, "--json"]) == 2
         captured = capsys.readouterr()
         assert captured.out == "" and "lies outside the" in captured.err
+    for search in ("0", "nan", "inf"):  # no number of seconds to search the video for
+        assert main(["sync", rec, "--audio", str(noise), "--search-s", search, "--json"]) == 2
+        captured = capsys.readouterr()
+        assert captured.out == "" and "--search-s must be a positive number of seconds" \
+            in captured.err and "Traceback" not in captured.err
     assert main(["sync", rec, "--audio", str(silent), "--audio-clap", "1.25",
                  "--video-clap-ns", str(clap_ns), "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
