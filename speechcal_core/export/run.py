@@ -91,10 +91,12 @@ def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> No
         named = "the session file" if what == "session file" else f"the session's {what}"
         raise ExportError(f"{out.absolute()}: {where} {named} {p}, which the export reads; "
                           "choose another output folder")
-    if os.path.lexists(out) and not force:
-        raise OutputExistsError(f"{out} already exists; choose another folder or pass --force")
     if os.path.lexists(out):
+        # what even --force may not replace is said first: "pass --force" would not help
         problem = not_replaceable(out)
+        if not problem and not force:
+            raise OutputExistsError(f"{out} already exists; choose another folder or pass "
+                                    "--force")
     else:
         in_the_way = file_in_the_way(out.absolute().parent)
         problem = f"cannot write there ({in_the_way})" if in_the_way else ""

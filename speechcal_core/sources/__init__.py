@@ -76,7 +76,7 @@ def open_recording(
         raise SourceError("no recording given")
     for p in items:
         if not p.exists():
-            raise SourceError(f"{p}: file not found")
+            raise SourceError(f"{p}: file not found; check the path")
     items = _distinct(items)  # one file named twice (a shell glob and the name) is read once
     videos = [p for p in items if p.is_file() and p.suffix.lower() in VIDEO_SUFFIXES]
     sources: list[FrameSource] = []

@@ -63,7 +63,7 @@ class PFile:
         try:
             self.fd = os.open(self.path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
         except FileNotFoundError:
-            raise SourceError(f"{self.path}: file not found") from None
+            raise SourceError(f"{self.path}: file not found; check the path") from None
         except OSError as exc:
             raise SourceError(f"{self.path}: cannot open ({exc.strerror})") from None
         self.size = os.fstat(self.fd).st_size

@@ -47,7 +47,7 @@ class Sqlite3File:
         self.path = Path(path)
         self.name = self.path.name
         if not self.path.is_file():
-            raise SourceError(f"{self.path}: file not found")
+            raise SourceError(f"{self.path}: file not found; check the path")
         uri = f"file:{quote(str(self.path.resolve()))}?mode=ro&immutable=1"
         try:
             self.con = sqlite3.connect(uri, uri=True, check_same_thread=False)

@@ -50,11 +50,14 @@ def test_json_prints_one_document_on_stdout_and_progress_on_stderr(session_file,
 def test_existing_folder_is_refused_naming_it_and_force(session_file, tmp_path, capsys) -> None:
     path = session_file()
     out = tmp_path / "exp"
-    out.mkdir()
-    (out / "keep.txt").write_text("mine")
+    out.mkdir()  # empty: --force may replace it
     code, stdout, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out))
     assert code == 1 and stdout == ""
     assert err.count("\n") == 1 and str(out) in err and "--force" in err
+    (out / "keep.txt").write_text("mine")  # not even --force replaces it: not offered
+    code, stdout, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out))
+    assert code == 1 and stdout == "" and "--force" not in err
+    assert "holds files that are not an export (keep.txt)" in err
     assert [p.name for p in out.iterdir()] == ["keep.txt"]
 
 
