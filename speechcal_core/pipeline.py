@@ -144,7 +144,8 @@ def process_loaded(
     analysis = analyse_frames(source, sync, triggers, target,
                               options=frame_options, progress=frames_progress)
     outside = outside_recording_note(analysis.sets, span, sync)
-    notes = [*notes, outside] if outside else notes
+    short = audio_ends_early_note(audio, sound.duration_s, span, sync)
+    notes = [*notes, *(n for n in (outside, short) if n)]
     # what the review's "find trigger words" starts from (a transcript has no settings)
     settings = {} if transcript is not None else {
         SENSITIVITY_KEY: float(sensitivity),
@@ -179,6 +180,24 @@ def _check_offset(offset_ns: int, audio_s: float, span: tuple[int, int] | None) 
             f"--offset-ns {offset_ns} puts the audio (0 to {audio_s:.3f} s) at {offset_ns} to "
             f"{end_ns} ns, outside the recording's header stamps ({span[0]} to {span[1]} ns); "
             "it is the header time of the audio's start")
+
+
+#: a recording running on this long after its audio ends gets a note (a cut-short file)
+AUDIO_ENDS_EARLY_S = 5.0
+
+
+def audio_ends_early_note(audio: str, duration_s: float, span: tuple[int, int] | None,
+                          sync: SyncModel) -> str:
+    """A note when the recording runs on well past the audio's end ("" otherwise): trigger
+    words said then are not found, and a cut-short audio file looks just like that."""
+    if span is None:
+        return ""
+    missing_s = (span[1] - int(sync.to_session(duration_s))) / 1e9
+    if missing_s < AUDIO_ENDS_EARLY_S:
+        return ""
+    return (f"{audio}: the audio ends after {duration_s:.1f} s, {missing_s:.1f} s before the "
+            "recording's last frame: trigger words said after that are not found; is the "
+            "audio file complete?")
 
 
 def outside_recording_note(sets: Sequence[FrameSet], span: tuple[int, int] | None,

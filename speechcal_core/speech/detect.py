@@ -20,6 +20,8 @@ if TYPE_CHECKING:
     from speechcal_core.audio import Audio
 
 BACKENDS = ("pocketsphinx", "faster-whisper", "whisperx", "transcript", "example")
+#: audio sampled more coarsely than this loses the sounds that tell words apart
+MIN_SPEECH_RATE = 8000
 
 
 @dataclass
@@ -108,6 +110,10 @@ def detect_triggers(audio_path: str | Path | Audio | None,
         else:
             audio = load_audio(audio_path, rate=16000, channel=channel)
         duration = audio.duration_s
+        if 0 < audio.rate_in_file < MIN_SPEECH_RATE:
+            notes.append(f"{audio_path}: recorded at {audio.rate_in_file} Hz, too coarse for "
+                         f"speech (it needs {MIN_SPEECH_RATE} Hz or more); record the "
+                         "microphone at 16 kHz")
         if progress is not None and hasattr(chosen, "progress"):
             chosen.progress = progress
         words = chosen.words(audio, spec)

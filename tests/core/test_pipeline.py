@@ -152,3 +152,28 @@ def test_the_microphones_channel_is_used_and_kept_in_the_session(
     assert "no speech found" in capsys.readouterr().err
     assert main(["detect", str(stereo), "--channel", "2"]) == 1
     assert "has 2 channel(s), channel 2 asked" in capsys.readouterr().err
+
+
+def test_audio_that_ends_long_before_the_recording_is_noted(
+        tiny_synth: tuple[Path, dict], tmp_path: Path, capsys) -> None:
+    """A cut-short audio file: the words said after its end cannot be found, and process
+    says so instead of quietly writing fewer sets."""
+    import soundfile as sf
+
+    from speechcal_core.cli import main
+
+    folder, truth = tiny_synth
+    samples, rate = sf.read(str(folder / truth["audio"]), dtype="float32")
+    short = tmp_path / "short.wav"
+    sf.write(str(short), samples[:6 * rate], rate)
+    assert main(["process", str(folder / truth["recording"]), "--audio", str(short),
+                 "--offset-ns", str(truth["sync"]["offset_ns"]),
+                 "-o", str(tmp_path / "s.json")]) == 0
+    err = capsys.readouterr().err
+    assert f"note: {short}: the audio ends after 6.0 s, " in err
+    assert "before the recording's last frame: trigger words said after that are not " \
+        "found; is the audio file complete?" in err
+    assert main(["process", str(folder / truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--offset-ns", str(truth["sync"]["offset_ns"]),
+                 "-o", str(tmp_path / "whole.json")]) == 0
+    assert "is the audio file complete?" not in capsys.readouterr().err

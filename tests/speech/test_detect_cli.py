@@ -41,6 +41,20 @@ def test_a_note_reaches_stderr_marked_as_one(tmp_path: Path,
     assert json.loads(captured.out) == []
     assert f"note: {silent}: no speech found" in captured.err
 
+
+def test_audio_too_coarse_for_speech_is_noted(tmp_path: Path,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    import numpy as np
+    import soundfile as sf
+
+    coarse = tmp_path / "coarse.wav"
+    sf.write(coarse, 0.1 * np.sin(np.arange(3000) * 0.3).astype(np.float32), 1000)
+    assert main(["detect", str(coarse), "--json"]) == 0
+    captured = capsys.readouterr()
+    assert json.loads(captured.out) == []
+    assert f"note: {coarse}: recorded at 1000 Hz, too coarse for speech (it needs 8000 Hz " \
+        "or more); record the microphone at 16 kHz" in captured.err
+
 @pytest.mark.parametrize("content, expected", [
     (None, "not found"),
     (b"", "empty"),
