@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,8 +37,11 @@ class TargetSpec:
     def __post_init__(self) -> None:
         if self.kind not in ("aprilgrid", "checkerboard"):
             raise TargetError(f"unknown target type {self.kind!r}; use aprilgrid or checkerboard")
-        if self.rows < 2 or self.cols < 2 or self.size <= 0:
+        if self.rows < 2 or self.cols < 2 or not 0 < self.size < math.inf:  # nan too
             raise TargetError("a target needs at least 2x2 tags or corners and a positive size")
+        if not 0 <= self.spacing < math.inf:
+            raise TargetError(f"a tag spacing of {self.spacing} makes no board; Kalibr's "
+                              "tagSpacing is the gap as a share of the tag size, e.g. 0.3")
 
     def describe(self) -> str:
         """The board in words: "6x6 AprilGrid of 0.055 m tags", "8x6 checkerboard of
@@ -131,23 +135,45 @@ class TargetSpec:
         values: dict[str, str] = {}
         for line in text.splitlines():
             line = line.split("#", 1)[0].strip()
-            if not line or ":" not in line:
-                continue
-            key, value = line.split(":", 1)
-            values[key.strip()] = value.strip().strip("'\"")
+            if line.startswith("{") and line.endswith("}"):  # YAML's flow style, one line
+                entries = line[1:-1].split(",")
+            else:
+                entries = [line]
+            for entry in entries:
+                if ":" in entry:
+                    key, value = entry.split(":", 1)
+                    values[key.strip()] = value.strip().strip("'\"")
         kind = values.get("target_type", "")
+        if not kind:
+            raise TargetError(
+                f"{path}: no 'target_type: aprilgrid' (or checkerboard) line; give a Kalibr "
+                "target yaml: target_type, then tagRows, tagCols, tagSize, tagSpacing (or "
+                "targetRows, targetCols, rowSpacingMeters, colSpacingMeters)")
+
+        def whole(key: str) -> int:
+            try:
+                return int(values[key])
+            except ValueError:
+                raise ValueError(f"{key} is {values[key]!r}, not a whole number") from None
+
+        def number(key: str) -> float:
+            try:
+                return float(values[key])
+            except ValueError:
+                raise ValueError(f"{key} is {values[key]!r}, not a number") from None
+
         size_key = {"aprilgrid": "tagSize", "checkerboard": "rowSpacingMeters"}.get(kind, "")
         try:
-            if size_key and float(values[size_key]) > MAX_SIZE_M:
+            if size_key and number(size_key) > MAX_SIZE_M:
                 raise TargetError(
                     f"{path}: {size_key} {values[size_key]} m is larger than any board; Kalibr "
                     f"takes metres (88 mm is 0.088)")
             if kind == "aprilgrid":
-                return cls("aprilgrid", int(values["tagRows"]), int(values["tagCols"]),
-                           float(values["tagSize"]), float(values["tagSpacing"]))
+                return cls("aprilgrid", whole("tagRows"), whole("tagCols"), number("tagSize"),
+                           number("tagSpacing"))
             if kind == "checkerboard":
-                return cls("checkerboard", int(values["targetRows"]), int(values["targetCols"]),
-                           float(values["rowSpacingMeters"]))
+                return cls("checkerboard", whole("targetRows"), whole("targetCols"),
+                           number("rowSpacingMeters"))
         except KeyError as exc:
             needed = {"aprilgrid": "tagRows, tagCols, tagSize, tagSpacing",
                       "checkerboard": "targetRows, targetCols, rowSpacingMeters, "
@@ -156,7 +182,7 @@ class TargetSpec:
                               f"target yaml has target_type and {needed}, one "
                               "'key: value' per line") from exc
         except ValueError as exc:
-            raise TargetError(f"{path}: bad number in target file ({exc})") from exc
+            raise TargetError(f"{path}: {exc} in this target file") from exc
         except TargetError as exc:
             text = str(exc)
             raise TargetError(text if text.startswith(f"{path}: ") else f"{path}: {text}") \

@@ -26,10 +26,21 @@ def test_an_aprilgrid_file_as_kalibr_documents_it(tmp_path: Path, bom: bytes) ->
     assert spec.size == pytest.approx(0.088) and spec.spacing == pytest.approx(0.3)
 
 
+def test_the_one_line_flow_style_of_yaml_is_read_too(tmp_path: Path) -> None:
+    path = tmp_path / "flow.yaml"
+    path.write_text("{target_type: aprilgrid, tagCols: 6, tagRows: 7, tagSize: 0.088, "
+                    "tagSpacing: 0.3}\n")
+    assert TargetSpec.from_kalibr_yaml(path) == TargetSpec("aprilgrid", 7, 6, 0.088, 0.3)
+
+
 @pytest.mark.parametrize(("content", "says"), [
     (APRILGRID.replace("tagSize: 0.088  # metres\n", ""),
      "no 'tagSize: value' line; a Kalibr aprilgrid target yaml has target_type and tagRows"),
-    (APRILGRID.replace("0.088", "0,088"), "bad number"),
+    (APRILGRID.replace("0.088", "0,088"), "tagSize is '0,088', not a number in this "),
+    (APRILGRID.replace("tagRows: 7", "tagRows: six"), "tagRows is 'six', not a whole number"),
+    (APRILGRID.replace("0.088", "nan"), "a positive size"),
+    (APRILGRID.replace("tagSpacing: 0.3", "tagSpacing: -1"), "a tag spacing of -1.0 makes no"),
+    ("", "no 'target_type: aprilgrid' (or checkerboard) line; give a Kalibr target yaml"),
     (APRILGRID.replace("0.088", "88"), "tagSize 88 m is larger than any board"),
     (APRILGRID.replace("tagRows: 7", "tagRows: 1"), "at least 2x2 tags"),
     ("# Gitter für die Kalibrierung\n".encode("latin-1") + APRILGRID.encode(),
