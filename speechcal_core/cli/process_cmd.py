@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from speechcal_core.cli._output import StageProgress, progress
+from speechcal_core.cli._output import StageProgress, emit_json, progress
 from speechcal_core.cli._speech_options import (
     add_channel_option,
     add_trigger_options,
@@ -33,6 +33,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--force", action="store_true",
                    help="replace an existing session file (its review decisions are lost; "
                         "the old file is kept as SESSION.json.bak)")
+    p.add_argument("--json", action="store_true",
+                   help="print what was written as JSON on stdout (session, sets, sync, notes)")
     return p
 
 
@@ -67,11 +69,15 @@ def run(args: argparse.Namespace) -> int:
     replaced = Path(args.output).exists()
     save_session(session, args.output)
     if replaced:
-        progress(f"the session file it replaced is kept as {args.output}.bak")
-    for note in [*session.sync_evidence.get("warnings", []),
-                 *session.extra.get("detection_notes", [])]:
+        progress(f"the file it replaced is kept as {args.output}.bak")
+    notes = [*session.sync_evidence.get("warnings", []),
+             *session.extra.get("detection_notes", [])]
+    for note in notes:
         progress(f"note: {note}")
     progress(f"{_summary(session)}; wrote {args.output}")
+    if args.json:
+        emit_json({"session": str(Path(args.output).absolute()), "sets": len(session.sets),
+                   "sync": session.sync.to_dict(), "notes": notes, "replaced": replaced})
     return 0
 
 

@@ -52,6 +52,27 @@ def test_a_transcript_running_past_the_audio_is_noted(tiny_synth: tuple[Path, di
     assert "is it this audio's transcript?" in err
 
 
+def test_json_says_what_was_written_and_stdout_holds_nothing_else(
+        tiny_synth: tuple[Path, dict], tmp_path: Path, capsys) -> None:
+    import json
+
+    from speechcal_core.cli import main
+
+    folder, truth = tiny_synth
+    out = tmp_path / "s.json"
+    offset = truth["sync"]["offset_ns"]
+    assert main(["process", str(folder / truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--transcript",
+                 str(_true_words(truth, tmp_path / "words.csv")), "--offset-ns", str(offset),
+                 "-o", str(out), "--json"]) == 0
+    captured = capsys.readouterr()
+    doc = json.loads(captured.out)
+    assert doc == {"session": str(out.absolute()), "sets": len(truth["triggers"]),
+                   "sync": {"offset_ns": offset, "drift": 0.0, "source": "manual"},
+                   "notes": [], "replaced": False}
+    assert f"wrote {out}" in captured.err
+
+
 def test_process_refuses_to_replace_a_session_without_force(
     tiny_synth: tuple[Path, dict], tmp_path: Path, capsys
 ) -> None:
@@ -70,7 +91,7 @@ def test_process_refuses_to_replace_a_session_without_force(
     assert main([*args, "--force"]) == 0
     assert '"sets"' in session.read_text()
     assert "reviewed" in (tmp_path / "session.json.bak").read_text()
-    assert f"the session file it replaced is kept as {session}.bak" in capsys.readouterr().err
+    assert f"the file it replaced is kept as {session}.bak" in capsys.readouterr().err
 
 
 def _true_words(truth: dict, path: Path) -> Path:
