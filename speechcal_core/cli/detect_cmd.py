@@ -56,6 +56,9 @@ def _span(text: str) -> tuple[float, float]:
         start, end = float(a), float(b)
     except ValueError:
         start = end = -1.0
+    if sep and 0 <= end <= start:
+        raise UsageError(f"--example {text!r}: the end ({b}) must come after the start ({a}); "
+                         "write START:END in audio seconds, e.g. 12.3:12.9")
     if not sep or not 0 <= start < end:
         raise UsageError(f"--example {text!r}: write START:END in audio seconds, e.g. 12.3:12.9")
     return start, end

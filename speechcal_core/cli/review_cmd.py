@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from speechcal_core.cli._speech_options import (
     add_channel_option,
@@ -75,6 +76,9 @@ def _recording_and_audio(inputs: list[str], audio: str | None) -> tuple[list[str
     if len(sounds) == 1 and others:
         return others, sounds[0]
     if sounds and not others:
+        if Path(sounds[0]).is_dir():  # a ROS2 bag folder with an odd name, or a typo
+            raise UsageError(f"{sounds[0]} is a folder, not an audio file: give the recording "
+                             "and its audio (speechcal review RECORDING --audio AUDIO)")
         raise UsageError(f"{sounds[0]} is an audio file: give the recording too "
                          f"(speechcal review RECORDING --audio {sounds[0]})")
     raise UsageError("a recording needs its audio: add --audio AUDIO")

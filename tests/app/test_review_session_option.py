@@ -48,7 +48,12 @@ def test_the_audio_may_come_among_the_inputs_as_a_drop_gives_it(
     assert json.loads(target.read_text())["sets"]
 
 
-def test_audio_alone_asks_for_the_recording(capsys: pytest.CaptureFixture[str]) -> None:
+def test_audio_alone_asks_for_the_recording(capsys: pytest.CaptureFixture[str],
+                                            tmp_path: Path) -> None:
     assert main(["review", "s1/audio.ogg"]) == 2
     assert ("s1/audio.ogg is an audio file: give the recording too (speechcal review "
             "RECORDING --audio s1/audio.ogg)") in capsys.readouterr().err
+    folder = tmp_path / "take.ogg"
+    folder.mkdir()
+    assert main(["review", str(folder)]) == 2
+    assert f"{folder} is a folder, not an audio file" in capsys.readouterr().err

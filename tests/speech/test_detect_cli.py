@@ -88,6 +88,8 @@ def test_unknown_backend_and_bad_options_are_reported(capture_scene,
                          (["--pronounce", "w=ZZ", "--trigger", "w"], "unknown phones"),
                          (["--trigger", "qzxv"], "not in the pocketsphinx dictionary"),
                          (["--backend", "example", "--example", "1:1.05"], "shorter than 0.1"),
+                         (["--backend", "example", "--example", "7:6"],
+                          "the end (6) must come after the start (7)"),
                          (["--backend", "example", "--example", "900:901"], "outside the")):
         assert main(["detect", str(capture_scene.path), *option]) == 2, option
         assert says in capsys.readouterr().err, option
