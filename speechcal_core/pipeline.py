@@ -12,8 +12,13 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from speechcal_core.review.detect_again import PRONUNCIATIONS_KEY, SENSITIVITY_KEY
-from speechcal_core.session.model import FrameSet, Session, Trigger
+from speechcal_core.session.model import (
+    PRONUNCIATIONS_KEY,
+    SENSITIVITY_KEY,
+    FrameSet,
+    Session,
+    Trigger,
+)
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
 from speechcal_core.sync.model import SyncModel
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from speechcal_core.errors import UsageError
-from speechcal_core.session.model import Session
+from speechcal_core.session.model import PRONUNCIATIONS_KEY, SENSITIVITY_KEY, Session
 from speechcal_core.speech.backend import Word
 from speechcal_core.speech.errors import SpeechUsageError
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY, TriggerSpec, normalize_word
@@ -26,9 +26,6 @@ Progress = Callable[[str, float], None]
 
 #: how a pronunciation is written, in messages
 EXAMPLE = "kalibr=K AE L IH B ER"
-#: session file keys of the detection settings last used (beside ``"trigger_words"``)
-SENSITIVITY_KEY = "trigger_sensitivity"
-PRONUNCIATIONS_KEY = "trigger_pronunciations"
 
 
 @dataclass(frozen=True)
@@ -186,4 +183,3 @@ def result_message(result: DetectResult, added: int) -> str:
 def quoted(words: tuple[str, ...] | list[str]) -> str:
     """Words in quotes, joined: “capture”, “snapshot”."""
     return ", ".join(f"“{w}”" for w in words)
-

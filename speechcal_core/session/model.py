@@ -97,6 +97,12 @@ class FrameSet:
                    tuple(FrameChoice.from_dict(f) for f in data.get("frames", ())), decision)
 
 
+#: keys of ``Session.extra`` (top-level in the file) holding the detection settings last
+#: used, beside ``"trigger_words"``: what the review's "find trigger words" starts from
+SENSITIVITY_KEY = "trigger_sensitivity"
+PRONUNCIATIONS_KEY = "trigger_pronunciations"
+
+
 @dataclass
 class Session:
     """Everything a review needs; paths are as given (absolute after loading)."""

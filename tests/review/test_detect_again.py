@@ -11,13 +11,12 @@ from review_models import open_model
 
 from speechcal_core.errors import UsageError
 from speechcal_core.review.detect_again import (
-    PRONUNCIATIONS_KEY,
-    SENSITIVITY_KEY,
     detect_request,
     detection_settings,
     parse_trigger_text,
     result_message,
 )
+from speechcal_core.session.model import PRONUNCIATIONS_KEY, SENSITIVITY_KEY
 from speechcal_core.session.store import load_session
 
 SLACK_S = 0.1  # a set is on a trigger when its time lies inside the word +- this
