@@ -87,7 +87,7 @@ def detect_triggers(audio_path: str | Path | Audio | None,
 
     ``audio_path`` may also be an already loaded :class:`~speechcal_core.audio.Audio`;
     ``channel`` picks a file's channel (0-based; None mixes them). ``progress`` is
-    called with the share of the speech decoded (pocketsphinx only); it may raise to stop.
+    called with the share of the work done (pocketsphinx only); it may raise to stop.
     """
     spec = TriggerSpec(tuple(triggers), sensitivity, dict(pronunciations or {}))
     chosen = make_backend(backend, model_dir=model_dir, transcript=transcript,

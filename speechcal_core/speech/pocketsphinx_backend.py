@@ -131,6 +131,7 @@ POSTERIORGRAM_FACTOR = (1.2, 1.4)
 #: triggers and with them the templates that find others (5 dB recall 0.844 -> 0.800).
 SEED_CHECK: float | None = 1.5
 PEAK_LEVEL = 0.7  # each span is scaled to this peak before 16-bit conversion
+DECODING_SHARE = 0.8  # of the work, for progress reports: the search takes the rest
 
 
 class PocketsphinxBackend:
@@ -141,7 +142,8 @@ class PocketsphinxBackend:
     def __init__(self, expand: bool = True,
                  progress: Callable[[float], None] | None = None) -> None:
         self.expand = expand
-        #: called with the share of the speech decoded so far (0..1); it may raise to stop
+        #: called with the share of the work done (0..1: decoding the speech up to
+        #: DECODING_SHARE, then the similarity search); it may raise to stop
         self.progress = progress
         self.last_activity: VoiceActivity | None = None  # of the last call, for reports
         self._decoder: Any = None
@@ -161,7 +163,7 @@ class PocketsphinxBackend:
         done = 0.0
         for start, end in activity.segments:
             if self.progress is not None:
-                self.progress(done / total)
+                self.progress(DECODING_SHARE * done / total)
             done += end - start
             a, b = int(start * RATE), int(end * RATE)
             decoder.activate_search(_tier_name(activity.level_db(start, end),
@@ -176,6 +178,8 @@ class PocketsphinxBackend:
             (running_on if bounds.runs_on and w.word in spec.words else refined).append(word)
         if not self.expand:
             return refined
+        if self.progress is not None:
+            self.progress(DECODING_SHARE)
         out = [w for w in refined if w.word not in spec.words]
         for trigger in spec.words:
             seeds = [w for w in refined if w.word == trigger]
