@@ -39,9 +39,7 @@ class DetectAction(BackgroundAction):
         """Open the dialog (non-blocking) with the session's last words and sensitivity;
         accepting it starts the detection."""
         model = self.window.model
-        if model is None or self.task is not None:
-            if self.task is not None:
-                self.window.status.say("trigger words are being found already")
+        if model is None or self.task is not None:  # the status line shows the one running
             return
         text, sensitivity = detection_settings(model.session)
         session = model.session

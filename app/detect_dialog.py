@@ -43,6 +43,7 @@ class DetectDialog(QDialog):
         self.setWindowTitle("Find trigger words")
         self.setMinimumWidth(520)
         self.words_edit = QLineEdit(words_text)
+        self.words_edit.selectAll()  # typing replaces the words; an arrow key keeps them
         self.words_edit.setPlaceholderText("capture, snapshot")
         self.words_edit.textEdited.connect(self._hide_problem)
         self.slider = QSlider(Qt.Orientation.Horizontal)

@@ -154,6 +154,7 @@ class ReviewWindow(QMainWindow):
         #: (a dialog; tests put a function here)
         self.ask_unsaved: Callable[[str], str] = self._ask_unsaved
         self.load_error = ""
+        self._opened_note = ""  # what the status line said when the session opened
         self._pending_tiles: set[str] = set()
         self.undo_button: QPushButton | None = None  # on the review page, once built
         self._playing = False
@@ -571,8 +572,8 @@ class ReviewWindow(QMainWindow):
         self.export_button.setEnabled(True)
         self.export_action.setEnabled(True)
         n = len(inputs.session.sets)
-        self.status.say(f"{counted(len(self.model.streams), 'camera')}, {counted(n, 'frame set')}"
-                        + (f" · {inputs.note}" if inputs.note else ""))
+        self._opened_note = self._opening_text()
+        self.status.say(self._opened_note)
         self.exporter.reset("another session was opened before it could start")
         self._update_sync_line()
         self._update_counts()
@@ -664,6 +665,17 @@ class ReviewWindow(QMainWindow):
         self._apply_filter()
         self.waveform.set_sets(model.session.sets)
         self._update_counts()
+        revised = self._opening_text()  # its count of sets changed
+        self.status.revise(self._opened_note, revised)
+        self._opened_note = revised
+
+    def _opening_text(self) -> str:
+        """What the status line says of the session opened: cameras, sets, the note."""
+        assert self.model is not None and self.inputs is not None
+        note = self.inputs.note
+        return (f"{counted(len(self.model.streams), 'camera')}, "
+                f"{counted(len(self.model.session.sets), 'frame set')}"
+                + (f" · {note}" if note else ""))
 
     def _on_sync(self, sync) -> None:
         model = self.model
@@ -714,8 +726,8 @@ class ReviewWindow(QMainWindow):
             text = ""
         elif shown:
             text = f"{len(shown)} of {total}"
-        else:  # an empty list says why it is empty
-            text = f"no {model.filter} sets (of {total})"
+        else:  # an empty list says why it is empty (its filter's button is checked)
+            text = f"none of {total}"
         self.shown_label.setText(text)
 
     def _update_counts(self) -> None:

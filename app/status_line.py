@@ -101,6 +101,14 @@ class StatusLine:
             self._notes[""] = _Note(message)
         self._show()
 
+    def revise(self, message: str, revised: str) -> None:
+        """Put ``revised`` in place of the plain ``message`` if that is still shown (a
+        count it gave has changed); other messages stay as they are."""
+        note = self._notes.get("")
+        if note is not None and note.text == message and revised != message:
+            self._notes[""] = _Note(revised)
+            self._show()
+
     def _start_afresh_if_quiet(self) -> None:
         """New work or news on a line quiet for :data:`QUIET_S`: the messages of the
         spell before are outdated (warnings stay)."""

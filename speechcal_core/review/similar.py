@@ -139,9 +139,8 @@ def result_message(result: SimilarResult, added: int) -> str:
         t = (request.start_s + request.end_s) / 2
         return (f"no speech near {where} (audio {t:.2f} s): move the playhead onto the "
                 "spoken word, add a set there (T) and search from it")
-    a, b = result.bounds
-    heard = f"its word at {a:.2f}–{b:.2f} s"
+    # no word times here: the audio's clock is not the list's (the audio starts earlier)
     if not added:
-        return f"found nothing more like {where} ({heard}) that no set covers"
-    return (f"found {added} more like {where} ({heard}): new undecided sets, "
+        return f"found nothing more like {where} that no set covers"
+    return (f"found {added} more like {where}: new undecided sets, "
             "accept or reject them as usual")

@@ -26,6 +26,7 @@ def test_the_word_typed_fills_the_empty_list(qtbot, open_window,
     dialog = window.detector.dialog
     assert dialog is not None and dialog.isVisible()
     assert dialog.words_edit.text() == "capture" and dialog.sensitivity == 0.5
+    assert dialog.words_edit.selectedText() == "capture"  # typing replaces it
 
     _find(qtbot, dialog, "snapshot, kalibrr")  # a word the dictionary lacks
     assert dialog.isVisible() and dialog.problem.isVisible()

@@ -120,7 +120,7 @@ def test_sets_added_or_removed_while_filtered_keep_rows_and_sets_in_step(
     model = window.model
     n = window.table.rowCount()
     click_filter(qtbot, window, "accepted")  # none yet: every row hidden
-    assert shown_rows(window) == [] and window.shown_label.text() == f"no accepted sets (of {n})"
+    assert shown_rows(window) == [] and window.shown_label.text() == f"none of {n}"
     a, b = (set_time_ns(s) for s in model.session.sets[:2])
     model.set_playhead((a + b) // 2)
     qtbot.keyClick(window, Qt.Key.Key_T)  # a new undecided set, hidden by the filter

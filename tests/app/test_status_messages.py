@@ -108,3 +108,17 @@ def test_a_repeat_is_counted_though_another_job_ended_in_between(qtbot) -> None:
     status.end("similar", "found nothing more like set 3")
     assert "found nothing more like set 3 (×2)" in label.text()
     assert "re-scored 2 frame sets" in label.text()
+
+
+def test_the_opening_message_keeps_its_count_of_sets_true(qtbot, open_window,
+                                                          truth_session_file) -> None:
+    """"3 cameras, 4 frame sets" said on opening would be wrong after a Del: it follows
+    the list while it is shown, and another job's message beside it stays."""
+    window = open_window(truth_session_file)
+    n = len(window.model.session.sets)
+    assert f"3 cameras, {n} frame sets" in window.status_text.text()
+    window.status.end("export", "exported 2 frame sets")
+    window.model.remove_set()
+    text = window.status_text.text()
+    assert f"3 cameras, {n - 1} frame sets" in text and f"{n} frame sets" not in text
+    assert "exported 2 frame sets" in text
