@@ -287,6 +287,16 @@ class FrameGrid(QWidget):
         self._enlarged = None if self._enlarged or stream is None else stream
         self._arrange()
 
+    def toggle_camera(self, number: int) -> None:
+        """Show camera ``number`` (1-based, in grid order) alone, or back to the grid if it
+        is shown alone already (keys 1-9); another camera alone gives way to it."""
+        names = list(self.tiles)
+        if not 1 <= number <= len(names):
+            return
+        stream = names[number - 1]
+        self._enlarged = None if self._enlarged == stream else stream
+        self._arrange()
+
     def set_word(self, word: str, state: str | None, source: str = "") -> None:
         """Show the trigger word of the set under the playhead (none: a hint to go to
         one); ``source``: the trigger's (``"manual"``: added by hand, no word heard)."""

@@ -88,9 +88,11 @@ HINTS_TIP = (
     "J/K previous / next set · F next filter · A/R/U accept / reject / undo\n"
     "T add a set at the playhead · Del remove the set · S find more like this\n"
     "[ ] audio ±1 ms, { } audio ±1 frame, or drag the clap handle on the waveform\n"
-    "double-click a camera to enlarge it, Esc back to the grid\n"
-    "waveform: the wheel zooms, a drag pans, a click moves the playhead, a double-click "
-    "(or the 'whole session' button) shows the whole session")
+    "double-click a camera (or press its number 1-9) to show it alone, Esc back to the "
+    "grid\n"
+    "waveform: the wheel (or = and -) zooms, a drag pans, a click moves the playhead, a "
+    "double-click (or the 'whole session' button) shows the whole session\n"
+    "Ctrl+F find trigger words: other words or another sensitivity")
 
 
 #: dropped files with these endings (any case) are audio; ``.json`` ones are session files
@@ -266,6 +268,12 @@ class ReviewWindow(QMainWindow):
         QShortcut(QKeySequence("Space"), self).activated.connect(self.toggle_play)
         QShortcut(QKeySequence("W"), self).activated.connect(self.hear_word)
         QShortcut(QKeySequence("Escape"), self).activated.connect(self._leave_enlarged)
+        for number in range(1, 10):  # a camera alone, as a double-click on it
+            QShortcut(QKeySequence(str(number)), self).activated.connect(
+                lambda n=number: self.model is not None and self.grid.toggle_camera(n))
+        for key, factor in (("=", 0.5), ("+", 0.5), ("-", 2.0)):  # the waveform, as the wheel
+            QShortcut(QKeySequence(key), self).activated.connect(
+                lambda f=factor: self.model is not None and self.waveform.zoom_at_playhead(f))
 
     def _build_edit_menu(self) -> None:
         """Edit ▸ Undo / Redo, named after the step they revert (U undoes too)."""

@@ -210,6 +210,18 @@ class WaveformView(pg.PlotWidget):
         if self.whole is not None:
             self.setXRange(*self.whole, padding=0)
 
+    def zoom_at_playhead(self, factor: float) -> None:
+        """Show ``factor`` times the visible span (< 1 zooms in) around the playhead, within
+        the whole view (the keys = and -)."""
+        if self.whole is None:
+            return
+        v0, v1 = self.getViewBox().viewRange()[0]
+        w0, w1 = self.whole
+        span = min(w1 - w0, max(MIN_SPAN_S, (v1 - v0) * factor))
+        x = min(max(self.playhead.value(), w0), w1)
+        start = min(max(x - span / 2, w0), w1 - span)
+        self.setXRange(start, start + span, padding=0)
+
     def zoomed_in(self) -> bool:
         """Whether the view shows less than the whole (by more than a rounding error)."""
         if self.whole is None:
