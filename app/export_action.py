@@ -41,6 +41,7 @@ class ExportAction(QObject):
         self.source: FrameSource | None = None  # the recording the running export reads
         self.last_result: ExportResult | None = None
         self.last_error = ""
+        self.last_format = ""  # the format last chosen in the dialog, offered again
 
     def busy(self) -> bool:
         """True while an export runs or waits for re-scoring."""
@@ -58,12 +59,15 @@ class ExportAction(QObject):
         self.dialog = ExportDialog(w, base, stem, w.model.session.counts(),
                                    waiting=lambda include: len(w.model.export_waits_for(include)),
                                    refusal=self.refusal)
+        if self.last_format:  # the format of the export before (the folder follows it)
+            self.dialog.set_format(self.last_format)
         self.dialog.accepted.connect(self._dialog_accepted)
         self.dialog.open()
 
     def _dialog_accepted(self) -> None:
         assert self.dialog is not None
         fmt, out, include = self.dialog.choice()
+        self.last_format = fmt
         self.start(fmt, out, include_undecided=include)
 
     def start(self, fmt: str, out: Path, *, force: bool = False,

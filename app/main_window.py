@@ -673,9 +673,16 @@ class ReviewWindow(QMainWindow):
         self._apply_filter()
         self.waveform.set_sets(model.session.sets)
         self._update_counts()
+        # the line under the grid counts the sets too; once the model has chosen its
+        # current set again (it tells "sets" before it does)
+        QTimer.singleShot(0, self._refresh_if_open)
         revised = self._opening_text()  # its count of sets changed
         self.status.revise(self._opened_note, revised)
         self._opened_note = revised
+
+    def _refresh_if_open(self) -> None:
+        if self.model is not None:
+            self._refresh_playhead()
 
     def _opening_text(self) -> str:
         """What the status line says of the session opened: cameras, sets, the note."""

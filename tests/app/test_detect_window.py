@@ -43,6 +43,9 @@ def test_the_word_typed_fills_the_empty_list(qtbot, open_window,
     result, added = window.detector.last
     assert window.table.rowCount() == len(added) >= 2
     assert not window.no_sets_label.isVisible()
+    # the line under the grid counts the new sets
+    qtbot.waitUntil(lambda: f"/{len(added)}) · skew" in window.info_line.full_text,
+                    timeout=5_000)
     assert f"found {len(result.words)} × “snapshot” at sensitivity 0.60: " \
         f"{len(added)} new undecided sets" in window.status_text.text()
     window.detect_action.trigger()  # the next search starts from this one's settings

@@ -48,6 +48,15 @@ def test_export_button_writes_the_accepted_sets_off_the_ui_thread(
     assert window.exporter.last_result.notes
     assert f"; note: {window.exporter.last_result.notes[0]}" in text
     assert not window.progress.isVisible() and window.export_button.isEnabled()
+    window.exporter.choose()  # the next export offers the format chosen before
+    assert window.exporter.dialog.format == "kalibr"
+    window.exporter.dialog.reject()
+    _export_through_dialog(qtbot, window, "folders", tmp_path / "folders")
+    qtbot.waitUntil(lambda: window.exporter.task is None, timeout=30_000)
+    window.exporter.choose()
+    assert window.exporter.dialog.format == "folders"
+    assert window.exporter.dialog.choice()[1].name.endswith("-folders")
+    window.exporter.dialog.reject()
 
 
 def test_an_earlier_export_is_replaced_after_asking(qtbot, window, tmp_path: Path) -> None:
