@@ -369,7 +369,9 @@ class ReviewWindow(QMainWindow):
         top.addWidget(right)
         top.setStretchFactor(0, 3)
         top.setStretchFactor(1, 1)
-        right.setMinimumWidth(480)
+        # the list's columns at the window's font (480 px at 9 pt): a larger system font
+        # cut the decision column off
+        right.setMinimumWidth(max(480, 70 * self.fontMetrics().averageCharWidth()))
         top.setSizes([900, 500])
         split.addWidget(top)
         bottom = QWidget()

@@ -88,3 +88,24 @@ def test_word_band_says_what_was_heard_and_what_was_added_by_hand() -> None:
     assert band_text("capture", "accepted") == "✔ “CAPTURE”"
     assert band_text("capture", "undecided", "manual") == "? CAPTURE · added by hand"
     assert band_text("", None) == "between frame sets · J / K go to one"
+
+
+def test_a_larger_system_font_keeps_every_column_of_the_list_in_view(
+        qtbot, open_window, truth_session_file) -> None:
+    """At 11-12 pt the decision column was cut off behind a scrollbar: the list's pane
+    grows with the font."""
+    from PySide6.QtGui import QFont
+    from PySide6.QtWidgets import QApplication
+
+    before = QApplication.font()
+    font = QFont(before)
+    font.setPointSizeF(12.0)
+    QApplication.setFont(font)
+    try:
+        window = open_window(truth_session_file)
+        window.resize(1400, 900)
+        qtbot.waitUntil(lambda: window.width() == 1400)
+        table = window.table
+        qtbot.waitUntil(lambda: table.horizontalScrollBar().maximum() == 0, timeout=5_000)
+    finally:
+        QApplication.setFont(before)
