@@ -631,6 +631,15 @@ class ReviewWindow(QMainWindow):
         self.grid.set_word(current.trigger.word if current else "",
                            current.decision if current else None,
                            current.trigger.source if current else "")
+        self._update_info_line()
+
+    def _update_info_line(self) -> None:
+        """The line under the grid: the set under the playhead (its place in the list,
+        skew, when it was said) and the playhead's time."""
+        model = self.model
+        if model is None:
+            return
+        current = model.set_at_playhead()
         start_ns, _ = model.time_range_ns()
         rel = (model.playhead_ns - start_ns) / 1e9
         # what the operator reads first leads: a narrow window cuts the line's end
@@ -675,16 +684,10 @@ class ReviewWindow(QMainWindow):
         self._apply_filter()
         self.waveform.set_sets(model.session.sets)
         self._update_counts()
-        # the line under the grid counts the sets too; once the model has chosen its
-        # current set again (it tells "sets" before it does)
-        QTimer.singleShot(0, self._refresh_if_open)
+        self._update_info_line()  # it gives the set's place in the list
         revised = self._opening_text()  # its count of sets changed
         self.status.revise(self._opened_note, revised)
         self._opened_note = revised
-
-    def _refresh_if_open(self) -> None:
-        if self.model is not None:
-            self._refresh_playhead()
 
     def _opening_text(self) -> str:
         """What the status line says of the session opened: cameras, sets, the note."""
