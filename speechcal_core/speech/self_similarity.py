@@ -46,6 +46,13 @@ MAX_LEVEL_GAP_DB = 10.0
 #: 5 and 10 dB: the one real trigger heard as "rapture" lay at 0.47 of its limit, the 8
 #: real raptures the search would take at 0.77-1.0
 CONTESTED_SHARE = 0.6
+#: a span heard at least ``clear_from_db`` above the noise floor (where the recogniser
+#: heard no trigger although it heard clearly) is taken only below this share of its
+#: limit. Seeds 1-3 at 20 dB, the whole limit there -> this share: "snapshot" 154 / 28
+#: false -> 136 / 25, "record" 179 / 17 -> 150 / 11, "mark" 100 / 3 -> 88 / 0 (none found
+#: there before: 118 / 25, 128 / 11, 79 / 0); "capture" 203 / 1 either way, seeds
+#: 101-112 488 / 5 -> 485 / 5. A clean scene's "captain" lay at 0.88 of its limit
+CLEAR_SHARE = 0.8
 
 
 def expand_by_similarity(samples: np.ndarray, rate: int, seeds: list[Word],
@@ -70,6 +77,7 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
                        level_slope: float | None = None,
                        search: Representation = "mfcc",
                        contested: Sequence[Word] = (),
+                       clear_from_db: float = math.inf,
                        ) -> tuple[list[Word], list[Word]]:
     """The seeds that sound like the other seeds, and new instances similar to those.
 
@@ -83,7 +91,8 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     (no search where that cost exceeds MAX_MUTUAL_COST: the seeds do not sound alike),
     plus ``level_slope`` times that cost per dB it is heard less clearly than the seeds
     (``level_slope``, default LEVEL_SLOPE). A span overlapping a word of ``contested``
-    (heard as a near-homophone) must cost less than CONTESTED_SHARE of its limit. The check
+    (heard as a near-homophone) must cost less than CONTESTED_SHARE of its limit, one heard
+    at least ``clear_from_db`` above the noise floor less than CLEAR_SHARE of it. The check
     always compares MFCCs: on posteriorgrams a voice with few seeds has no close sibling and
     loses them (seeds 1-3, 20 dB: recall 0.99 -> 0.91). The search, the kept seeds' mutual
     cost included, compares frames as ``search`` represents them.
@@ -127,7 +136,8 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     doubtful = [(w.start_s, w.end_s) for w in contested]
     out: list[Word] = []
     for _ in range(rounds):
-        new = _pick(best, idx, limit, taken, doubtful, samples, rate, activity, seeds[0].word)
+        new = _pick(best, idx, limit, taken, doubtful, samples, rate, activity, seeds[0].word,
+                    clear_from_db)
         if not new:
             break
         out += new
@@ -203,9 +213,10 @@ class _BestMatch:
 
 def _pick(best: _BestMatch, idx: np.ndarray, limit: _Limit, taken: list[tuple[float, float]],
           doubtful: list[tuple[float, float]], samples: np.ndarray, rate: int,
-          activity: VoiceActivity, word: str) -> list[Word]:
+          activity: VoiceActivity, word: str, clear_from_db: float = math.inf) -> list[Word]:
     """Non-overlapping matches below their limit (CONTESTED_SHARE of it where they overlap
-    a ``doubtful`` span), best first; ``taken`` grows with them."""
+    a ``doubtful`` span, times CLEAR_SHARE where heard at least ``clear_from_db`` above the
+    noise floor), best first; ``taken`` grows with them."""
     out = []
     for j in np.argsort(best.cost):
         c = float(best.cost[j])
@@ -219,6 +230,8 @@ def _pick(best: _BestMatch, idx: np.ndarray, limit: _Limit, taken: list[tuple[fl
             continue
         taken.append((ts, te))  # the best match of a span decides it, accepted or not
         share = CONTESTED_SHARE if any(ts < b and te > a for a, b in doubtful) else 1.0
+        if activity.level_db(ts, te) >= clear_from_db:
+            share *= CLEAR_SHARE
         if c >= share * limit.at(ts, te):
             continue
         bounds = word_bounds(samples, rate, ts, te, activity.floor_at((ts + te) / 2))

@@ -183,3 +183,25 @@ def test_a_match_at_the_start_of_longer_speech_is_no_trigger(tmp_path: Path) -> 
     extra = expand_from_first(scene, 3)
     alone = (spans[3][0] + spans[3][1]) / 2
     assert [round(w.t - alone, 1) for w in extra] == [0.0]
+
+
+def test_a_span_heard_clearly_needs_a_closer_match(tmp_path: Path) -> None:
+    """Where the recogniser heard clearly and heard no trigger, only a close match is
+    taken (CLEAR_SHARE): the same take as a seed, not the raptures a loose limit takes."""
+    items = [("capture", "rms/capture_1"), ("okay", "rms/okay_1"),
+             ("capture", "rms/capture_2"), ("rapture", "rms/rapture_1"),
+             ("capture", "rms/capture_3"), ("hold on", "rms/hold_on_1"),
+             ("capture", "rms/capture_1"), ("rapture", "rms/rapture_2")]
+    scene = make_scene(tmp_path / "clear.wav", items, snr_db=10.0, seed=0)
+    spans = scene.spans("capture")
+    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in spans[:3]]
+    activity = voice_activity(scene.samples, 16000)
+
+    def found(clear_from_db: float) -> list[float]:
+        _, extra = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
+                                      factor=1.6, verify=None, clear_from_db=clear_from_db)
+        return [round(w.t, 1) for w in extra]
+
+    capture = round((spans[3][0] + spans[3][1]) / 2, 1)
+    assert len(found(float("inf"))) == 3  # nothing counts as clear: the raptures too
+    assert found(float("-inf")) == [capture]  # everything clear: the close match only
