@@ -6,7 +6,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from speechcal_core.speech.vad import HOP_S, band_energy_db, frame_count
+from speechcal_core.speech.vad import BAND_HZ, HOP_S, band_energy_db, frame_count
 
 SEARCH_BEFORE_S = 0.12  # how far before the recognised start the onset may lie
 SEARCH_AFTER_S = 0.15  # how far after the recognised end the offset may lie
@@ -27,6 +27,9 @@ MAX_ONSET_DELAY_S = 0.08
 #: no trigger lost but one at 5 dB on seeds 125-148
 FOLLOW_S = (0.03, 0.2)
 FOLLOW_FRACTION = 0.25
+#: the band a word opening with a fricative ("s" of "snapshot") shows its onset in: the
+#: speech band (BAND_HZ) stops below most of a hiss's energy
+FRICATIVE_BAND_HZ = (300.0, 7500.0)
 
 
 class WordBounds(NamedTuple):
@@ -51,13 +54,14 @@ def refine_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
 
 
 def word_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
-                floor_db: float) -> WordBounds:
-    """``refine_bounds`` plus whether the word's energy runs on past the offset search."""
+                floor_db: float, band_hz: tuple[float, float] = BAND_HZ) -> WordBounds:
+    """``refine_bounds`` plus whether the word's energy runs on past the offset search;
+    ``band_hz`` is where the energy is measured."""
     a = max(0, int((start_s - SEARCH_BEFORE_S - 0.03) * rate))
     b = min(samples.size, int((end_s + SEARCH_AFTER_S + 0.03) * rate))
     # the energy runs on past the bounds search, for what follows the word
     follow = min(samples.size, int((end_s + SEARCH_AFTER_S + FOLLOW_S[1] + 0.03) * rate))
-    energy_on = band_energy_db(samples[a:follow], rate)
+    energy_on = band_energy_db(samples[a:follow], rate, band_hz)
     t_on = a / rate + np.arange(energy_on.size) * HOP_S + 0.0125  # frame centres
     searched = frame_count(b - a, rate)
     energy, t = energy_on[:searched], t_on[:searched]

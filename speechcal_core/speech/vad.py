@@ -36,15 +36,16 @@ def frame_count(n_samples: int, rate: int) -> int:
     return 0 if n_samples < win else 1 + (n_samples - win) // round(rate * HOP_S)
 
 
-def band_energy_db(samples: np.ndarray, rate: int) -> np.ndarray:
-    """Log energy (dB) of 25 ms frames every 10 ms in the speech band."""
+def band_energy_db(samples: np.ndarray, rate: int,
+                   band_hz: tuple[float, float] = BAND_HZ) -> np.ndarray:
+    """Log energy (dB) of 25 ms frames every 10 ms in ``band_hz`` (the speech band)."""
     hop = round(rate * HOP_S)
     win = round(rate * WIN / 16000)
     n = frame_count(samples.size, rate)
     out = np.empty(n, dtype=np.float32)
     nfft = 1 << int(np.ceil(np.log2(win)))
     freqs = np.fft.rfftfreq(nfft, 1.0 / rate)
-    band = (freqs >= BAND_HZ[0]) & (freqs <= BAND_HZ[1])
+    band = (freqs >= band_hz[0]) & (freqs <= band_hz[1])
     window = np.hanning(win).astype(np.float32)
     for a in range(0, n, CHUNK_FRAMES):
         b = min(n, a + CHUNK_FRAMES)
