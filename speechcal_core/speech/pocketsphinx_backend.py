@@ -186,8 +186,7 @@ class PocketsphinxBackend:
             # longer ("captured it?"): not reported, and no template for the search below
             (running_on if bounds.runs_on and w.word in spec.words else refined).append(word)
         if not self.expand:
-            return [_hiss_onset(x, activity, w) if w.word in self._hissing else w
-                    for w in refined]
+            return self._hiss_onsets(x, activity, refined)
         if self.progress is not None:
             self.progress(DECODING_SHARE)
         out = [w for w in refined if w.word not in spec.words]
@@ -214,8 +213,12 @@ class PocketsphinxBackend:
         neighbours = self._rivals | self._confusables
         out = [w for w in out if w.word not in neighbours
                or not any(t.start_s < w.end_s and w.start_s < t.end_s for t in triggers)]
-        out = [_hiss_onset(x, activity, w) if w.word in self._hissing else w for w in out]
-        return sorted(out, key=lambda w: w.start_s)
+        return sorted(self._hiss_onsets(x, activity, out), key=lambda w: w.start_s)
+
+    def _hiss_onsets(self, x: np.ndarray, activity: VoiceActivity,
+                     words: list[Word]) -> list[Word]:
+        """``words``, those of a trigger opening with a fricative started at its hiss."""
+        return [_hiss_onset(x, activity, w) if w.word in self._hissing else w for w in words]
 
     def _prepare(self, spec: TriggerSpec) -> Any:
         """One decoder per trigger configuration, reused for every span."""
@@ -231,8 +234,11 @@ class PocketsphinxBackend:
         user = dict(spec.pronunciations)
         rivals: list[str] = []
         confusables: list[str] = []
+        hissing: set[str] = set()
         for w in spec.words:
             prons = pronunciations(w, user)
+            if any(p[0] in FRICATIVES for p in prons):
+                hissing.add(w)
             if w in user or decoder.lookup_word(w) is None:
                 _add_word(decoder, w, prons[0])
             rivals += [r for r in rival_words(prons, set(spec.words)) if r not in rivals]
@@ -249,8 +255,7 @@ class PocketsphinxBackend:
         self._vocab = set(spec.words) | set(rivals) | set(confusables)
         self._rivals = set(rivals)
         self._confusables = set(confusables)
-        self._hissing = {w for w in spec.words
-                         if any(p[0] in FRICATIVES for p in pronunciations(w, user))}
+        self._hissing = hissing
         return decoder
 
 
