@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -162,16 +163,19 @@ class TargetSpec:
             except ValueError:
                 raise ValueError(f"{key} is {values[key]!r}, not a number") from None
 
-        size_key = {"aprilgrid": "tagSize", "checkerboard": "rowSpacingMeters"}.get(kind, "")
+        size_keys = {"aprilgrid": ["tagSize"],
+                     "checkerboard": ["rowSpacingMeters", "colSpacingMeters"]}.get(kind, [])
         try:
-            if size_key and number(size_key) > MAX_SIZE_M:
-                raise TargetError(
-                    f"{path}: {size_key} {values[size_key]} m is larger than any board; Kalibr "
-                    f"takes metres (88 mm is 0.088)")
+            for key in size_keys:
+                if key in values and number(key) > MAX_SIZE_M:
+                    raise TargetError(
+                        f"{path}: {key} {values[key]} m is larger than any board; Kalibr "
+                        f"takes metres ({number(key):g} mm is {number(key) / 1000:g})")
             if kind == "aprilgrid":
                 return cls("aprilgrid", whole("tagRows"), whole("tagCols"), number("tagSize"),
                            number("tagSpacing"))
             if kind == "checkerboard":
+                _same_spacing(path, values, number)
                 return cls("checkerboard", whole("targetRows"), whole("targetCols"),
                            number("rowSpacingMeters"))
         except KeyError as exc:
@@ -190,3 +194,17 @@ class TargetSpec:
         raise TargetError(
             f"{path}: target_type must be 'aprilgrid' or 'checkerboard', found {kind!r}"
         )
+
+
+def _same_spacing(path: Path, values: dict[str, str], number: Callable[[str], float]) -> None:
+    """Refuse a checkerboard whose squares are not square: every step from the corners
+    to the calibration assumes one square size, and a silent choice of one of the two
+    would scale the calibration along the other axis."""
+    if "colSpacingMeters" not in values:
+        return
+    row, col = number("rowSpacingMeters"), number("colSpacingMeters")
+    if not math.isclose(row, col, rel_tol=1e-6):
+        raise TargetError(
+            f"{path}: rowSpacingMeters {values['rowSpacingMeters']} and colSpacingMeters "
+            f"{values['colSpacingMeters']} differ; SpeechCal takes square checkerboard "
+            "squares only: measure the board again and give both the same size")

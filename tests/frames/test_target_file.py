@@ -15,6 +15,12 @@ tagRows: 7
 tagSize: 0.088  # metres
 tagSpacing: 0.3
 """
+CHECKERBOARD = """target_type: 'checkerboard'
+targetCols: 8
+targetRows: 6
+rowSpacingMeters: 0.045
+colSpacingMeters: 0.045
+"""
 
 
 @pytest.mark.parametrize("bom", [b"", b"\xef\xbb\xbf"])  # Notepad's byte-order mark
@@ -33,6 +39,16 @@ def test_the_one_line_flow_style_of_yaml_is_read_too(tmp_path: Path) -> None:
     assert TargetSpec.from_kalibr_yaml(path) == TargetSpec("aprilgrid", 7, 6, 0.088, 0.3)
 
 
+@pytest.mark.parametrize("content", [
+    CHECKERBOARD,
+    CHECKERBOARD.replace("colSpacingMeters: 0.045\n", ""),  # one size for both axes
+])
+def test_a_checkerboard_file_as_kalibr_documents_it(tmp_path: Path, content: str) -> None:
+    path = tmp_path / "board.yaml"
+    path.write_text(content)
+    assert TargetSpec.from_kalibr_yaml(path) == TargetSpec("checkerboard", 6, 8, 0.045)
+
+
 @pytest.mark.parametrize(("content", "says"), [
     (APRILGRID.replace("tagSize: 0.088  # metres\n", ""),
      "no 'tagSize: value' line; a Kalibr aprilgrid target yaml has target_type and tagRows"),
@@ -41,7 +57,14 @@ def test_the_one_line_flow_style_of_yaml_is_read_too(tmp_path: Path) -> None:
     (APRILGRID.replace("0.088", "nan"), "a positive size"),
     (APRILGRID.replace("tagSpacing: 0.3", "tagSpacing: -1"), "a tag spacing of -1.0 makes no"),
     ("", "no 'target_type: aprilgrid' (or checkerboard) line; give a Kalibr target yaml"),
-    (APRILGRID.replace("0.088", "88"), "tagSize 88 m is larger than any board"),
+    (APRILGRID.replace("0.088", "88"), "tagSize 88 m is larger than any board; Kalibr takes "
+     "metres (88 mm is 0.088)"),
+    (APRILGRID.replace("0.088", "55"), "(55 mm is 0.055)"),
+    (CHECKERBOARD.replace("colSpacingMeters: 0.045", "colSpacingMeters: 0.030"),
+     "rowSpacingMeters 0.045 and colSpacingMeters 0.030 differ; SpeechCal takes square "
+     "checkerboard squares only"),
+    (CHECKERBOARD.replace("colSpacingMeters: 0.045", "colSpacingMeters: 45"),
+     "colSpacingMeters 45 m is larger than any board"),
     (APRILGRID.replace("tagRows: 7", "tagRows: 1"), "at least 2x2 tags"),
     ("# Gitter für die Kalibrierung\n".encode("latin-1") + APRILGRID.encode(),
      "not a text file in UTF-8"),
