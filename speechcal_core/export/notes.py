@@ -28,6 +28,9 @@ def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
         notes.append(target_note(session, spec, target_from))
     if fmt in ("kalibr", "folders"):
         notes.append(corners_problem(session))
+    if fmt == "folders" and not corners_problem(session):
+        notes.append(assumed_board_note(session, spec, target_from,
+                                        "corners.json and corners.vnl place the corners on"))
     if fmt in ("rosbag1", "rosbag2"):
         notes.append(approx_sync_note(plan.sets))
     return [note for note in notes if note]
@@ -46,6 +49,22 @@ def left_out_note(fmt: str, plan: Plan) -> str:
         note += (f"; the other cameras keep their numbers (no {numbers} "
                  f"folder{'' if one else 's'})")
     return note
+
+
+def assumed_board_note(session: Session, spec: TargetSpec, target_from: str,
+                       subject: str) -> str:
+    """``subject`` (what of the export measures with the board) "the 6x6 AprilGrid ...
+    process assumes without --target", and why; "" unless ``target_from`` is "default"."""
+    if target_from != "default":
+        return ""
+    stored, assumed = TargetSpec.from_session(session.extra)
+    why = ("the session was processed without --target" if assumed else
+           "this session, from an earlier SpeechCal, does not say whether it was given"
+           if assumed is None and stored is not None else "the session names no board")
+    return (f"{subject} the {spec.describe()} process assumes without --target ({why}): "
+            "if your board differs, export again with its Kalibr target yaml (speechcal "
+            "export --target TARGET.yaml); a wrong tag size scales everything a "
+            "calibration measures")
 
 
 def approx_sync_note(sets: Sequence[FrameSet]) -> str:
@@ -69,13 +88,7 @@ def target_note(session: Session, spec: TargetSpec, target_from: str) -> str:
     against (their corner counts are for that one); "" when neither."""
     stored, assumed = TargetSpec.from_session(session.extra)
     if target_from == "default":
-        why = ("the session was processed without --target" if assumed else
-               "this session, from an earlier SpeechCal, does not say whether it was given"
-               if assumed is None and stored is not None else "the session names no board")
-        return (f"target.yaml describes the {spec.describe()} process assumes without "
-                f"--target ({why}): if your board differs, export again with its Kalibr "
-                "target yaml (speechcal export --target TARGET.yaml); a wrong tag size "
-                "scales everything Kalibr measures")
+        return assumed_board_note(session, spec, target_from, "target.yaml describes")
     if target_from != "given" or stored is None or \
             (stored.kind, stored.rows, stored.cols) == (spec.kind, spec.rows, spec.cols):
         return ""

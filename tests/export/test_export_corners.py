@@ -305,3 +305,19 @@ def test_both_cameras_number_a_checkerboards_corners_alike(checkerboard_session,
         (320, 240), flags=cv2.CALIB_FIX_INTRINSIC)
     assert rms < 1.0
     assert float(np.linalg.norm(t)) == pytest.approx(_baseline_m(truth), rel=0.1)
+
+
+def test_corners_on_an_assumed_board_are_noted(processed, tmp_path: Path) -> None:
+    """A session processed without --target measured its corners on the board process
+    assumes: the folders export says so, as the Kalibr export does for target.yaml, and
+    a given board needs no such note."""
+    path, _truth = processed
+    notes = export_session_file(path, "folders", tmp_path / "assumed").notes
+    assumed = [n for n in notes if n.startswith("corners.json and corners.vnl")]
+    assert assumed == [
+        "corners.json and corners.vnl place the corners on the 6x6 AprilGrid of 0.055 m tags "
+        "process assumes without --target (the session was processed without --target): if "
+        "your board differs, export again with its Kalibr target yaml (speechcal export "
+        "--target TARGET.yaml); a wrong tag size scales everything a calibration measures"]
+    given = export_session_file(path, "folders", tmp_path / "given", target=TargetSpec()).notes
+    assert not any(n.startswith("corners.json and corners.vnl") for n in given)
