@@ -1,14 +1,19 @@
 """The ``speechcal`` console script: one subcommand per module (DESIGN.md §2).
 
-Exit codes: 0 success, 1 bad input (one-line reason on stderr), 2 bad usage.
+Exit codes: 0 success, 1 bad input (one-line reason on stderr), 2 bad usage; 130 after
+Ctrl+C, 128 + the signal's number after SIGTERM or SIGHUP (a closed terminal), which stop
+a command as cleanly as Ctrl+C: its partial output is removed.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import signal
 import sys
-from collections.abc import Sequence
+import threading
+from collections.abc import Iterator, Sequence
 
 from speechcal_core import __version__
 from speechcal_core.errors import SpeechCalError, UsageError
@@ -24,6 +29,42 @@ COMMANDS: dict[str, str] = {
     "review": "review_cmd",
     "demo": "demo_cmd",
 }
+
+#: commands that keep the default handling of SIGTERM and SIGHUP: the window ends at
+#: once (a Python handler would wait for Qt's event loop to hand back control)
+WINDOW_COMMANDS = ("review", "demo")
+STOP_SIGNALS = ("SIGTERM", "SIGHUP")
+
+
+class Stopped(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised where the command is, so that it cleans up as on Ctrl+C."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _raise_stopped(signum: int, _frame: object) -> None:
+    raise Stopped(signum)
+
+
+@contextlib.contextmanager
+def _stopping_on_signals() -> Iterator[None]:
+    """SIGTERM and SIGHUP raise :class:`Stopped` inside the block (main thread only);
+    the earlier handlers come back afterwards."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    earlier = {}
+    for name in STOP_SIGNALS:
+        number = getattr(signal, name, None)  # no SIGHUP on Windows
+        if number is not None:
+            earlier[number] = signal.signal(number, _raise_stopped)
+    try:
+        yield
+    finally:
+        for number, handler in earlier.items():
+            signal.signal(number, handler)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -47,8 +88,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     args, unknown = parser.parse_known_args(argv)
     if unknown:  # the subcommand's usage says which options it does take
         args._parser.error(f"unrecognized arguments: {' '.join(unknown)}")
+    stopping = contextlib.nullcontext() if args._name in WINDOW_COMMANDS \
+        else _stopping_on_signals()
     try:
-        return int(args._run(args) or 0)
+        with stopping:
+            return int(args._run(args) or 0)
+    except Stopped as exc:
+        name = signal.Signals(exc.signum).name
+        print(f"speechcal {args._name}: stopped by {name}", file=sys.stderr)
+        return 128 + exc.signum
     except UsageError as exc:
         print(f"speechcal {args._name}: error: {exc}", file=sys.stderr)
         return 2

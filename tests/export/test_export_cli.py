@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -134,6 +136,32 @@ def test_cancelled_export_leaves_nothing_and_keeps_the_old_folder(session_file, 
         export_session_file(path, "rosbag1", old, force=True, progress=stop_halfway)
     assert sorted(p.name for p in old.iterdir()) == before
     assert _leftovers(tmp_path) == []
+
+
+@pytest.mark.parametrize("name", ["SIGTERM", "SIGHUP"])
+def test_a_killed_export_or_closed_terminal_leaves_nothing_as_ctrl_c_does(
+        session_file, tmp_path, capsys, monkeypatch, name: str) -> None:
+    from speechcal_core.export import run
+
+    number = getattr(signal, name, None)
+    if number is None:
+        pytest.skip(f"no {name} here")
+    before = signal.getsignal(number)
+    write = run._write
+
+    def write_then_signal(*args):
+        written = write(*args)
+        os.kill(os.getpid(), number)  # a real signal, mid-export
+        return written
+
+    monkeypatch.setattr(run, "_write", write_then_signal)
+    out = tmp_path / "out"
+    code, _stdout, err = _run(capsys, str(session_file()), "--format", "folders", "--out",
+                              str(out))
+    assert code == 128 + number
+    assert err.splitlines()[-1] == f"speechcal export: stopped by {name}"
+    assert not out.exists() and _leftovers(tmp_path) == []
+    assert signal.getsignal(number) is before
 
 
 @pytest.mark.parametrize("fmt", ["rosbag2", "folders"])
