@@ -67,9 +67,10 @@ class TargetSpec:
     def object_points(self) -> np.ndarray:
         """Corner positions (N x 3, z = 0), one row per corner id.
 
-        AprilGrid: id ``4 * i + k`` is corner ``k`` of tag ``i``, tags row-major from the origin, as Kalibr lays the board out (its
-        own point numbering differs: row by row over all corners); corners
-        counter-clockwise from the lower left: ``(x, y), (x+s, y), (x+s, y+s), (x, y+s)``.
+        AprilGrid: id ``4 * i + k`` is corner ``k`` of tag ``i``, tags row-major from the
+        origin as Kalibr lays the board out (its own point numbering differs: row by row
+        over all corners), corners counter-clockwise from the lower left: ``(x, y),
+        (x+s, y), (x+s, y+s), (x, y+s)``.
         Checkerboard: inner corners row-major, origin at the first inner corner.
         """
         if self.kind == "aprilgrid":
