@@ -131,6 +131,13 @@ SIMILARITY_FACTOR = (1.0, 1.2)
 #: better (seeds 1-3: 0.995 / 0.971 -> 0.966 / 0.952)
 POSTERIORGRAM_BELOW_DB = 15.0
 POSTERIORGRAM_FACTOR = (1.2, 1.4)
+#: how much more a quieter span may cost on posteriorgrams (``self_similarity``'s
+#: LEVEL_SLOPE, 0.05, is the MFCCs'): a buried trigger's posteriorgram drifts further
+#: from the templates per dB. 5 dB, 0.05 -> 0.06: seeds 1-3 198 / 5 false -> 200 / 5;
+#: seeds 101-148 1802 / 109 -> 1825 / 122 (recall 0.917 -> 0.929, precision 0.943 ->
+#: 0.937); 10 dB the same. 0.07 everywhere: 101-148 at 5 dB 1835 / 139, at 10 dB 1935 /
+#: 105 (from 1910 / 77)
+POSTERIORGRAM_LEVEL_SLOPE = 0.06
 #: a found trigger in a clearly heard span whose closest other found trigger costs more
 #: than this times their median closest cost is dropped (``confirm_and_expand``'s
 #: ``verify``): near-homophones the recogniser took for the trigger rarely sound like the
@@ -200,12 +207,12 @@ class PocketsphinxBackend:
             others += running_on
             contested = [w for w in refined if w.word in self._confusables]
             levels = [activity.level_db(w.start_s, w.end_s) for w in seeds]
-            search, (lo, hi) = _search_for(levels)
+            search, (lo, hi), slope = _search_for(levels)
             clear = [level >= CHECKED_FROM_DB for level in levels]
             kept, extra = confirm_and_expand(x, RATE, seeds, activity, others,
                                              lo + (hi - lo) * spec.sensitivity,
                                              verify=SEED_CHECK, checked=clear, search=search,
-                                             contested=contested,
+                                             contested=contested, level_slope=slope,
                                              clear_from_db=CHECKED_FROM_DB)
             out += kept + [w for w in extra
                            if activity.level_db(w.start_s, w.end_s) >= EXPAND_MIN_DB]
@@ -259,12 +266,14 @@ class PocketsphinxBackend:
         return decoder
 
 
-def _search_for(seed_levels: list[float]) -> tuple[Representation, tuple[float, float]]:
-    """How the similarity search compares frames, and its factor at sensitivity 0 and 1,
-    for triggers found at ``seed_levels`` dB above the noise floor."""
+def _search_for(seed_levels: list[float]
+                ) -> tuple[Representation, tuple[float, float], float | None]:
+    """How the similarity search compares frames, its factor at sensitivity 0 and 1, and
+    its level slope (None: ``self_similarity``'s) for triggers found at ``seed_levels`` dB
+    above the noise floor."""
     if seed_levels and float(np.median(seed_levels)) < POSTERIORGRAM_BELOW_DB:
-        return "posteriorgram", POSTERIORGRAM_FACTOR
-    return "mfcc", SIMILARITY_FACTOR
+        return "posteriorgram", POSTERIORGRAM_FACTOR, POSTERIORGRAM_LEVEL_SLOPE
+    return "mfcc", SIMILARITY_FACTOR, None
 
 
 def _tier_name(level_db: float, peak_db: float = -math.inf) -> str:

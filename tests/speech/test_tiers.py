@@ -12,11 +12,13 @@ from speechcal_core.speech.lexicon import confusable_words, pronunciations
 from speechcal_core.speech.pocketsphinx_backend import (
     POSTERIORGRAM_BELOW_DB,
     POSTERIORGRAM_FACTOR,
+    POSTERIORGRAM_LEVEL_SLOPE,
     SIMILARITY_FACTOR,
     TIERS,
     _search_for,
     _tier_name,
 )
+from speechcal_core.speech.self_similarity import LEVEL_SLOPE
 from speechcal_core.speech.vad import voice_activity
 
 
@@ -63,9 +65,12 @@ def test_a_quiet_span_with_a_loud_moment_is_not_decoded_as_the_noisiest() -> Non
 def test_quietly_heard_triggers_are_searched_for_by_posteriorgram() -> None:
     quiet = [POSTERIORGRAM_BELOW_DB - 3.0, POSTERIORGRAM_BELOW_DB - 1.0, 30.0]
     clear = [POSTERIORGRAM_BELOW_DB + 1.0, POSTERIORGRAM_BELOW_DB + 2.0, 5.0]
-    assert _search_for(quiet) == ("posteriorgram", POSTERIORGRAM_FACTOR)  # by the median
-    assert _search_for(clear) == ("mfcc", SIMILARITY_FACTOR)
-    assert _search_for([]) == ("mfcc", SIMILARITY_FACTOR)
+    # by the median; a buried span may cost more on posteriorgrams than on MFCCs
+    assert _search_for(quiet) == ("posteriorgram", POSTERIORGRAM_FACTOR,
+                                  POSTERIORGRAM_LEVEL_SLOPE)
+    assert POSTERIORGRAM_LEVEL_SLOPE > LEVEL_SLOPE
+    assert _search_for(clear) == ("mfcc", SIMILARITY_FACTOR, None)  # LEVEL_SLOPE
+    assert _search_for([]) == ("mfcc", SIMILARITY_FACTOR, None)
 
 
 def _found(scene: Scene, text: str) -> int:
