@@ -297,11 +297,13 @@ class FrameGrid(QWidget):
         self._enlarged = None if self._enlarged == stream else stream
         self._arrange()
 
-    def set_word(self, word: str, state: str | None, source: str = "") -> None:
+    def set_word(self, word: str, state: str | None, source: str = "",
+                 decides: int | None = None) -> None:
         """Show the trigger word of the set under the playhead (none: a hint to go to
-        one); ``source``: the trigger's (``"manual"``: added by hand, no word heard)."""
+        one, naming the set the keys act on, ``decides``); ``source``: the trigger's
+        (``"manual"``: added by hand, no word heard)."""
         band = self.word_band
-        band.word, band.state, band.source = word, state, source
+        band.word, band.state, band.source, band.decides = word, state, source, decides
         band.update()
 
 
@@ -316,6 +318,7 @@ class WordBand(QWidget):
         self.word = ""
         self.state: str | None = None
         self.source = ""
+        self.decides: int | None = None
         self.setFixedHeight(self.HEIGHT)
         self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
 
@@ -333,7 +336,7 @@ class WordBand(QWidget):
         p.setFont(font)
         p.setPen(colour)
         p.drawText(QRectF(self.rect()), Qt.AlignmentFlag.AlignCenter,
-                   band_text(self.word, self.state, self.source))
+                   band_text(self.word, self.state, self.source, self.decides))
         p.end()
 
 
@@ -344,11 +347,13 @@ def enlarged_note(cameras: int) -> str:
             "all cameras")
 
 
-def band_text(word: str, state: str | None, source: str = "") -> str:
+def band_text(word: str, state: str | None, source: str = "",
+              decides: int | None = None) -> str:
     """What the word band says: the heard word in quotes with the decision's symbol; a
-    set added by hand without quotes (nothing was heard there); between sets, how to go
-    to one."""
+    set added by hand without quotes (nothing was heard there); between sets, which set
+    A / R / Del still act on (``decides``, the current set's id) and how to go to one."""
     if not word:
-        return "between frame sets · J / K go to one"
+        acting = f"A / R / Del act on set #{decides} · " if decides is not None else ""
+        return f"between frame sets · {acting}J / K go to one"
     text = f"{word.upper()} · added by hand" if source == "manual" else f"“{word.upper()}”"
     return f"{DECISION_SYMBOLS[state]} {text}" if state else text

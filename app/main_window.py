@@ -410,6 +410,7 @@ class ReviewWindow(QMainWindow):
         self.waveform.set_sets(model.session.sets)
         self.waveform.show_all(start_ns, end_ns)
         self.waveform.playhead_moved.connect(model.set_playhead)
+        self.waveform.word_clicked.connect(model.click_word)
         self.table.set_sets(model.session.sets, start_ns, self._rescore_marks())
         self.table.set_chosen.connect(model.go_to_set)
 
@@ -598,8 +599,14 @@ class ReviewWindow(QMainWindow):
 
     # -- model -> view ------------------------------------------------------------------
     def run_action(self, action: str) -> None:
-        if self.model is not None:
-            self.model.trigger(action)
+        model = self.model
+        if model is None:
+            return
+        removing = model.current_set if action == "remove_set" else None
+        model.trigger(action)
+        if removing is not None and all(s.id != removing.id for s in model.session.sets):
+            # the set may have been off screen (the playhead between sets)
+            self.status.say(f"set #{removing.id} removed · Ctrl+Z puts it back")
 
     def _refresh_playhead(self) -> None:
         model = self.model
@@ -628,9 +635,11 @@ class ReviewWindow(QMainWindow):
             wanted.append((tile.stream, tile.index))
             self._pending_tiles.add(tile.stream)
         self.loader.request(wanted)
+        acting = model.current_set
         self.grid.set_word(current.trigger.word if current else "",
                            current.decision if current else None,
-                           current.trigger.source if current else "")
+                           current.trigger.source if current else "",
+                           acting.id if acting is not None else None)
         self._update_info_line()
 
     def _update_info_line(self) -> None:

@@ -103,6 +103,9 @@ class SetTable(QTableWidget):
         self._updating = False
         self._rows: list[tuple] = []  # what each row shows, to skip rows that stay alike
         self.itemSelectionChanged.connect(self._selection_changed)
+        #: whether the last mouse press changed the selection (and so chose a set)
+        self._press_chose = False
+        self.cellClicked.connect(self._clicked)
 
     def set_sets(self, sets: list[FrameSet], origin_ns: int,
                  pending: frozenset[int] | set[int] = frozenset()) -> None:
@@ -196,9 +199,20 @@ class SetTable(QTableWidget):
         if rows and self.item(rows[0], 0) is not None:
             self.scrollToItem(self.item(rows[0], 0))
 
+    def mousePressEvent(self, event) -> None:
+        self._press_chose = False
+        super().mousePressEvent(event)
+
     def _selection_changed(self) -> None:
         if self._updating:
             return
         rows = {i.row() for i in self.selectedIndexes() if not self.isRowHidden(i.row())}
         if rows:
+            self._press_chose = True
             self.set_chosen.emit(min(rows))
+
+    def _clicked(self, row: int, _column: int) -> None:
+        """A click on the row already selected goes back to its set (the playhead may
+        have moved off it); a click that changed the selection chose it already."""
+        if not self._press_chose and not self.isRowHidden(row):
+            self.set_chosen.emit(row)

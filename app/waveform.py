@@ -50,6 +50,7 @@ class WaveformView(pg.PlotWidget):
     # nanoseconds are Python ints carried as objects: Signal(int) is a 32-bit C int, which
     # wraps session times (~1.7e18 ns) and clap shifts beyond 2.1 s
     playhead_moved = Signal(object)  # session ns
+    word_clicked = Signal(int, object)  # a set's id and the session ns clicked on its mark
     clap_moved = Signal(object)  # how far the clap handle was dragged, ns (on release)
     clap_dragging = Signal(object)  # the same while the handle is being dragged
     #: the audio file could not be read again (moved?): what to tell the operator, once
@@ -436,7 +437,18 @@ class WaveformView(pg.PlotWidget):
             self.show_whole()
             return
         pos = self.getViewBox().mapSceneToView(event.scenePos())
-        self.playhead_moved.emit(self._to_ns(pos.x()))
+        set_id = self.mark_at(pos.x())
+        if set_id is not None:
+            self.word_clicked.emit(set_id, self._to_ns(pos.x()))
+        else:
+            self.playhead_moved.emit(self._to_ns(pos.x()))
+
+    def mark_at(self, x: float) -> int | None:
+        """The id of the set whose word mark covers ``x`` (the one whose middle is
+        nearest, where marks overlap); None off every mark."""
+        hits = [(abs((a + b) / 2 - x), set_id) for set_id, (region, _label)
+                in self._marks_of.items() for a, b in [region.getRegion()] if a <= x <= b]
+        return min(hits)[1] if hits else None
 
 
 def playhead_side(x: float, x0: float, x1: float) -> int:

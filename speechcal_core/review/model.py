@@ -236,6 +236,17 @@ class ReviewModel:
         self._emit("current_set", self.current)
         self.set_playhead(set_time_ns(self.session.sets[self.current]))
 
+    def click_word(self, set_id: int, t_ns: int) -> None:
+        """A click at ``t_ns`` on the word of the set with id ``set_id`` (its mark on the
+        waveform): that set becomes current, its frames shown (a set's time is its
+        stillest frame, often after the word); on the current set's own word the playhead
+        moves to ``t_ns`` instead, to listen from inside the word."""
+        current = self.current_set
+        if current is not None and current.id == set_id:
+            self.set_playhead(t_ns)
+        elif any(s.id == set_id for s in self.session.sets):
+            self.go_to_set(self._index_of(set_id))
+
     def next_set(self) -> None:
         """The next set the filter shows (the current one again at the end)."""
         self._step_set(+1)

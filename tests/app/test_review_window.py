@@ -184,6 +184,20 @@ def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
     assert window.counts_label.text().endswith(f"? {rows} undecided")
 
 
+def test_between_sets_the_band_names_the_set_the_keys_act_on(qtbot, window) -> None:
+    """Scrubbed away from the current set, A / R / Del still act on it: the band says
+    which, and Del's status message names the set it removed."""
+    model = window.model
+    model.go_to_set(1)
+    kept = model.current_set.id
+    a, b = (set_time_ns(s) for s in model.session.sets[2:4])
+    model.set_playhead((a + b) // 2)
+    assert window.grid.word_band.decides == kept
+    qtbot.keyClick(window, Qt.Key.Key_Delete)
+    assert all(s.id != kept for s in model.session.sets)
+    assert window.status_text.text() == f"set #{kept} removed · Ctrl+Z puts it back"
+
+
 def test_add_and_remove_buttons_do_what_t_and_delete_do(qtbot, window) -> None:
     model = window.model
     rows = window.table.rowCount()

@@ -181,3 +181,20 @@ def test_the_current_row_stays_in_view_when_the_list_gets_shorter(qtbot) -> None
     qtbot.wait(50)
     rect = table.visualItemRect(table.item(25, 0))
     assert table.viewport().rect().contains(rect)
+
+
+def test_a_click_on_the_selected_row_goes_back_to_its_set(qtbot, window) -> None:
+    """Scrubbed off the set, its row stays selected: clicking it returns to the set
+    (a click on another row chooses that one, once)."""
+    model, table = window.model, window.table
+    model.go_to_set(1)
+    a, b = (set_time_ns(s) for s in model.session.sets[1:3])
+    model.set_playhead((a + b) // 2)
+    chosen: list[int] = []
+    table.set_chosen.connect(chosen.append)
+    row_1 = table.visualItemRect(table.item(1, 0)).center()
+    qtbot.mouseClick(table.viewport(), Qt.MouseButton.LeftButton, pos=row_1)
+    assert chosen == [1] and model.playhead_ns == a
+    row_2 = table.visualItemRect(table.item(2, 0)).center()
+    qtbot.mouseClick(table.viewport(), Qt.MouseButton.LeftButton, pos=row_2)
+    assert chosen == [1, 2] and model.current == 2

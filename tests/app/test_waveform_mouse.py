@@ -173,3 +173,22 @@ def test_the_limits_follow_the_whole_view_when_an_offset_edit_widens_it(
     v0, v1 = _view(wave)
     assert v0 <= wave.clap.value() and mark.value() <= v1
     assert (v0, v1) == pytest.approx(wave.whole)
+
+
+def test_a_click_on_a_word_mark_shows_its_set(window, qtbot) -> None:
+    """The mark covers the spoken word; the set's frames are often later (its stillest
+    moment), yet a click on the word goes to the set, and then within the word."""
+    wave, model = window.waveform, window.model
+    target = model.session.sets[-1]
+    assert model.current != len(model.session.sets) - 1
+    a, b = wave._marks_of[target.id][0].getRegion()
+    wave.setXRange(a - 1.0, b + 1.0, padding=0)
+    click(qtbot, wave, (a + b) / 2, 0.8)
+    assert model.current_set is target
+    assert all(tile.chosen for tile in model.tiles())
+    click(qtbot, wave, a + 0.25 * (b - a), 0.8)  # its own word: the playhead goes there
+    assert model.current_set is target
+    assert abs(wave.playhead.value() - (a + 0.25 * (b - a))) < 0.01
+    click(qtbot, wave, a - 0.5, 0.8)  # off every word: the playhead moves, nothing else
+    assert model.current_set is target
+    assert abs(wave.playhead.value() - (a - 0.5)) < 0.01

@@ -88,6 +88,8 @@ def test_word_band_says_what_was_heard_and_what_was_added_by_hand() -> None:
     assert band_text("capture", "accepted") == "✔ “CAPTURE”"
     assert band_text("capture", "undecided", "manual") == "? CAPTURE · added by hand"
     assert band_text("", None) == "between frame sets · J / K go to one"
+    assert band_text("", None, "", 10) == \
+        "between frame sets · A / R / Del act on set #10 · J / K go to one"
 
 
 def test_a_larger_system_font_keeps_every_column_of_the_list_in_view(

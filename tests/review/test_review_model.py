@@ -50,6 +50,23 @@ def test_a_decision_off_the_set_lands_on_the_set_shown_decided(truth_session_fil
     assert model.current == 2 and sets[2].decision == "rejected"
     assert model.playhead_ns == set_time_ns(sets[2])
 
+def test_a_click_on_a_sets_word_goes_to_the_set_then_within_its_word(
+        truth_session_file) -> None:
+    """A set's time is its stillest frame, often after the word: a click on the word's
+    mark shows that set's frames; once it is current, a click in its word moves the
+    playhead there (to listen from inside the word)."""
+    model = open_model(truth_session_file)
+    word = model.session.sets[2].trigger
+    inside = model.session.sync.to_session((word.start_s + word.end_s) / 2)
+    model.click_word(model.session.sets[2].id, int(inside))
+    assert model.current == 2 and model.playhead_ns == set_time_ns(model.session.sets[2])
+    assert all(tile.chosen for tile in model.tiles())
+    model.click_word(model.session.sets[2].id, int(inside))
+    assert model.current == 2 and model.playhead_ns == int(inside)
+    model.click_word(10_000, int(inside))  # a set removed meanwhile: nothing happens
+    assert model.current == 2 and model.playhead_ns == int(inside)
+
+
 def test_set_navigation_moves_the_playhead_to_the_set(truth_session_file: Path) -> None:
     model = open_model(truth_session_file)
     seen = []
