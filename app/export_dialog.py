@@ -21,6 +21,7 @@ from PySide6.QtWidgets import (
 )
 
 from app.dialog_fit import fit_height
+from speechcal_core.text import counted
 
 #: export format -> what the operator reads in the list
 FORMAT_LABELS = {
@@ -59,7 +60,9 @@ class ExportDialog(QDialog):
         path_row = QHBoxLayout()
         path_row.addWidget(self.path_edit, 1)
         path_row.addWidget(browse)
-        self.undecided_box = QCheckBox(f"also the {counts.get('undecided', 0)} undecided sets")
+        undecided = counts.get("undecided", 0)
+        self.undecided_box = QCheckBox(f"also the {counted(undecided, 'undecided set')}")
+        self.undecided_box.setVisible(undecided > 0)  # "also the 0 undecided sets"
         self.summary = QLabel("")
         self.summary.setWordWrap(True)  # the notes run longer than the dialog is wide
         form = QFormLayout()

@@ -319,6 +319,8 @@ class ReviewWindow(QMainWindow):
         layout.setContentsMargins(6, 6, 6, 6)
         split = QSplitter(Qt.Orientation.Vertical)
         top = QSplitter(Qt.Orientation.Horizontal)
+        for splitter in (split, top):  # a pane dragged to nothing left a hair-thin handle
+            splitter.setChildrenCollapsible(False)
         left = QWidget()
         left_layout = QVBoxLayout(left)
         left_layout.setContentsMargins(0, 0, 0, 0)

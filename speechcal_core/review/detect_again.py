@@ -176,8 +176,9 @@ def result_message(result: DetectResult, added: int) -> str:
         return f"{what}: every one is in the list already"
     known = found - added
     already = f"; {known} already in the list" if known else ""
-    sets = "a new undecided set" if added == 1 else f"{added} new undecided sets"
-    return f"{what}: {sets}{already}; accept or reject them as usual"
+    sets, them = ("a new undecided set", "it") if added == 1 else \
+        (f"{added} new undecided sets", "them")
+    return f"{what}: {sets}{already}; accept or reject {them} as usual"
 
 
 def quoted(words: tuple[str, ...] | list[str]) -> str:

@@ -142,5 +142,5 @@ def result_message(result: SimilarResult, added: int) -> str:
     # no word times here: the audio's clock is not the list's (the audio starts earlier)
     if not added:
         return f"found nothing more like {where} that no set covers"
-    return (f"found {added} more like {where}: new undecided sets, "
-            "accept or reject them as usual")
+    sets, them = ("a new undecided set", "it") if added == 1 else ("new undecided sets", "them")
+    return f"found {added} more like {where}: {sets}, accept or reject {them} as usual"

@@ -68,3 +68,13 @@ def test_a_long_refusal_grows_the_dialog_and_squashes_no_field(qtbot, tmp_path: 
     for field in (dialog.format_box, dialog.path_edit, dialog.undecided_box):
         assert field.height() >= field.sizeHint().height(), field
     assert dialog.rect().contains(dialog.summary.geometry())
+
+
+def test_undecided_sets_are_offered_only_when_there_are_some(qtbot, tmp_path: Path) -> None:
+    none = ExportDialog(None, tmp_path, "rec", {"accepted": 2, "undecided": 0})
+    qtbot.addWidget(none)
+    assert not none.undecided_box.isVisibleTo(none)  # not "also the 0 undecided sets"
+    one = ExportDialog(None, tmp_path, "rec", {"accepted": 2, "undecided": 1})
+    qtbot.addWidget(one)
+    assert one.undecided_box.isVisibleTo(one)
+    assert one.undecided_box.text() == "also the 1 undecided set"

@@ -111,3 +111,16 @@ def test_a_larger_system_font_keeps_every_column_of_the_list_in_view(
         qtbot.waitUntil(lambda: table.horizontalScrollBar().maximum() == 0, timeout=5_000)
     finally:
         QApplication.setFont(before)
+
+
+def test_no_pane_can_be_dragged_away_to_nothing(window) -> None:
+    """A splitter dragged to its end hid the waveform, or the list with its Accept and
+    Reject buttons, behind a hair-thin handle."""
+    from PySide6.QtWidgets import QSplitter
+
+    splitters = window.findChildren(QSplitter)
+    assert len(splitters) == 2
+    for splitter in splitters:
+        assert not splitter.childrenCollapsible()
+        splitter.setSizes([0] + [10_000] * (splitter.count() - 1))
+        assert min(splitter.sizes()) > 0

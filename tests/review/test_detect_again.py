@@ -140,6 +140,9 @@ def test_detecting_again_keeps_the_sets_there_and_their_decisions(
     assert model.apply_detected(again) == []  # every word found has its set already
     assert {s.id: s.decision for s in model.session.sets} == decided
     assert result_message(again, 0).endswith("every one is in the list already")
+    one = result_message(again, 1)  # as if one word had been new
+    assert f"a new undecided set; {len(again.words) - 1} already in the list; accept or " \
+        "reject it as usual" in one
 
 
 def test_a_word_not_said_adds_nothing_and_says_so(wrong_word_session_file: Path) -> None:
