@@ -1,6 +1,6 @@
 """Lossless PNG frames in per-camera folders (shared by the Kalibr and folder layouts).
 
-Each chosen frame is decoded by the frame source and written with ``cv2.imwrite`` as PNG,
+Each chosen frame is decoded by the frame source and encoded by ``cv2.imencode`` as PNG,
 so the pixels are exactly what the source decodes: mono8 stays 8-bit grey, mono16 stays
 16-bit grey, colour stays BGR; JPEG payloads are decoded once and kept losslessly; Bayer
 images are demosaiced to BGR (what calibration tools read) by the source's decoder.
@@ -30,11 +30,18 @@ def write_png(path: Path, image: np.ndarray) -> None:
     if image.dtype not in (np.uint8, np.uint16):
         raise ExportError(f"{path}: cannot write a {image.dtype} image as PNG")
     try:
-        ok = cv2.imwrite(str(path), image, [cv2.IMWRITE_PNG_COMPRESSION, 3])
+        ok, encoded = cv2.imencode(".png", image, [cv2.IMWRITE_PNG_COMPRESSION, 3])
     except cv2.error as exc:
-        raise ExportError(f"{path}: OpenCV could not write the PNG ({exc})") from None
+        raise ExportError(f"{path}: OpenCV could not encode the PNG ({exc})") from None
     if not ok:
-        raise ExportError(f"{path}: could not write the PNG; check free disk space")
+        raise ExportError(f"{path}: OpenCV could not encode the PNG")
+    # written here, not by cv2.imwrite: its libpng printed "libpng error: Write Error"
+    # on a full disk and said no more than that it failed
+    try:
+        path.write_bytes(encoded.tobytes())
+    except OSError as exc:
+        raise ExportError(f"{path}: could not write the PNG ({exc.strerror}); check free "
+                          "disk space") from None
 
 
 def write_image_folders(

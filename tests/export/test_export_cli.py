@@ -183,6 +183,7 @@ def test_a_full_disk_is_one_line_naming_the_output_and_leaves_nothing(session_fi
     assert result.returncode == 1
     error = result.stderr.strip().splitlines()[-1]
     assert error.startswith("speechcal export: error: ") and "Traceback" not in result.stderr
+    assert "libpng" not in result.stderr  # no line from inside OpenCV before it
     assert str(out) in error and ".partial" not in error  # the folder the user asked for
     assert not out.exists() and _leftovers(tmp_path) == []
 
