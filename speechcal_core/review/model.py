@@ -206,9 +206,14 @@ class ReviewModel:
             return ()
 
     def preview_offset(self, delta_ns: int) -> None:
-        """Show (without applying) where the current set would sit with the offset shifted."""
-        if self.current_set is not None:
-            self.set_playhead(set_time_ns(self.current_set) + int(delta_ns))
+        """Show (without applying) where the current set would sit with the offset shifted:
+        at its trigger's shifted time, where it takes the nearest frames until re-scored
+        (its chosen still frame may lie a few tenths of a second from the trigger); no
+        shift shows the set as it is."""
+        current = self.current_set
+        if current is not None:
+            self.set_playhead(current.t_ns + int(delta_ns) if delta_ns
+                              else set_time_ns(current))
 
     def shown(self) -> list[int]:
         """Indices of the sets the filter shows (the current set may be among the hidden)."""

@@ -136,6 +136,21 @@ def test_a_zero_offset_shift_changes_nothing(truth_session_file: Path) -> None:
     assert load_session(truth_session_file).sync.source == "auto"
 
 
+def test_a_clap_drag_shows_where_its_release_puts_the_current_set(
+        searched_session_file: Path) -> None:
+    """A set's still frame may lie tenths of a second from its trigger; moved by an
+    offset edit, the set takes the frames nearest the trigger's new time (until
+    re-scored), so the drag's preview shows that place, not the still frame's shifted."""
+    model = open_model(searched_session_file)
+    gaps = [abs(set_time_ns(s) - s.t_ns) for s in model.session.sets]
+    model.go_to_set(gaps.index(max(gaps)))
+    assert max(gaps) > 1e9 / 15  # the still frame more than a frame from the trigger
+    model.preview_offset(150_000_000)
+    preview = model.playhead_ns
+    model.nudge_offset(150_000_000)
+    assert abs(set_time_ns(model.current_set) - preview) <= 1e9 / 15 / 2 + 1
+
+
 def test_every_key_binding_names_an_action() -> None:
     for action in KEY_BINDINGS.values():
         assert callable(getattr(ReviewModel, action))
@@ -220,5 +235,5 @@ def test_chosen_frames_carry_their_corners_and_drag_preview_changes_nothing(
     assert all(t.corners == () for s, t in tiles.items() if s != name)
     offset = model.session.sync.offset_ns
     model.preview_offset(20_000_000)
-    assert model.playhead_ns == set_time_ns(first) + 20_000_000
+    assert model.playhead_ns == first.t_ns + 20_000_000
     assert model.session.sync.offset_ns == offset and model.session.sets[0] == first
