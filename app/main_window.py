@@ -90,8 +90,9 @@ HINTS_TIP = (
     "[ ] audio ±1 ms, { } audio ±1 frame, or drag the clap handle on the waveform\n"
     "double-click a camera (or press its number 1-9) to show it alone, Esc back to the "
     "grid\n"
-    "waveform: the wheel (or = and -) zooms, a drag pans, a click moves the playhead, a "
-    "double-click (or the 'whole session' button) shows the whole session\n"
+    "waveform: the wheel (or = and -) zooms, a drag pans, a click moves the playhead (a "
+    "click on a set's word goes to that set), a double-click (or the 'whole session' "
+    "button) shows the whole session\n"
     "Ctrl+F find trigger words: other words or another sensitivity")
 
 
