@@ -27,10 +27,11 @@ def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
     if fmt == "kalibr":
         notes.append(target_note(session, spec, target_from))
     if fmt in ("kalibr", "folders"):
-        notes.append(corners_problem(session))
-    if fmt == "folders" and not corners_problem(session):
-        notes.append(assumed_board_note(session, spec, target_from,
-                                        "corners.json and corners.vnl place the corners on"))
+        no_corners = corners_problem(session)
+        notes.append(no_corners)
+        if fmt == "folders" and not no_corners:
+            notes.append(assumed_board_note(
+                session, spec, target_from, "corners.json and corners.vnl place the corners on"))
     if fmt in ("rosbag1", "rosbag2"):
         notes.append(approx_sync_note(plan.sets))
     return [note for note in notes if note]
@@ -86,9 +87,9 @@ def target_note(session: Session, spec: TargetSpec, target_from: str) -> str:
     """What to tell the user about the ``target.yaml`` describing ``spec``: that it is
     an assumption, or that it is not the board the session's frames were checked
     against (their corner counts are for that one); "" when neither."""
-    stored, assumed = TargetSpec.from_session(session.extra)
     if target_from == "default":
         return assumed_board_note(session, spec, target_from, "target.yaml describes")
+    stored, assumed = TargetSpec.from_session(session.extra)
     if target_from != "given" or stored is None or \
             (stored.kind, stored.rows, stored.cols) == (spec.kind, spec.rows, spec.cols):
         return ""
