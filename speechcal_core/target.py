@@ -168,11 +168,11 @@ class TargetSpec:
         size_keys = {"aprilgrid": ["tagSize"],
                      "checkerboard": ["rowSpacingMeters", "colSpacingMeters"]}.get(kind, [])
         try:
-            for key in size_keys:
-                if key in values and number(key) > MAX_SIZE_M:
+            for key in (k for k in size_keys if k in values):
+                if (size := number(key)) > MAX_SIZE_M:
                     raise TargetError(
                         f"{path}: {key} {values[key]} m is larger than any board; Kalibr "
-                        f"takes metres ({number(key):g} mm is {number(key) / 1000:g})")
+                        f"takes metres ({size:g} mm is {size / 1000:g})")
             if kind == "aprilgrid":
                 return cls("aprilgrid", whole("tagRows"), whole("tagCols"), number("tagSize"),
                            number("tagSpacing"))

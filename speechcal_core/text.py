@@ -9,6 +9,15 @@ def counted(n: int, word: str, plural: str | None = None) -> str:
     return f"{n} {word if n == 1 else plural or word + 's'}"
 
 
+def new_undecided(n: int, with_count: bool = True) -> tuple[str, str]:
+    """What ``n`` sets just added for review are called, and the pronoun for them:
+    ("a new undecided set", "it"), ("3 new undecided sets", "them"); without the count
+    ("new undecided sets") where the message gave it already."""
+    if n == 1:
+        return "a new undecided set", "it"
+    return (f"{n} new undecided sets" if with_count else "new undecided sets"), "them"
+
+
 def listed(names: list[str], at_most: int = 3) -> str:
     """The first ``at_most`` names, comma-separated, "…" when there are more."""
     return ", ".join(names[:at_most]) + (", …" if len(names) > at_most else "")

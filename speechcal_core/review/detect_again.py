@@ -21,6 +21,7 @@ from speechcal_core.session.model import PRONUNCIATIONS_KEY, SENSITIVITY_KEY, Se
 from speechcal_core.speech.backend import Word
 from speechcal_core.speech.errors import SpeechUsageError
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY, TriggerSpec, normalize_word
+from speechcal_core.text import new_undecided
 
 Progress = Callable[[str, float], None]
 
@@ -176,8 +177,7 @@ def result_message(result: DetectResult, added: int) -> str:
         return f"{what}: every one is in the list already"
     known = found - added
     already = f"; {known} already in the list" if known else ""
-    sets, them = ("a new undecided set", "it") if added == 1 else \
-        (f"{added} new undecided sets", "them")
+    sets, them = new_undecided(added)
     return f"{what}: {sets}{already}; accept or reject {them} as usual"
 
 

@@ -20,6 +20,7 @@ from speechcal_core.session.model import FrameSet, Session
 from speechcal_core.speech.backend import Word
 from speechcal_core.speech.more_like import MIN_WORD_S, RATE, find_more_like, word_near
 from speechcal_core.speech.speech_index import SpeechIndex
+from speechcal_core.text import new_undecided
 
 Progress = Callable[[str, float], None]
 
@@ -142,5 +143,5 @@ def result_message(result: SimilarResult, added: int) -> str:
     # no word times here: the audio's clock is not the list's (the audio starts earlier)
     if not added:
         return f"found nothing more like {where} that no set covers"
-    sets, them = ("a new undecided set", "it") if added == 1 else ("new undecided sets", "them")
+    sets, them = new_undecided(added, with_count=False)  # "found 3 more like ..." gave it
     return f"found {added} more like {where}: {sets}, accept or reject {them} as usual"

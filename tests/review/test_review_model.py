@@ -50,6 +50,7 @@ def test_a_decision_off_the_set_lands_on_the_set_shown_decided(truth_session_fil
     assert model.current == 2 and sets[2].decision == "rejected"
     assert model.playhead_ns == set_time_ns(sets[2])
 
+
 def test_a_click_on_a_sets_word_goes_to_the_set_then_within_its_word(
         truth_session_file) -> None:
     """A set's time is its stillest frame, often after the word: a click on the word's
