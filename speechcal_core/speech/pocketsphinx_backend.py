@@ -53,7 +53,12 @@ if TYPE_CHECKING:
 RATE = 16000
 FRAME_S = 0.01
 PHONE_PREFIX = "ph_"
-#: narrow beams keep a phone loop fast; bestpath is off (its lattice costs seconds)
+#: narrow beams keep a phone loop fast; bestpath is off (its lattice costs seconds).
+#: Front-end settings do not belong here: the model's ``feat.params`` (noise removal on,
+#: batch CMN, its filter bank) overrides them when given to ``Decoder``. Only
+#: ``decoder.config[...]`` followed by ``reinit_feat`` changes them, and the model's
+#: noise removal is what lets it hear speech in room noise at all: without it the
+#: recogniser alone heard 17 of 493 triggers at 5 dB (seeds 101-112), with it 226
 DECODER_OPTIONS: dict[str, Any] = {
     "beam": 1e-30, "pbeam": 1e-30, "wbeam": 1e-20, "bestpath": False, "loglevel": "ERROR",
 }

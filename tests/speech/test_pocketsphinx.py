@@ -137,6 +137,15 @@ def test_higher_sensitivity_never_finds_fewer_words(capture_scene: Scene) -> Non
     assert counts == sorted(counts) and counts[0] < counts[-1]
 
 
+def test_the_decoder_runs_the_models_own_noise_removal_and_batch_normalisation() -> None:
+    # the model's feat.params sets these; without its noise removal the recogniser hears
+    # almost nothing in room noise, so a pocketsphinx release that stopped applying it
+    # must fail here rather than in the benchmark
+    decoder = PocketsphinxBackend()._prepare(TriggerSpec(("capture",)))
+    assert decoder.config["remove_noise"] is True
+    assert decoder.config["cmn"] == "batch"
+
+
 def test_the_filler_grows_dearer_with_sensitivity_and_fastest_above_the_default() -> None:
     for tier in TIERS:
         at_zero, at_default, at_one = tier.phone_log10
