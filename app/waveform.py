@@ -99,9 +99,8 @@ class WaveformView(pg.PlotWidget):
         # above the playhead: a click on the clap puts the playhead on it, and the drag
         # from there must still take the handle (the playhead is dragged anywhere else)
         self.clap.setZValue(25)
-        self.clap.sigPositionChangeFinished.connect(
-            lambda _line: self.clap_moved.emit(self.clap_shift_ns()))
-        self.clap.sigDragged.connect(lambda _line: self.clap_dragging.emit(self.clap_shift_ns()))
+        self.clap.sigPositionChangeFinished.connect(lambda _line: self._clap_released())
+        self.clap.sigDragged.connect(lambda _line: self._clap_dragged())
         self.clap.hide()
         self.addItem(self.clap)
         #: later claps (the drift's), marked where the sync puts them; not handles
@@ -130,6 +129,7 @@ class WaveformView(pg.PlotWidget):
         self._drawn_width = 0
         self.getViewBox().sigResized.connect(lambda *_: self._resized())
         self._drawn_sync: SyncModel | None = None  # the sync the envelope was drawn with
+        self._marks_shift_s = 0.0  # how far a clap drag shows the word marks shifted
         self._redraw_timer = QTimer(self)  # the redraw after a run of offset edits
         self._redraw_timer.setSingleShot(True)
         self._redraw_timer.setInterval(REDRAW_AFTER_SHIFT_MS)
@@ -195,6 +195,41 @@ class WaveformView(pg.PlotWidget):
         if not self._claps_audio_s or self.sync is None:
             return 0
         return self._to_ns(self.clap.value()) - int(self.sync.to_session(self._claps_audio_s[0]))
+
+    def _clap_dragged(self) -> None:
+        """The audio slides with the handle: the envelope, the later claps and the word
+        marks are drawn shifted as the new offset would place them (the offset itself
+        changes on release)."""
+        shift_ns = self.clap_shift_ns()
+        self._show_shifted(shift_ns / 1e9)
+        self.clap_dragging.emit(shift_ns)
+
+    def _clap_released(self) -> None:
+        shift_ns = self.clap_shift_ns()
+        self._show_shifted(0.0)  # the offset edit (if any) places everything anew
+        self.clap_moved.emit(shift_ns)
+
+    def _show_shifted(self, shift_s: float) -> None:
+        """Draw the audio's envelope, later claps and word marks ``shift_s`` later than
+        the current sync puts them (0: where it puts them)."""
+        if self.sync is None:
+            return
+        drawn = self._drawn_sync
+        base = (self.sync.offset_ns - drawn.offset_ns) / 1e9 if drawn is not None else 0.0
+        for item in (self._upper, self._lower, self._fill):
+            item.setPos(base + shift_s, 0.0)
+        for line, audio_s in zip(self.later_claps, self._claps_audio_s[1:], strict=False):
+            line.setValue(self._to_x(int(self.sync.to_session(audio_s))) + shift_s)
+        for region, label in self._marks_of.values():
+            for item in (region, label):
+                item.setPos(item.pos().x() - self._marks_shift_s + shift_s, item.pos().y())
+        self._marks_shift_s = shift_s
+
+    def mark_extent(self, set_id: int) -> tuple[float, float]:
+        """Where a set's word mark is drawn (x, seconds), a clap drag's shift included."""
+        region, _label = self._marks_of[set_id]
+        a, b = region.getRegion()
+        return a + self._marks_shift_s, b + self._marks_shift_s
 
     def show_all(self, start_ns: int, end_ns: int) -> None:
         """Show the whole session: the frames from ``start_ns`` to ``end_ns`` and every
@@ -376,7 +411,8 @@ class WaveformView(pg.PlotWidget):
             end = self._to_x(int(self.sync.to_session(s.trigger.end_s)))
             region, label = self._marks_of[s.id]
             region.setRegion((start, end))
-            label.setPos((start + end) / 2, 1.0)
+            region.setPos(self._marks_shift_s, 0.0)  # a clap drag's shift, if one is on
+            label.setPos((start + end) / 2 + self._marks_shift_s, 1.0)
             self._paint_mark(s)
             width = QFontMetrics(label.textItem.font()).horizontalAdvance(label.toPlainText())
             labels.append(((start + end) / 2, label, width))

@@ -100,6 +100,40 @@ def test_the_clap_handle_is_dragged_when_the_playhead_sits_on_it(window, qtbot) 
     assert abs(wave.clap.value() - (clap_x + 0.2)) < 0.01
 
 
+def test_the_word_marks_and_the_envelope_slide_with_the_clap_handle_while_dragged(
+        window, qtbot) -> None:
+    wave, model = window.waveform, window.model
+    set_id = model.current_set.id
+    mark = wave.mark_extent(set_id)
+    envelope_x = wave._upper.pos().x()
+    clap_x = wave.clap.value()
+    wave.setXRange(clap_x - 2, clap_x + 2, padding=0)
+    offset = model.session.sync.offset_ns
+    p0, p1 = _point(wave, clap_x), _point(wave, clap_x + 0.3)
+    _send(wave, QEvent.Type.MouseMove, p0)
+    _send(wave, QEvent.Type.MouseButtonPress, p0, Qt.MouseButton.LeftButton)
+    for k in range(1, 6):
+        _send(wave, QEvent.Type.MouseMove, p0 + (p1 - p0) * (k / 5), Qt.MouseButton.LeftButton)
+    # held: the offset is not edited yet, but the audio is drawn where it would go
+    assert model.session.sync.offset_ns == offset
+    shift_s = wave.clap.value() - clap_x
+    assert shift_s == pytest.approx(0.3, abs=0.01)
+    assert wave.mark_extent(set_id) == pytest.approx((mark[0] + shift_s, mark[1] + shift_s))
+    assert wave._upper.pos().x() == pytest.approx(envelope_x + shift_s)
+    # the playhead previews the set at its shifted time, inside its shifted mark
+    assert wave.mark_extent(set_id)[0] - 0.5 < wave.playhead.value() < \
+        wave.mark_extent(set_id)[1] + 0.5
+    _send(wave, QEvent.Type.MouseButtonRelease, p1)
+    qtbot.wait(10)
+    # released: the offset moved, and the marks stand where the new sync puts them
+    moved_s = (model.session.sync.offset_ns - offset) / 1e9
+    assert moved_s == pytest.approx(shift_s, abs=0.001)
+    assert wave.mark_extent(set_id) == pytest.approx((mark[0] + moved_s, mark[1] + moved_s),
+                                                     abs=0.001)
+    assert wave.mark_extent(set_id) == pytest.approx(wave._marks_of[set_id][0].getRegion(),
+                                                     abs=1e-9)
+
+
 def test_the_playhead_line_is_dragged_away_from_the_clap(window, qtbot) -> None:
     wave = window.waveform
     x0, x1 = wave.getViewBox().viewRange()[0]
