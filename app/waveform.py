@@ -482,8 +482,8 @@ class WaveformView(pg.PlotWidget):
     def mark_at(self, x: float) -> int | None:
         """The id of the set whose word mark covers ``x`` (the one whose middle is
         nearest, where marks overlap); None off every mark."""
-        hits = [(abs((a + b) / 2 - x), set_id) for set_id, (region, _label)
-                in self._marks_of.items() for a, b in [region.getRegion()] if a <= x <= b]
+        hits = [(abs((a + b) / 2 - x), set_id) for set_id in self._marks_of
+                for a, b in [self.mark_extent(set_id)] if a <= x <= b]
         return min(hits)[1] if hits else None
 
 
