@@ -160,10 +160,17 @@ class WaveformView(pg.PlotWidget):
         if drawn is None or sync.drift != drawn.drift:
             self.redraw()
             return
-        shift = (sync.offset_ns - drawn.offset_ns) / 1e9
-        for item in (self._upper, self._lower, self._fill):
-            item.setPos(shift, 0.0)
+        self._place_envelope(0.0)
         self._redraw_timer.start()
+
+    def _place_envelope(self, extra_s: float) -> None:
+        """Put the envelope as drawn where the current sync (same drift) places it, moved
+        ``extra_s`` further (a clap drag's preview)."""
+        drawn = self._drawn_sync
+        assert self.sync is not None
+        shift = (self.sync.offset_ns - drawn.offset_ns) / 1e9 if drawn is not None else 0.0
+        for item in (self._upper, self._lower, self._fill):
+            item.setPos(shift + extra_s, 0.0)
 
     def set_claps(self, claps_audio_s: Sequence[float]) -> None:
         """Mark where the audio claps land on the session clock: the first as a handle to
@@ -176,7 +183,7 @@ class WaveformView(pg.PlotWidget):
             self.clap.hide()
             self._keep_marks_within_whole()
             return
-        first, *later = (self._to_x(int(self.sync.to_session(a))) for a in self._claps_audio_s)
+        first, *later = self._clap_xs()
         self.clap.setValue(first)
         self.clap.show()
         for n, x in enumerate(later, start=2):
@@ -189,6 +196,11 @@ class WaveformView(pg.PlotWidget):
             self.addItem(line)
             self.later_claps.append(line)
         self._keep_marks_within_whole()
+
+    def _clap_xs(self) -> list[float]:
+        """Where the current sync puts the audio's claps (x, seconds)."""
+        assert self.sync is not None
+        return [self._to_x(int(self.sync.to_session(a))) for a in self._claps_audio_s]
 
     def clap_shift_ns(self) -> int:
         """How far the clap handle was dragged from where the current sync puts it."""
@@ -214,12 +226,9 @@ class WaveformView(pg.PlotWidget):
         the current sync puts them (0: where it puts them)."""
         if self.sync is None:
             return
-        drawn = self._drawn_sync
-        base = (self.sync.offset_ns - drawn.offset_ns) / 1e9 if drawn is not None else 0.0
-        for item in (self._upper, self._lower, self._fill):
-            item.setPos(base + shift_s, 0.0)
-        for line, audio_s in zip(self.later_claps, self._claps_audio_s[1:], strict=False):
-            line.setValue(self._to_x(int(self.sync.to_session(audio_s))) + shift_s)
+        self._place_envelope(shift_s)
+        for line, x in zip(self.later_claps, self._clap_xs()[1:], strict=False):
+            line.setValue(x + shift_s)
         for region, label in self._marks_of.values():
             for item in (region, label):
                 item.setPos(item.pos().x() - self._marks_shift_s + shift_s, item.pos().y())
