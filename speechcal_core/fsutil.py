@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import glob
 import os
 import shutil
 import tempfile
@@ -10,6 +11,11 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from speechcal_core.errors import SpeechCalError
+
+try:
+    import fcntl
+except ImportError:  # Windows: no folder locks, so abandoned staging folders are kept
+    fcntl = None  # type: ignore[assignment]
 
 
 class OutputExistsError(SpeechCalError):
@@ -103,6 +109,10 @@ def staged_directory(target: str | Path, *, force: bool = False,
     appeared meanwhile (another program, a second export to the same place), or one that
     ``may_replace`` now objects to (its reason, "" when it may go), is left alone; the
     finished output is kept at a free sibling name and a :class:`SpeechCalError` says where.
+
+    The staging folder stays locked while it is written. One that no process holds any
+    more is what a killed write (SIGKILL, power loss) left behind: the next write of the
+    same ``target`` removes it (``_sweep_abandoned``).
     """
     target = Path(target).absolute()
     _refuse_working_folder(target)
@@ -112,20 +122,24 @@ def staged_directory(target: str | Path, *, force: bool = False,
     parent = target.parent
     try:
         parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=parent))
-        os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes 0700
+        _sweep_abandoned(target)
+        staging, lock = _locked_staging(target)
     except OSError as exc:
         reason = file_in_the_way(parent) or exc.strerror
         raise SpeechCalError(
             f"{target}: cannot write there ({reason}); choose a writable folder"
         ) from exc
     try:
-        yield staging
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)  # the block's own error is the one to see
-        raise
-    _check_still_replaceable(staging, target, existed, may_replace)
-    old = _swap_in(staging, target)
+        try:
+            yield staging
+        except BaseException:
+            shutil.rmtree(staging, ignore_errors=True)  # the block's own error is the one
+            raise
+        _check_still_replaceable(staging, target, existed, may_replace)
+        old = _swap_in(staging, target)
+    finally:
+        if lock is not None:
+            os.close(lock)
     if old is not None:
         try:
             _remove(old)
@@ -134,6 +148,62 @@ def staged_directory(target: str | Path, *, force: bool = False,
                 f"{target} is written, but what it replaced could not be removed "
                 f"({exc.strerror}) and is left at {old}; remove it by hand"
             ) from exc
+
+
+def _staging_prefix(target: Path, state: str) -> str:
+    """The name a staging folder of ``target`` starts with: ``state`` is "starting" until
+    it is locked, then "partial"."""
+    return f".{target.name}.{state}-"
+
+
+def _locked_staging(target: Path) -> tuple[Path, int | None]:
+    """A new staging folder beside ``target`` and the descriptor holding its lock (None
+    where the system has no folder locks). It is locked before it takes its "partial"
+    name, so a sweep never sees it unheld."""
+    starting = Path(tempfile.mkdtemp(prefix=_staging_prefix(target, "starting"),
+                                     dir=target.parent))
+    try:
+        os.chmod(starting, 0o777 & ~_umask())  # mkdtemp makes 0700
+        lock = _lock(starting)
+        staging = starting.with_name(_staging_prefix(target, "partial")
+                                     + starting.name[len(_staging_prefix(target, "starting")):])
+        os.rename(starting, staging)
+    except BaseException:
+        shutil.rmtree(starting, ignore_errors=True)
+        raise
+    return staging, lock
+
+
+def _lock(folder: Path) -> int | None:
+    """An open descriptor holding an exclusive lock on ``folder``, or None when another
+    process holds it (or the system has no folder locks). The system ends the lock with
+    the process however it ends, so an unheld staging folder is an abandoned one."""
+    if fcntl is None:
+        return None
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def _sweep_abandoned(target: Path) -> None:
+    """Remove the staging folders that killed writes of ``target`` left behind (a killed
+    export can leave gigabytes of frames in a hidden folder). Those a running write holds
+    are left alone, and so is everything where folders cannot be locked."""
+    pattern = glob.escape(_staging_prefix(target, "partial")) + "*"
+    for folder in target.parent.glob(pattern):
+        if folder.is_symlink() or not folder.is_dir():
+            continue
+        lock = _lock(folder)
+        if lock is None:
+            continue
+        try:
+            shutil.rmtree(folder, ignore_errors=True)
+        finally:
+            os.close(lock)
 
 
 def _refuse_working_folder(target: Path) -> None:

@@ -3,6 +3,11 @@
 from __future__ import annotations
 
 import os
+import signal
+import subprocess
+import sys
+import textwrap
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -36,6 +41,57 @@ def test_staged_directory_appears_only_when_complete(tmp_path: Path) -> None:
     with staged_directory(target) as staging:
         (staging / "done.txt").write_text("x")
     assert (target / "done.txt").exists()
+
+
+#: a second process that starts writing ``argv[1]`` and stays inside the block
+WRITER = textwrap.dedent("""
+    import sys, time
+    from speechcal_core.fsutil import staged_directory
+    with staged_directory(sys.argv[1]) as staging:
+        (staging / "frame.png").write_bytes(bytes(1000))
+        print("writing", flush=True)
+        time.sleep(120)
+""")
+
+
+@pytest.fixture
+def writer(tmp_path: Path) -> Iterator[subprocess.Popen]:
+    """A real process in the middle of writing ``tmp_path / "out"``; killed at the end."""
+    proc = subprocess.Popen([sys.executable, "-c", WRITER, str(tmp_path / "out")],
+                            stdout=subprocess.PIPE, text=True)
+    assert proc.stdout is not None and proc.stdout.readline() == "writing\n"
+    yield proc
+    proc.kill()
+    proc.wait()
+
+
+def _hidden(folder: Path) -> list[str]:
+    return sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="folder locks are POSIX flock")
+def test_a_killed_write_leaves_a_partial_folder_the_next_write_removes(
+        tmp_path: Path, writer: subprocess.Popen) -> None:
+    writer.send_signal(signal.SIGKILL)  # nothing of the process can clean up
+    writer.wait()
+    left = _hidden(tmp_path)
+    assert len(left) == 1 and left[0].startswith(".out.partial-")
+    (tmp_path / ".other.partial-x").mkdir()  # another output's staging is not ours to sweep
+    with staged_directory(tmp_path / "out") as staging:
+        (staging / "done.txt").write_text("x")
+    assert _hidden(tmp_path) == [".other.partial-x"]
+    assert [p.name for p in (tmp_path / "out").iterdir()] == ["done.txt"]
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="folder locks are POSIX flock")
+def test_a_write_in_progress_keeps_its_partial_folder(tmp_path: Path,
+                                                      writer: subprocess.Popen) -> None:
+    theirs = _hidden(tmp_path)
+    with staged_directory(tmp_path / "out") as staging:
+        (staging / "done.txt").write_text("x")
+    assert writer.poll() is None
+    assert _hidden(tmp_path) == theirs
+    assert (tmp_path / theirs[0] / "frame.png").stat().st_size == 1000
 
 
 def test_existing_output_needs_force(tmp_path: Path) -> None:
