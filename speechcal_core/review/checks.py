@@ -146,9 +146,19 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
         line += f", RMS ≤ {max(rms):.2f} px"
     elif 0 < kept < MIN_VIEWS:  # too few to tell anything about the board
         line += f" (a fit needs the target in {MIN_VIEWS} sets or more)"
-    elif kept:  # nothing fits anywhere: the board may not be the one looked for
+    elif 0 < (seen := _most_views(cover, streams)) < MIN_VIEWS:
+        # the board was found, in too few sets (others show no frame, or no board)
+        line += (f" (a fit needs the target in {MIN_VIEWS} sets or more; no camera saw it "
+                 f"in more than {seen})")
+    elif kept and not seen:  # the board is nowhere: it may not be the one looked for
         target = TargetSpec.from_stored(session.extra.get("target")) or TargetSpec()
         line += (f" (looked for a {target.describe()}: if the board is "
                  "another one, process again with --target TARGET.yaml into a new session "
                  "file)")
     return CheckSummary(line, tuple(lines), len(rms) < len(streams))
+
+
+def _most_views(coverage: Mapping[str, Any], streams: Sequence[str]) -> int:
+    """The most sets any of ``streams`` saw the target in, as the coverage counts them."""
+    return max((int((coverage.get(name) or {}).get("views", 0)) for name in streams),
+               default=0)

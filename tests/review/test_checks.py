@@ -156,3 +156,21 @@ def test_too_few_sets_are_named_as_the_reason_not_the_board(
     assert summary is not None and summary.warning
     assert summary.line.endswith(f"cameras fit (a fit needs the target in {MIN_VIEWS} sets "
                                  "or more)")
+
+
+def test_a_board_seen_in_too_few_sets_is_named_as_the_reason_not_the_board(
+        searched_session_file: Path) -> None:
+    """Enough sets kept, but the board in fewer than a fit needs (the others show no frame,
+    as in a recording cut short): the line names the count, not another --target."""
+    from speechcal_core.calibration.check import MIN_VIEWS
+
+    session = load_session(searched_session_file)
+    assert sum(s.decision != "rejected" for s in session.sets) >= MIN_VIEWS
+    for cover in session.extra["coverage"].values():  # as the checks count such sets
+        cover["views"] = min(cover["views"], MIN_VIEWS - 1)
+    session.calibration = {}
+    summary = check_summary(session, list(session.extra["coverage"]))
+    assert summary is not None and summary.warning
+    assert summary.line.endswith(f"(a fit needs the target in {MIN_VIEWS} sets or more; "
+                                 f"no camera saw it in more than {MIN_VIEWS - 1})")
+    assert "--target" not in summary.line
