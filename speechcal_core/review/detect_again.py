@@ -93,7 +93,7 @@ def parse_trigger_text(text: str) -> tuple[tuple[str, ...], dict[str, str]]:
 def detect_request(session: Session, text: str, sensitivity: float) -> DetectRequest:
     """A checked request for the words of ``text`` (see :func:`parse_trigger_text`);
     UsageError saying what to type when the words cannot be detected."""
-    from speechcal_core.speech.lexicon import pronunciations
+    from speechcal_core.speech.lexicon import pronunciations, spelled_like_hint
 
     if not session.audio:
         raise UsageError("this session has no audio file to find words in")
@@ -116,7 +116,8 @@ def detect_request(session: Session, text: str, sensitivity: float) -> DetectReq
                 raise UsageError(str(exc)) from exc
             raise UsageError(
                 f"“{word}” is not in the pocketsphinx dictionary: write its pronunciation "
-                f"after it in ARPAbet phones, as in {EXAMPLE}") from exc
+                f"after it in ARPAbet phones, as in {EXAMPLE}{spelled_like_hint(word)}"
+            ) from exc
     return DetectRequest(spec.words, spec.sensitivity, session.audio, session.audio_channel,
                          dict(spec.pronunciations))
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 import functools
 import re
 from pathlib import Path
@@ -76,9 +77,26 @@ def pronunciations(word: str, user: dict[str, str] | None = None) -> tuple[Pron,
     if not found:
         raise SpeechUsageError(
             f"trigger word {word!r} is not in the pocketsphinx dictionary; give its "
-            f"pronunciation, e.g. --pronounce '{word}=K AE P CH ER' (ARPAbet phones)"
+            f"pronunciation in ARPAbet phones, as --pronounce '{word}=PHONES'"
+            f"{spelled_like_hint(word)}"
         )
     return found
+
+
+def spelled_like(word: str, n: int = 2) -> list[tuple[str, Pron]]:
+    """Up to ``n`` dictionary words spelled most like ``word``, with their first
+    pronunciation: a start for writing the pronunciation of a word it lacks."""
+    words = load_dictionary()
+    return [(w, words[w][0]) for w in difflib.get_close_matches(word, words, n=n, cutoff=0.7)]
+
+
+def spelled_like_hint(word: str) -> str:
+    """"; the dictionary has calibrate = K AE L AH B R EY T, ..." for the words spelled like
+    ``word``, or how a known word is written when none is."""
+    close = spelled_like(word)
+    shown = close or [("capture", load_dictionary()["capture"][0])]
+    return (f"; the dictionary {'has' if close else 'writes'} "
+            + ", ".join(f"{w} = {' '.join(pron)}" for w, pron in shown))
 
 
 def rival_words(prons: tuple[Pron, ...], exclude: set[str]) -> list[str]:

@@ -49,7 +49,8 @@ def test_words_the_detector_cannot_look_for_are_refused_with_what_to_type(
         detect_request(session, "capture, foo-bar", 0.5)
     with pytest.raises(UsageError, match=r"“kalibrr” is not in the pocketsphinx dictionary: "
                                          r"write its pronunciation after it in ARPAbet phones, "
-                                         r"as in kalibr=K AE L IH B ER"):
+                                         r"as in kalibr=K AE L IH B ER; the dictionary "
+                                         r"has kalberer = K AE L B ER ER"):
         detect_request(session, "capture, kalibrr", 0.5)
     with pytest.raises(UsageError, match="unknown phones"):
         detect_request(session, "kalibrr=K AE L QQ", 0.5)

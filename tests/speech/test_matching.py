@@ -34,3 +34,19 @@ def test_bad_trigger_settings_name_the_fix() -> None:
         TriggerSpec(("take picture",))
     with pytest.raises(SpeechError, match=r"0\.\.1"):
         TriggerSpec(("capture",), sensitivity=2.0)
+
+
+def test_a_word_the_dictionary_lacks_is_answered_with_its_closest_spellings() -> None:
+    """The operator writes the phones of a word the dictionary lacks: the message starts
+    them from the words spelled most like it, not from an unrelated example."""
+    from speechcal_core.speech.lexicon import pronunciations
+
+    with pytest.raises(SpeechError) as err:
+        pronunciations("kalibrate")
+    assert str(err.value) == (
+        "trigger word 'kalibrate' is not in the pocketsphinx dictionary; give its "
+        "pronunciation in ARPAbet phones, as --pronounce 'kalibrate=PHONES'; the dictionary "
+        "has calibrate = K AE L AH B R EY T, calibrated = K AE L AH B R EY T AH D")
+    with pytest.raises(SpeechError, match=r"'qzxv=PHONES'; the dictionary writes capture = "
+                                          r"K AE P CH ER$"):
+        pronunciations("qzxv")  # nothing spelled like it: how a known word is written
