@@ -31,8 +31,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--offset-ns", type=int, metavar="N")
     p.add_argument("-o", "--output", required=True, metavar="SESSION.json")
     p.add_argument("--force", action="store_true",
-                   help="replace an existing session file (its review decisions are lost; "
-                        "the old file is kept as SESSION.json.bak)")
+                   help="replace an existing session file, and no other file (its review "
+                        "decisions are lost; the old file is kept as SESSION.json.bak)")
     p.add_argument("--json", action="store_true",
                    help="print what was written as JSON on stdout (session, sets, sync, notes)")
     return p
@@ -50,6 +50,8 @@ def run(args: argparse.Namespace) -> int:
             f"{args.output} already exists and may hold review decisions; "
             "choose another -o or pass --force"
         )
+    if Path(args.output).exists():
+        _refuse_to_replace_other_files(Path(args.output))
     check_session_target(args.output)  # a bad -o fails now, not after all the work
     words, level = pronunciations(args), sensitivity(args)
     target = TargetSpec.from_kalibr_yaml(args.target) if args.target else None
@@ -98,6 +100,20 @@ def _refuse_to_write_over_inputs(args: argparse.Namespace) -> None:
             f"lies inside the {what} {p} this reads"
         raise OutputExistsError(f"{out} {where}; write the session file elsewhere, such as "
                                 "session.json beside it")
+
+
+def _refuse_to_replace_other_files(out: Path) -> None:
+    """--force replaces a session file, nothing else: a file that does not read as one
+    (notes, another tool's JSON, a damaged session) is the operator's to move away."""
+    from speechcal_core.session.store import SessionFileError, load_session
+
+    try:
+        load_session(out)
+    except SessionFileError as exc:
+        reason = str(exc).removeprefix(f"{out}: ").split(";")[0]  # not how to open it
+        raise OutputExistsError(f"{out} exists and --force replaces only a session file, "
+                                f"which this is not ({reason}); choose another -o, or move "
+                                "it away first") from None
 
 
 def _summary(session: Session) -> str:

@@ -82,6 +82,11 @@ def test_process_command_writes_the_session_with_progress_on_stderr(synth, tmp_p
         for f in s["frames"]:
             assert hold[0] <= f["stamp_ns"] - offsets[f["stream"]] <= hold[1]
         assert s["frames"][0]["corners"] > 0
+    # a session file is what --force replaces, keeping the old one as .bak
+    assert main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+                 "-o", str(session_path), "--force"]) == 0
+    assert f"the file it replaced is kept as {session_path}.bak" in capsys.readouterr().err
+    assert json.loads(session_path.with_name("session.json.bak").read_text()) == doc
 
 
 def test_process_refuses_an_output_folder_that_does_not_exist_before_any_work(
@@ -155,3 +160,22 @@ def test_process_takes_the_pronunciation_of_a_word_missing_from_the_dictionary(
     assert len(doc["sets"]) >= len(truth["triggers"]) // 2
     assert all(_hold_of(truth, s["trigger"]["start_s"], s["trigger"]["end_s"])
                for s in doc["sets"])
+
+
+@pytest.mark.parametrize("kind", ["notes", "truth"])
+def test_force_replaces_only_a_session_file(synth, tmp_path: Path, capsys, kind: str) -> None:
+    """-o naming the operator's notes or another JSON file is refused, --force or not:
+    it would be replaced, and its .bak replaced again by the next run."""
+    out, truth = synth
+    victim = tmp_path / ("notes.txt" if kind == "notes" else "truth.json")
+    victim.write_text("board moved at 01:12\n" if kind == "notes"
+                      else (out / "truth.json").read_text())
+    before = victim.read_text()
+    code = main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+                 "-o", str(victim), "--force"])
+    err = capsys.readouterr().err
+    assert code == 1 and err.count("\n") == 1 and "%]" not in err  # before any work
+    assert f"{victim} exists and --force replaces only a session file" in err
+    assert "choose another -o, or move it away first" in err and "--audio AUDIO" not in err
+    assert victim.read_text() == before
+    assert not victim.with_name(victim.name + ".bak").exists()
