@@ -16,6 +16,7 @@ from speechcal_core.fsutil import folder_write_problem
 if TYPE_CHECKING:
     from app.main_window import ReviewWindow
     from speechcal_core.speech.matching import TriggerSpec
+    from speechcal_core.target import TargetSpec
 
 #: how long the exit waits for cancelled background work to stop
 STOP_WAIT_S = 30.0
@@ -63,10 +64,12 @@ def run_review(
     offer_demo: bool = True,
     triggers: TriggerSpec | None = None,
     channel: int | None = None,
+    target: TargetSpec | None = None,
 ) -> int:
     """Open the window on the given input; with ``screenshot`` render it to PNG and exit.
-    A recording's new session is saved at ``new_session_path`` (default: beside it) and
-    detects ``triggers`` in the audio's ``channel`` (defaults: "capture", all channels)."""
+    A recording's new session is saved at ``new_session_path`` (default: beside it),
+    detects ``triggers`` in the audio's ``channel`` and looks for the board ``target``
+    (defaults: "capture", all channels, Kalibr's 6x6 AprilGrid)."""
     if screenshot:
         check_screenshot_path(screenshot)  # before minutes of loading, not after
     if screenshot and not has_display():
@@ -85,7 +88,7 @@ def run_review(
     if session_path or recording:
         window.open(session_path=session_path, recording=list(recording or []) or None,
                     audio=audio, new_session_path=new_session_path, triggers=triggers,
-                    channel=channel)
+                    channel=channel, target=target)
     window.show()
     try:
         if screenshot:

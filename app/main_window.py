@@ -59,6 +59,7 @@ from speechcal_core.text import counted
 
 if TYPE_CHECKING:
     from speechcal_core.speech.matching import TriggerSpec
+    from speechcal_core.target import TargetSpec
 
 EMPTY_TEXT = (
     "<h2>Open a calibration session</h2>"
@@ -426,14 +427,15 @@ class ReviewWindow(QMainWindow):
 
     def open(self, *, session_path: str | None = None, recording: list[str] | None = None,
              audio: str | None = None, new_session_path: str | None = None,
-             triggers: TriggerSpec | None = None, channel: int | None = None) -> None:
+             triggers: TriggerSpec | None = None, channel: int | None = None,
+             target: TargetSpec | None = None) -> None:
         """Load a session file, or process a recording + audio (its session saved at
-        ``new_session_path``, by default beside the recording; ``triggers`` and
-        ``channel`` as for ``load_for_review``), on a worker thread."""
+        ``new_session_path``, by default beside the recording; ``triggers``, ``channel``
+        and ``target`` as for ``load_for_review``), on a worker thread."""
         self._start(lambda report: load_for_review(
             session_path=session_path, recording=recording, audio=audio,
             new_session_path=new_session_path, triggers=triggers, channel=channel,
-            progress=report), "opening…")
+            target=target, progress=report), "opening…")
 
     def _start(self, work, text: str) -> None:
         if not self._may_drop_unsaved():

@@ -25,6 +25,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="where a recording's session is kept (default: beside the recording, "
                         "RECORDING.speechcal.json); opened if it exists")
     p.add_argument("--screenshot", metavar="PNG", help="render the window to PNG and exit")
+    p.add_argument("--target", metavar="TARGET.yaml",
+                   help="the board, as a Kalibr target yaml, of a recording processed into "
+                        "a new session (default: Kalibr's 6x6 AprilGrid)")
     add_trigger_options(p)  # for a recording processed into a new session
     add_channel_option(p)
     return p
@@ -40,10 +43,10 @@ def run(args: argparse.Namespace) -> int:
         if args.audio or args.session:
             raise UsageError("--audio and --session go with a recording, not with a session "
                              "file")
-        if detection_options_given(args):
-            raise UsageError("--trigger, --sensitivity, --pronounce and --channel go with a "
-                             "recording the review processes, not with a session file: "
-                             "speechcal review RECORDING --audio AUDIO --trigger W")
+        if detection_options_given(args) or args.target:
+            raise UsageError("--trigger, --sensitivity, --pronounce, --channel and --target go "
+                             "with a recording the review processes, not with a session "
+                             "file: speechcal review RECORDING --audio AUDIO --trigger W")
     elif args.session and not args.inputs:
         raise UsageError("--session goes with a recording: RECORDING --audio AUDIO --session "
                          "SESSION.json")
@@ -53,6 +56,11 @@ def run(args: argparse.Namespace) -> int:
         if detection_options_given(args):
             triggers = TriggerSpec(tuple(args.trigger or DEFAULT_TRIGGERS), sensitivity(args),
                                    pronunciations(args))
+    target = None
+    if args.target and args.inputs:
+        from speechcal_core.target import TargetSpec
+
+        target = TargetSpec.from_kalibr_yaml(args.target)  # a bad file fails before the window
     from app.main import has_display, run_review
 
     if not has_display() and not args.screenshot:
@@ -61,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
         )
     return run_review(session_path=session_path, recording=recording, audio=args.audio,
                       new_session_path=args.session, screenshot=args.screenshot,
-                      triggers=triggers, channel=args.channel)
+                      triggers=triggers, channel=args.channel, target=target)
 
 
 def _recording_and_audio(inputs: list[str], audio: str | None) -> tuple[list[str], str]:

@@ -21,6 +21,7 @@ from speechcal_core.speech.matching import TriggerSpec
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio, EnvelopePyramid
     from speechcal_core.sources.base import FrameSource
+    from speechcal_core.target import TargetSpec
 
 Progress = Callable[[str, float], None]
 
@@ -60,6 +61,7 @@ def load_for_review(
     new_session_path: str | Path | None = None,
     triggers: TriggerSpec | None = None,
     channel: int | None = None,
+    target: TargetSpec | None = None,
     progress: Progress | None = None,
 ) -> ReviewInputs:
     """Open a session file, or process ``recording`` + ``audio`` into a new session.
@@ -67,7 +69,8 @@ def load_for_review(
     A new session is saved at ``new_session_path``, by default beside the recording; an
     existing session there is opened instead of being overwritten. A new session detects
     ``triggers`` (default: "capture" at the default sensitivity) in the audio's
-    ``channel`` (0-based; None mixes them).
+    ``channel`` (0-based; None mixes them) and looks for the board ``target`` (default:
+    Kalibr's 6x6 AprilGrid).
     """
     from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
@@ -102,7 +105,7 @@ def load_for_review(
                          f"with {Path(audio).name}, move {path.name} away or give another "
                          f"session file")
             else:
-                note += _settings_note(session, path, triggers, channel)
+                note += _settings_note(session, path, triggers, channel, target)
         else:
             from speechcal_core.pipeline import process_loaded
 
@@ -117,6 +120,7 @@ def load_for_review(
                                          trigger_words=spec.words,
                                          sensitivity=spec.sensitivity,
                                          pronunciations=spec.pronunciations,
+                                         target=target,
                                          progress=lambda t, f: report(t, 0.9 * f))
                 save_session(session, path)
                 stamp = file_stamp(path)
@@ -145,24 +149,30 @@ def load_for_review(
 
 
 def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
-                   channel: int | None) -> str:
-    """Why an existing session does not follow the trigger words or channel asked for
-    (its detection is kept with its review work), or ""."""
-    asked = []
+                   channel: int | None, target: TargetSpec | None = None) -> str:
+    """Why an existing session does not follow the trigger words, channel or board asked
+    for (its detection and corners are kept with its review work), or ""."""
+    from speechcal_core.target import TargetSpec
+
+    words = []
     if triggers is not None and not set(triggers.words) <= set(session.triggers_word):
-        asked.append(f"trigger word {', '.join(triggers.words)} (it has "
+        words.append(f"trigger word {', '.join(triggers.words)} (it has "
                      f"{', '.join(session.triggers_word)})")
+    others = []
     if channel is not None and channel != session.audio_channel:
         had = "all channels mixed" if session.audio_channel is None \
             else f"channel {session.audio_channel}"
-        asked.append(f"audio channel {channel} (it has {had})")
-    if not asked:
-        return ""
-    if channel is None or channel == session.audio_channel:  # only other words asked for
-        return (f"; not detected again with {asked[0]}: Edit ▸ {FIND_WORDS}… "
+        others.append(f"audio channel {channel} (it has {had})")
+    kept = TargetSpec.from_stored(session.extra.get("target")) or TargetSpec()
+    if target is not None and target != kept:
+        others.append(f"the board {target.describe()} (it has {kept.describe()})")
+    if words and not others:  # other words can be looked for in the window
+        return (f"; not detected again with {words[0]}: Edit ▸ {FIND_WORDS}… "
                 f"({FIND_WORDS_KEY}) adds its sets and keeps the review work")
-    return (f"; not detected again with {' and '.join(asked)}: move {path.name} away or "
-            f"give another session file to process anew")
+    if not others:
+        return ""
+    return (f"; not processed again with {' and '.join(words + others)}: move {path.name} "
+            f"away or give another session file to process anew")
 
 
 def _waveform(session: Session, sound: Audio | None, note: str, report: Progress

@@ -31,8 +31,42 @@ def test_the_review_finds_the_trigger_word_it_is_given(
 
 def test_trigger_options_with_a_session_file_are_a_usage_error(
         truth_session_file: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["review", str(truth_session_file), "--trigger", "snapshot"]) == 2
-    assert "go with a recording the review processes" in capsys.readouterr().err
+    for option in (["--trigger", "snapshot"], ["--target", "target.yaml"]):
+        assert main(["review", str(truth_session_file), *option]) == 2
+        assert "go with a recording the review processes" in capsys.readouterr().err
+
+
+def test_the_review_looks_for_the_board_it_is_given(tmp_path: Path) -> None:
+    """A checkerboard recording opened with its target.yaml: the new session has its
+    corners, with no second processing run."""
+    from speechcal_core.synth.options import SynthOptions
+    from speechcal_core.synth.session import generate_session
+
+    folder = tmp_path / "checkerboard"
+    generate_session(folder, SynthOptions(cameras=1, fisheye=0, duration=14.0, width=256,
+                                          height=192, seed=21, claps=1,
+                                          target_kind="checkerboard"))
+    truth = json.loads((folder / "truth.json").read_text())
+    session_path = tmp_path / "review.json"
+    assert main(["review", str(folder / truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--target", str(folder / "target.yaml"),
+                 "--session", str(session_path), "--screenshot", str(tmp_path / "x.png")]) == 0
+    session = json.loads(session_path.read_text())
+    assert session["target"]["kind"] == "checkerboard" and not session["target_assumed"]
+    # the board is found in every set (the AprilGrid assumed without --target: in none)
+    assert session["coverage"]["/cam0/image_raw"]["views"] == len(session["sets"]) >= 3
+
+
+def test_a_bad_target_file_is_reported_before_anything_opens(
+        tiny_synth: tuple[Path, dict], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    folder, truth = tiny_synth
+    board = tmp_path / "board.yaml"
+    board.write_text("target_type: hexagon\n")
+    code = main(["review", str(folder / truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--target", str(board)])
+    err = capsys.readouterr().err
+    assert code != 0 and str(board) in err and "hexagon" in err
 
 
 def test_a_bad_sensitivity_is_a_usage_error_before_anything_opens(

@@ -145,11 +145,11 @@ def test_an_existing_session_keeps_its_trigger_words_and_says_so(
                              triggers=TriggerSpec(("snapshot",)), channel=0)
     inputs.close()
     assert inputs.session.triggers_word == ["capture"]
-    assert ("not detected again with trigger word snapshot (it has capture) and audio "
+    assert ("not processed again with trigger word snapshot (it has capture) and audio "
             "channel 0 (it has all channels mixed)") in inputs.note
     same = load_for_review(recording=[recording], audio=audio, triggers=TriggerSpec())
     same.close()
-    assert "detected again" not in same.note
+    assert "again" not in same.note
     other_word = load_for_review(recording=[recording], audio=audio,
                                  triggers=TriggerSpec(("snapshot",)))
     other_word.close()
@@ -161,3 +161,25 @@ def test_an_existing_session_keeps_its_trigger_words_and_says_so(
                             triggers=TriggerSpec(("snapshot",)))
     again.close()
     assert "detected again" not in again.note
+
+
+def test_a_new_session_looks_for_the_board_given_and_an_existing_one_says_it_keeps_its_own(
+        tiny_synth, tmp_path: Path) -> None:
+    """review RECORDING --target: a checkerboard operator gets corners from the start, not
+    after processing again into a new session (review work lost)."""
+    from speechcal_core.target import TargetSpec
+
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    board = TargetSpec(kind="checkerboard", rows=7, cols=6, size=0.03)
+    inputs = load_for_review(recording=[recording], audio=audio, target=board)
+    inputs.close()
+    assert TargetSpec.from_stored(inputs.session.extra["target"]) == board
+    assert inputs.session.extra["target_assumed"] is False
+    again = load_for_review(recording=[recording], audio=audio, target=TargetSpec())
+    again.close()
+    assert TargetSpec.from_stored(again.session.extra["target"]) == board
+    assert (f"not processed again with the board {TargetSpec().describe()} (it has "
+            f"{board.describe()}): move {again.session_path.name} away") in again.note
+    same = load_for_review(recording=[recording], audio=audio, target=board)
+    same.close()
+    assert "again" not in same.note
