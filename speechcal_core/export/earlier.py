@@ -39,6 +39,17 @@ def not_replaceable(out: Path) -> str:
     return ""
 
 
+def enclosing_export(out: Path) -> Path | None:
+    """The earlier export ``out`` would lie inside, or None: a calibration tool reading
+    that export would take the new one's frames too (a Kalibr camera folder is read with
+    everything under it), and that export could no longer be replaced."""
+    for folder in Path(out).absolute().parents:
+        if (folder / "manifest.json").is_file() and \
+                export_files(folder / "manifest.json") is not None:
+            return folder
+    return None
+
+
 def export_files(manifest: Path) -> set[str] | None:
     """The paths (relative, with ``/``) an export wrote, from its ``manifest.json``; None
     when that is not the manifest of an export."""

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from speechcal_core.errors import UsageError
 from speechcal_core.export.corners import corners_board, corners_problem, write_corners
-from speechcal_core.export.earlier import FORMATS, not_replaceable
+from speechcal_core.export.earlier import FORMATS, enclosing_export, not_replaceable
 from speechcal_core.export.errors import ExportError
 from speechcal_core.export.manifest import manifest_document, write_manifest
 from speechcal_core.export.notes import export_notes
@@ -91,6 +91,11 @@ def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> No
         named = "the session file" if what == "session file" else f"the session's {what}"
         raise ExportError(f"{out.absolute()}: {where} {named} {p}, which the export reads; "
                           "choose another output folder")
+    around = enclosing_export(out)
+    if around is not None:
+        raise ExportError(f"{out.absolute()}: this lies inside the earlier export {around}, "
+                          "whose readers would take these frames as its own; choose a folder "
+                          "outside it")
     if os.path.lexists(out):
         # what even --force may not replace is said first: "pass --force" would not help
         problem = not_replaceable(out)

@@ -93,6 +93,21 @@ def test_force_never_replaces_an_earlier_export_holding_other_files(
     assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*")) == before
 
 
+def test_an_export_inside_an_earlier_export_is_refused(session_file, tmp_path, capsys) -> None:
+    """Kalibr reads a camera folder with everything under it: frames exported into an
+    earlier export would join its calibration, and that export could not be replaced."""
+    path = session_file()
+    out = tmp_path / "exp"
+    assert _run(capsys, str(path), "--format", "kalibr", "--out", str(out))[0] == 0
+    before = sorted(p.relative_to(out).as_posix() for p in out.rglob("*"))
+    nested = out / "cam0" / "nested"
+    code, stdout, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(nested))
+    assert code == 1 and stdout == "" and err.count("\n") == 1
+    assert f"{nested}: this lies inside the earlier export {out}" in err
+    assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*")) == before
+    assert _run(capsys, str(path), "--format", "kalibr", "--out", str(out), "--force")[0] == 0
+
+
 def test_force_replaces_an_empty_folder(session_file, tmp_path, capsys) -> None:
     out = tmp_path / "exp"
     out.mkdir()
