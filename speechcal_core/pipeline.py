@@ -150,7 +150,7 @@ def process_loaded(
                               options=frame_options, progress=frames_progress)
     outside = outside_recording_note(analysis.sets, span, sync)
     short = audio_ends_early_note(audio, sound.duration_s, span, sync)
-    notes = [*notes, *(n for n in (outside, short) if n)]
+    notes = [*notes, *(n for n in (outside, short) if n), *recording_notes(source)]
     # what the review's "find trigger words" starts from (a transcript has no settings)
     settings = {} if transcript is not None else {
         SENSITIVITY_KEY: float(sensitivity),
@@ -170,6 +170,12 @@ def process_loaded(
     )
     report("done", 1.0)
     return session
+
+
+def recording_notes(source: FrameSource) -> list[str]:
+    """What indexing found wrong with each stream's stamps ("... of one file fall among
+    another's": two recordings given as one), as ``speechcal index`` prints it."""
+    return [f"{s.name}: {s.stamp_problems}" for s in source.streams if s.stamp_problems]
 
 
 def _check_offset(offset_ns: int, audio_s: float, span: tuple[int, int] | None) -> None:

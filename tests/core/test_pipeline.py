@@ -52,6 +52,24 @@ def test_a_transcript_running_past_the_audio_is_noted(tiny_synth: tuple[Path, di
     assert "is it this audio's transcript?" in err
 
 
+def test_two_recordings_given_as_one_are_noted(tiny_synth: tuple[Path, dict],
+                                               snapshot_synth: tuple[Path, dict],
+                                               tmp_path: Path, capsys) -> None:
+    """Two sessions' bags whose camera stamps overlap: process says so, as index does,
+    instead of merging them without a word."""
+    from speechcal_core.cli import main
+
+    folder, truth = tiny_synth
+    other, other_truth = snapshot_synth
+    assert main(["process", str(folder / truth["recording"]),
+                 str(other / other_truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--offset-ns", str(truth["sync"]["offset_ns"]),
+                 "-o", str(tmp_path / "s.json")]) == 0
+    err = capsys.readouterr().err
+    assert "note: /cam0/image_raw: " in err
+    assert "of one file fall among another's (another recording given too?" in err
+
+
 def test_json_says_what_was_written_and_stdout_holds_nothing_else(
         tiny_synth: tuple[Path, dict], tmp_path: Path, capsys) -> None:
     import json
