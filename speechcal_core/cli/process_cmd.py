@@ -22,14 +22,21 @@ if TYPE_CHECKING:
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("process", help="build a session file from recording and audio")
-    p.add_argument("recording", metavar="RECORDING", nargs="+")
-    p.add_argument("--audio", required=True, metavar="AUDIO")
+    p.add_argument("recording", metavar="RECORDING", nargs="+",
+                   help="ROS1/ROS2 bags, MCAP files, a video or an image folder (a split "
+                        "bag: all its parts)")
+    p.add_argument("--audio", required=True, metavar="AUDIO",
+                   help="the microphone's audio file (wav, flac, ogg...)")
     add_channel_option(p)
     p.add_argument("--target", metavar="TARGET.yaml", help="Kalibr target yaml")
     add_trigger_options(p)
-    p.add_argument("--transcript", metavar="F")
-    p.add_argument("--offset-ns", type=int, metavar="N")
-    p.add_argument("-o", "--output", required=True, metavar="SESSION.json")
+    p.add_argument("--transcript", metavar="F",
+                   help="take the words from a transcript (WhisperX JSON, Audacity labels, "
+                        "CSV word,start,end) instead of detecting them")
+    p.add_argument("--offset-ns", type=int, metavar="N",
+                   help="the audio's start in the cameras' clock, instead of finding the clap")
+    p.add_argument("-o", "--output", required=True, metavar="SESSION.json",
+                   help="the session file to write")
     p.add_argument("--force", action="store_true",
                    help="replace an existing session file, and no other file (its review "
                         "decisions are lost; the old file is kept as SESSION.json.bak)")
