@@ -48,9 +48,11 @@ class ImageFolderSource(StreamTable):
             if items:
                 self._add_folder(name, folder, items)
         if not self._infos:
+            inside = _recordings_in(self.root)
             raise SourceError(
                 f"{self.root}: no <stamp_ns>.png/.jpg images in it or its sub-folders "
                 "(expected the Kalibr layout cam0/<stamp_ns>.png, cam1/...)"
+                + (f"; it holds {inside[0].name}: give that file" if inside else "")
             )
 
     def _add_folder(self, name: str, folder: Path, items: list[tuple[int, str]]) -> None:
@@ -107,3 +109,12 @@ class ImageFolderSource(StreamTable):
             height=info.height,
             suffix=path.suffix.lower(),
         )
+
+
+def _recordings_in(folder: Path) -> list[Path]:
+    """The recording files directly in ``folder`` (a session's folder given instead of
+    its bag), in name order."""
+    from speechcal_core.sources import VIDEO_SUFFIXES
+
+    kinds = {".bag", ".mcap", ".db3", *VIDEO_SUFFIXES}
+    return sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in kinds)

@@ -129,5 +129,10 @@ def test_corrupt_image_file_is_marked_bad_and_the_rest_still_works(tmp_path: Pat
 def test_folder_without_stamped_images_is_refused(tmp_path: Path) -> None:
     (tmp_path / "cam0").mkdir()
     (tmp_path / "cam0" / "image.png").write_bytes(b"x")
-    with pytest.raises(SourceError, match=re.escape("no <stamp_ns>.png")):
+    with pytest.raises(SourceError, match=re.escape("no <stamp_ns>.png")) as err:
+        open_recording([tmp_path])
+    assert "give that file" not in str(err.value)
+    (tmp_path / "recording.bag").write_bytes(b"x")  # the session's folder, not its bag
+    with pytest.raises(SourceError, match=re.escape("; it holds recording.bag: give that "
+                                                    "file")):
         open_recording([tmp_path])
