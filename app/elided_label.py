@@ -1,8 +1,9 @@
-"""A one-line label that cuts its text with "…" when narrow (the tooltip has it whole)."""
+"""One-line labels that cut their text with "…" when narrow (the tooltip has it whole)."""
 
 from __future__ import annotations
 
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QPainter
 from PySide6.QtWidgets import QLabel, QSizePolicy, QWidget
 
 
@@ -30,3 +31,24 @@ class ElidedLabel(QLabel):
         width = self.contentsRect().width()
         self.setText(self.fontMetrics().elidedText(self.full_text,
                                                    Qt.TextElideMode.ElideRight, width))
+
+
+class EllipsisLabel(QLabel):
+    """A one-line label whose text, when too long for it, is drawn cut with "…" (so the
+    reader sees there is more: the tooltip should hold it whole); ``text()`` stays whole.
+    Never widens the window."""
+
+    def __init__(self, text: str = "", parent: QWidget | None = None) -> None:
+        super().__init__(text, parent)
+        self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+
+    def shown_text(self) -> str:
+        """The text as drawn: cut with "…" to the label's width."""
+        return self.fontMetrics().elidedText(self.text(), Qt.TextElideMode.ElideRight,
+                                             self.contentsRect().width())
+
+    def paintEvent(self, event) -> None:
+        painter = QPainter(self)
+        self.style().drawItemText(painter, self.contentsRect(), int(self.alignment()),
+                                  self.palette(), self.isEnabled(), self.shown_text(),
+                                  self.foregroundRole())

@@ -18,7 +18,6 @@ from PySide6.QtWidgets import (
     QMessageBox,
     QProgressBar,
     QPushButton,
-    QSizePolicy,
     QSplitter,
     QStackedWidget,
     QToolButton,
@@ -29,7 +28,7 @@ from PySide6.QtWidgets import (
 from app.audio_player import AudioPlayer
 from app.checks_action import ChecksAction
 from app.detect_action import DetectAction
-from app.elided_label import ElidedLabel
+from app.elided_label import ElidedLabel, EllipsisLabel
 from app.export_action import ExportAction
 from app.frame_grid import NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
@@ -216,9 +215,8 @@ class ReviewWindow(QMainWindow):
 
     def _build_status_line(self) -> None:
         bar = self.statusBar()
-        self.status_text = QLabel("")
-        # long job texts are cut (the tooltip has them whole), never widen the window
-        self.status_text.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        # long job texts end in "…" (the tooltip has them whole), never widen the window
+        self.status_text = EllipsisLabel()
         self.progress = QProgressBar()
         self.progress.setMaximumWidth(220)
         self.progress.setRange(0, 1000)
