@@ -47,9 +47,10 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError("--trigger, --sensitivity, --pronounce, --channel and --target go "
                              "with a recording the review processes, not with a session "
                              "file: speechcal review RECORDING --audio AUDIO --trigger W")
-    elif args.session and not args.inputs:
-        raise UsageError("--session goes with a recording: RECORDING --audio AUDIO --session "
-                         "SESSION.json")
+    elif (args.session or args.target) and not args.inputs:
+        raise UsageError(f"{'--session' if args.session else '--target'} goes with a "
+                         "recording: RECORDING --audio AUDIO "
+                         f"{'--session SESSION.json' if args.session else '--target T.yaml'}")
     elif args.inputs:
         recording, audio = _recording_and_audio(args.inputs, args.audio)
         args.audio = audio
@@ -57,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
             triggers = TriggerSpec(tuple(args.trigger or DEFAULT_TRIGGERS), sensitivity(args),
                                    pronunciations(args))
     target = None
-    if args.target and args.inputs:
+    if args.target:
         from speechcal_core.target import TargetSpec
 
         target = TargetSpec.from_kalibr_yaml(args.target)  # a bad file fails before the window

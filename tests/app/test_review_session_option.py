@@ -34,6 +34,9 @@ def test_session_option_without_a_recording_is_a_usage_error(
         capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["review", "--session", "x.json"]) == 2
     assert "--session goes with a recording" in capsys.readouterr().err
+    assert main(["review", "--target", "board.yaml"]) == 2
+    assert "--target goes with a recording: RECORDING --audio AUDIO --target T.yaml" \
+        in capsys.readouterr().err
 
 
 def test_the_audio_may_come_among_the_inputs_as_a_drop_gives_it(
