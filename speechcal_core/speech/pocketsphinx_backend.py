@@ -5,8 +5,9 @@ compete with their rival words (inflections such as "captured", at a small prior
 say the trigger far more often) and, at a cost per phone, with a free phone loop that
 absorbs everything else. A trigger is reported only where it explains the audio better
 than all of those. How clearly a span is heard (its level above the noise floor) picks
-the grammar's tier. Every tier weighs one-phone neighbours ("rapture", "captor") against
-the trigger, noisier ones at a smaller prior (noise lets them win over real triggers).
+the grammar's tier. Every tier weighs one-phone neighbours ("rapture", "captor") and
+commoner words ending like the trigger ("picture") against it, noisier tiers at a smaller
+prior (noise lets them win over real triggers).
 A trigger's bounds come from the same Viterbi path, then move to the onset and offset of
 the word's energy (recognised bounds run 30-40 ms early on reverberant speech).
 The sensitivity sets the phone-loop cost (a dearer filler lets more words pass) and how
@@ -34,6 +35,7 @@ from speechcal_core.speech.backend import Word
 from speechcal_core.speech.errors import SpeechError
 from speechcal_core.speech.lexicon import (
     PHONES,
+    commoner_words_ending_alike,
     confusable_words,
     dictionary_word,
     model_dir,
@@ -254,8 +256,9 @@ class PocketsphinxBackend:
             if w in user or decoder.lookup_word(w) is None:
                 _add_word(decoder, w, prons[0])
             rivals += [r for r in rival_words(prons, set(spec.words)) if r not in rivals]
-            confusables += [r for r in confusable_words(prons, set(spec.words))
-                            if r not in rivals and r not in confusables]
+            alike = confusable_words(prons, set(spec.words)) \
+                + commoner_words_ending_alike(w, prons, set(spec.words))
+            confusables += [r for r in alike if r not in rivals and r not in confusables]
         phones = [PHONE_PREFIX + p.lower() for p in sorted(PHONES)]
         for p in sorted(PHONES):
             _add_word(decoder, PHONE_PREFIX + p.lower(), (p,))

@@ -8,7 +8,11 @@ import numpy as np
 from speech_scenes import Scene, make_scene
 
 from speechcal_core.speech import detect_triggers
-from speechcal_core.speech.lexicon import confusable_words, pronunciations
+from speechcal_core.speech.lexicon import (
+    commoner_words_ending_alike,
+    confusable_words,
+    pronunciations,
+)
 from speechcal_core.speech.pocketsphinx_backend import (
     POSTERIORGRAM_BELOW_DB,
     POSTERIORGRAM_FACTOR,
@@ -77,6 +81,26 @@ def _found(scene: Scene, text: str) -> int:
     result = detect_triggers(scene.path, ["capture"])
     return sum(any(a - 0.1 <= w.t <= b + 0.1 for w in result.triggers)
                for a, b in scene.spans(text))
+
+
+def test_commoner_words_ending_like_the_trigger_compete_with_it() -> None:
+    def alike(word: str, user: dict[str, str] | None = None) -> list[str]:
+        return commoner_words_ending_alike(word, pronunciations(word, user), {word})
+
+    assert alike("capture") == ["culture", "picture"]
+    # commoner and ending alike, but made of other sounds: "hundred", "whatnot"
+    assert alike("record") == [] and alike("snapshot") == []
+    assert alike("kaptcha", {"kaptcha": "K AE P CH AH"}) == []  # unknown to the model
+
+
+def test_picture_is_not_taken_for_capture(tmp_path: Path) -> None:
+    """Every voice says "picture" and "capture" in turn; the recogniser took 4 of the 8
+    pictures for the trigger at 20 dB before "picture" competed in its grammar."""
+    items = [(word, f"{voice}/{word}_{k}") for voice in ("slt", "rms", "awb", "kal16")
+             for k in (1, 2) for word in ("picture", "capture")]
+    scene = make_scene(tmp_path / "pictures.wav", items, snr_db=20.0, seed=3)
+    assert _found(scene, "picture") == 0
+    assert _found(scene, "capture") == 8
 
 
 def test_clearly_heard_rapture_is_not_a_trigger_but_capture_is(tmp_path: Path) -> None:
