@@ -101,8 +101,10 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     other triggers, while the real ones have close siblings. All comparisons are DTW
     costs over the same features, so unlike recogniser scores they compare across spans.
     ``checked`` (one flag per seed) limits the check to some seeds; the others are kept.
+    Seeds whose median closest cost exceeds MAX_MUTUAL_COST do not sound alike: all are
+    kept, and nothing is searched for.
     A new instance is accepted below ``factor`` times the kept seeds' median closest cost
-    (no search where that cost exceeds MAX_MUTUAL_COST: the seeds do not sound alike),
+    (no search where that cost exceeds MAX_MUTUAL_COST),
     plus ``level_slope`` times that cost per dB it is heard less clearly than the seeds
     (``level_slope``, default LEVEL_SLOPE). A span overlapping a word of ``contested``
     (heard as a near-homophone) must cost less than CONTESTED_SHARE of its limit, one heard
