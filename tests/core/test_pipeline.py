@@ -92,23 +92,24 @@ def test_json_says_what_was_written_and_stdout_holds_nothing_else(
 
 
 def test_process_refuses_to_replace_a_session_without_force(
-    tiny_synth: tuple[Path, dict], tmp_path: Path, capsys
+    tiny_synth: tuple[Path, dict], truth_session_file: Path, tmp_path: Path, capsys
 ) -> None:
     from speechcal_core.cli import main
 
     folder, truth = tiny_synth
     session = tmp_path / "session.json"
-    session.write_text('{"schema": 1, "note": "reviewed"}')
+    reviewed = truth_session_file.read_text()  # a session with the operator's decisions
+    session.write_text(reviewed)
     args = ["process", str(folder / truth["recording"]), "--audio",
             str(folder / truth["audio"]), "--offset-ns", str(truth["sync"]["offset_ns"]),
             "-o", str(session)]
     assert main(args) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "already exists" in err[0] and "--force" in err[0]
-    assert "reviewed" in session.read_text()
+    assert session.read_text() == reviewed
     assert main([*args, "--force"]) == 0
-    assert '"sets"' in session.read_text()
-    assert "reviewed" in (tmp_path / "session.json.bak").read_text()
+    assert session.read_text() != reviewed and '"sets"' in session.read_text()
+    assert (tmp_path / "session.json.bak").read_text() == reviewed
     assert f"the file it replaced is kept as {session}.bak" in capsys.readouterr().err
 
 
