@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QLabel
 
 from app.main_window import ReviewWindow
 from app.set_table import column
@@ -21,7 +22,7 @@ def test_empty_window_says_what_to_open(qtbot) -> None:
     qtbot.addWidget(win)
     win.show()
     assert win.stack.currentIndex() == 0
-    texts = " ".join(w.text() for w in win.findChildren(type(win.status_text)))
+    texts = " ".join(w.text() for w in win.findChildren(QLabel))
     assert "Drag a recording" in texts and "session file" in texts
 
 
