@@ -192,12 +192,19 @@ def commoner_words_ending_alike(word: str, prons: tuple[Pron, ...],
     957 / 41, 903 / 66 -> 969 / 2, 957 / 29, 902 / 57; seeds 125-148 973 / 9, 954 / 37,
     922 / 56 -> 973 / 6, 954 / 29, 922 / 53; seeds 1-3 the same.
     """
+    return list(_commoner_ending_alike(word, tuple(sorted(prons)), tuple(sorted(exclude))))
+
+
+@functools.lru_cache(maxsize=16)
+def _commoner_ending_alike(word: str, prons: tuple[Pron, ...],
+                           exclude: tuple[str, ...]) -> tuple[str, ...]:
     unigram = _unigram_log10()
     if word not in unigram:
-        return []
-    return sorted({other for other, alts in load_dictionary().items()
-                   if other not in exclude and unigram.get(other, -math.inf) > unigram[word]
-                   and any(_ends_alike(a, p) for a in alts for p in prons)})
+        return ()
+    return tuple(sorted({other for other, alts in load_dictionary().items()
+                         if other not in exclude
+                         and unigram.get(other, -math.inf) > unigram[word]
+                         and any(_ends_alike(a, p) for a in alts for p in prons)}))
 
 
 def _ends_alike(other: Pron, pron: Pron) -> bool:
