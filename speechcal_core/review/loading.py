@@ -17,11 +17,11 @@ from speechcal_core.session.store import (
     save_session,
 )
 from speechcal_core.speech.matching import TriggerSpec
+from speechcal_core.target import TargetSpec
 
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio, EnvelopePyramid
     from speechcal_core.sources.base import FrameSource
-    from speechcal_core.target import TargetSpec
 
 Progress = Callable[[str, float], None]
 
@@ -152,8 +152,6 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
                    channel: int | None, target: TargetSpec | None = None) -> str:
     """Why an existing session does not follow the trigger words, channel or board asked
     for (its detection and corners are kept with its review work), or ""."""
-    from speechcal_core.target import TargetSpec
-
     words = []
     if triggers is not None and not set(triggers.words) <= set(session.triggers_word):
         words.append(f"trigger word {', '.join(triggers.words)} (it has "
