@@ -21,11 +21,12 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand."""
     from app.main import check_screenshot_path, has_display, run_review
-    from speechcal_core.synth.demo import default_demo_dir, ensure_demo_session
+    from speechcal_core.synth.demo import check_demo_folder, default_demo_dir, ensure_demo_session
 
     if args.screenshot:
         check_screenshot_path(args.screenshot)  # before minutes of making the session
     workdir = Path(args.workdir) if args.workdir else default_demo_dir()
+    check_demo_folder(workdir)  # before announcing a demo that would not be made
     if not (workdir / "truth.json").exists():
         progress(f"making a synthetic demo session in {workdir} …")
     else:

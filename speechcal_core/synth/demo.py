@@ -37,7 +37,7 @@ def ensure_demo_session(
     folder = Path(workdir) if workdir else default_demo_dir()
     truth_path = folder / "truth.json"
     if not truth_path.exists():
-        _check_free_for_demo(folder)
+        check_demo_folder(folder)
         report = progress or (lambda _t, _f: None)
         generate_session(folder, DEMO_OPTIONS, force=folder.exists(),
                          progress=lambda stage, f: report(f"making the demo session: {stage}",
@@ -46,9 +46,11 @@ def ensure_demo_session(
     return str(folder / truth["recording"]), str(folder / truth["audio"])
 
 
-def _check_free_for_demo(folder: Path) -> None:
+def check_demo_folder(folder: Path) -> None:
     """Refuse a folder that holds anything but an earlier demo: making the demo replaces
-    the folder, and it may be the user's (``--workdir .``)."""
+    the folder, and it may be the user's (``--workdir .``). Raises DemoFolderError."""
+    if (folder / "truth.json").exists():
+        return
     if folder.exists() and not folder.is_dir():
         raise DemoFolderError(f"{folder} is a file, not a folder; give --workdir a new or "
                               f"empty folder")

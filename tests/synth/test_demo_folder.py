@@ -36,6 +36,7 @@ def test_the_cli_reports_the_refusal_in_one_line(tmp_path: Path,
                  str(tmp_path / "x.png")]) == 1
     err = capsys.readouterr().err
     assert "holds no demo session" in err and "Traceback" not in err
+    assert "making" not in err  # refused before anything is announced
     assert (tmp_path / "recording.bag").read_bytes() == b"user data"
 
 
