@@ -197,6 +197,13 @@ def test_between_sets_the_band_names_the_set_the_keys_act_on(qtbot, window) -> N
     qtbot.keyClick(window, Qt.Key.Key_Delete)
     assert all(s.id != kept for s in model.session.sets)
     assert window.status_text.text() == f"set #{kept} removed · Ctrl+Z puts it back"
+    qtbot.keyClick(window, Qt.Key.Key_U)
+    assert any(s.id == kept for s in model.session.sets)
+    assert window.status_text.text() == f"undone: removing set {kept}"  # not "removed"
+    qtbot.waitUntil(window.redo_action.isEnabled)
+    window.redo_action.trigger()  # as the menu entry or Ctrl+Y
+    assert all(s.id != kept for s in model.session.sets)
+    assert window.status_text.text() == f"redone: removing set {kept}"
 
 
 def test_add_and_remove_buttons_do_what_t_and_delete_do(qtbot, window) -> None:
