@@ -13,14 +13,19 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = subparsers.add_parser(
         "export", help="export accepted frame sets",
         description="Write the accepted frame sets of a session: kalibr (cam0/<t_ns>.png... "
-                    "+ target.yaml), folders (one folder per camera topic), rosbag1 "
-                    "(OUT/calibration.bag) or rosbag2 (OUT/calibration/), each with "
-                    "manifest.json and manifest.csv. Sets the review left waiting for "
-                    "re-scoring (after an offset edit) get their best still frames first, "
-                    "saved to the session file.")
+                    "+ target.yaml), folders (one folder per camera topic, same file names), "
+                    "rosbag1 (DIR/calibration.bag) or rosbag2 (DIR/calibration/), each "
+                    "with manifest.json and manifest.csv. <t_ns> is the set's time (the "
+                    "trigger word on the camera clock), the same name in every camera's "
+                    "folder so calibration tools pair them; the manifests give each frame's "
+                    "own header stamp. kalibr and folders add the corners found "
+                    "(corners.json, and corners.vnl for mrcal). Sets the review left waiting "
+                    "for re-scoring (after an offset edit or an added set) get their best "
+                    "still frames first, saved to the session file.")
     p.add_argument("session", metavar="SESSION.json")
     p.add_argument("--format", required=True, choices=("kalibr", "folders", "rosbag1", "rosbag2"))
-    p.add_argument("--out", required=True, metavar="DIR", help="output folder (must not exist)")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="output folder: a new one (an earlier export only with --force)")
     p.add_argument("--force", action="store_true",
                    help="replace an earlier export (or an empty folder) at DIR; a file or a "
                         "folder holding anything else is never replaced")

@@ -20,7 +20,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("review", help="open the review window")
     p.add_argument("inputs", nargs="*", metavar="SESSION.json | RECORDING")
-    p.add_argument("--audio", metavar="AUDIO")
+    p.add_argument("--audio", metavar="AUDIO",
+                   help="the microphone recording of a RECORDING not processed yet (a "
+                        "session file knows its audio)")
     p.add_argument("--session", metavar="SESSION.json",
                    help="where a recording's session is kept (default: beside the recording, "
                         "RECORDING.speechcal.json); opened if it exists")

@@ -13,30 +13,33 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("synth", help="write a synthetic session for tests and demos")
     p.add_argument("out", metavar="OUT", help="output folder")
-    p.add_argument("--cameras", type=int, default=3, help="number of cameras (1-12)")
+    p.add_argument("--cameras", type=int, default=3, help="number of cameras (1-12; default 3)")
     p.add_argument("--fisheye", type=int, default=0, help="how many of them are fisheye")
     p.add_argument("--duration", type=float, default=60.0,
-                   help="session length in seconds (5-3600)")
-    p.add_argument("--triggers", type=int, default=None, help="number of trigger words")
-    p.add_argument("--trigger-word", default="capture", help="bundled trigger word")
+                   help="session length in seconds (5-3600; default 60)")
+    p.add_argument("--triggers", type=int, default=None,
+                   help="number of trigger words (default: as many as the duration holds)")
+    p.add_argument("--trigger-word", default="capture",
+                   help="bundled trigger word (default capture)")
     p.add_argument("--snr", type=float, default=20.0,
-                   help="speech-to-noise ratio in dB (-10 to 60)")
+                   help="speech-to-noise ratio in dB (-10 to 60; default 20)")
     p.add_argument("--claps", type=int, choices=(1, 2), default=1,
                    help="claps seen by the cameras and heard (2: one more near the end)")
     p.add_argument("--drift-ppm", type=float, default=5.0,
                    help="microphone clock rate error in ppm (within +-200)")
-    p.add_argument("--format", default="ros1", help="ros1 | ros2-sqlite3 | ros2-mcap")
+    p.add_argument("--format", default="ros1", help="ros1 (default) | ros2-sqlite3 | ros2-mcap")
     p.add_argument("--encoding", default="jpeg",
-                   help="mono8 | bgr8 | rgb8 | mono16 | bayer_rggb8 | jpeg | png")
+                   help="mono8 | bgr8 | rgb8 | mono16 | bayer_rggb8 | jpeg (default) | png")
     p.add_argument("--compression", default="none", choices=("none", "bz2", "lz4"),
                    help="ROS1 chunk compression")
     p.add_argument("--target", default="aprilgrid", choices=("aprilgrid", "checkerboard"),
                    help="the board in the frames (its target.yaml is written beside them)")
-    p.add_argument("--size", default="640x480", help="image size WxH (at least 64x64)")
+    p.add_argument("--size", default="640x480",
+                   help="image size WxH (at least 64x64; default 640x480)")
     p.add_argument("--rolling-shutter", action="store_true",
                    help="skew moving boards row by row, as rolling-shutter cameras do")
     p.add_argument("--seed", type=int, default=0,
-                   help="random seed: the same seed and options give the same session")
+                   help="random seed (default 0): the same seed and options give the same session")
     p.add_argument("--force", action="store_true",
                    help="replace an earlier synthetic session at OUT (never other files)")
     p.add_argument("--json", action="store_true", help="print truth.json on stdout")
