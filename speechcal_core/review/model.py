@@ -57,6 +57,11 @@ from speechcal_core.sync.model import SyncModel
 if TYPE_CHECKING:
     from speechcal_core.sources.base import FrameSource
 
+#: what the session keeps of its sets' figures for the sync they were measured for: the
+#: corners and details per set, and per camera what sharpness and stillness were judged
+#: against; an offset edit's undo puts them back with the frames
+MEASURED_FOR_SYNC = ("frame_details", "frame_references")
+
 EVENTS = ("playhead", "current_set", "decision", "sets", "sync", "saved", "filter",
           "rescored", "checks", "similar")
 
@@ -128,7 +133,7 @@ class ReviewModel:
         self._autosave = autosave
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
         # undo/redo entries: ("decision", set id, decision to restore),
-        # ("sync", sync model, sets and frame details to restore) for an offset edit,
+        # ("sync", sync model, sets, {MEASURED_FOR_SYNC key: value}) for an offset edit,
         # ("add", set id) and ("remove", set, its index, its frame details or None),
         # ("add_many", set ids) and ("remove_many", [(set, index, details)...]) for the
         # sets one search added
@@ -343,11 +348,12 @@ class ReviewModel:
         self._change_sync(sync)
 
     def _sync_state(self) -> tuple:
-        """An undo entry restoring the sync as it is now, with the sets' frames and
-        details measured for it (undoing an edit needs no re-scoring)."""
-        details = self.session.extra.get("frame_details")
-        return ("sync", self.session.sync, list(self.session.sets),
-                dict(details) if isinstance(details, dict) else None)
+        """An undo entry restoring the sync as it is now, with the sets' frames, their
+        details and what their figures were judged against (MEASURED_FOR_SYNC), all
+        measured for it (undoing an edit needs no re-scoring)."""
+        measured = {key: dict(value) for key in MEASURED_FOR_SYNC
+                    if isinstance(value := self.session.extra.get(key), dict)}
+        return ("sync", self.session.sync, list(self.session.sets), measured)
 
     def _change_sync(self, sync: SyncModel) -> None:
         self.session.sync = sync
@@ -408,17 +414,18 @@ class ReviewModel:
         """Undo one stack entry; returns the entry that undoes this in turn."""
         kind = entry[0]
         if kind == "sync":
-            _kind, sync, sets, details = entry
+            _kind, sync, sets, measured = entry
             now = self._sync_state()
             # the stack holds no later step, so the same sets are in: only their frames
             # (and figures) differ, measured for the other sync
             by_id = {s.id: s for s in sets}
             self.session.sets[:] = [replace(s, frames=by_id[s.id].frames, t_ns=by_id[s.id].t_ns)
                                     if s.id in by_id else s for s in self.session.sets]
-            if details is None:
-                self.session.extra.pop("frame_details", None)  # a session without them
-            else:
-                self.session.extra["frame_details"] = dict(details)
+            for key in MEASURED_FOR_SYNC:  # a session may have had none of them
+                if key in measured:
+                    self.session.extra[key] = dict(measured[key])
+                else:
+                    self.session.extra.pop(key, None)
             self._change_sync(sync)
             return now
         if kind == "decision":

@@ -195,10 +195,16 @@ def test_undoing_an_offset_edit_brings_back_the_frames_scored_before_it(
 ) -> None:
     model = open_model(searched_session_file)
     before = list(model.session.sets)
+    references = model.session.extra["frame_references"]
     model.nudge_offset(SHIFT_NS)
     _rescore(model)
     after = list(model.session.sets)
+    references_after = model.session.extra["frame_references"]
+    assert references_after != references  # re-measured for the new offset
     model.undo()
     assert model.session.sets == before and model.rescore_ids() == []  # nothing to re-score
+    # sets re-scored later are judged on the same scale as the frames put back
+    assert model.session.extra["frame_references"] == references
     model.redo()
     assert model.session.sets == after and model.rescore_ids() == []
+    assert model.session.extra["frame_references"] == references_after
