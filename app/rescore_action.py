@@ -91,19 +91,21 @@ class RescoreAction(BackgroundAction):
         self.held = True
 
     # -- results ------------------------------------------------------------------------
-    def _ended(self, message: str = "") -> None:
+    def _ended(self, message: str = "", *, warning: bool = False) -> None:
         """Forget the task; ``message`` says on the status line how it went."""
         self.take_model()
         self.request, self.source = None, None
-        self.window.status.end("rescore", message)
+        self.window.status.end("rescore", message, warning=warning)
         self.window.release_retired()
 
     def _finished(self, result: RescoreResult) -> None:
         model = self.take_model()
         taken = model.apply_rescored(result) if model is not None else []
         n = len(taken)
-        self._ended(f"re-scored {n} frame set{'' if n == 1 else 's'}: best still frames "
-                    "chosen" if taken else "")
+        changed = model.accepted_with_new_frames if model is not None and taken else []
+        message = f"re-scored {n} frame set{'' if n == 1 else 's'}: best still frames chosen"
+        self._ended(message + new_frames_note(changed) if taken else "",
+                    warning=bool(changed))
         self.window.refresh_rescore_marks()
         self.start_if_needed()  # anything that needs it since (an added set, a new offset)
         self.window.exporter.rescoring_stopped()
@@ -122,3 +124,14 @@ class RescoreAction(BackgroundAction):
         if not self.held:
             self.start_if_needed()  # cancelled for a newer offset
         self.window.exporter.rescoring_stopped()
+
+
+def new_frames_note(set_ids: list[int], most: int = 5) -> str:
+    """"; accepted set #3 now shows other frames: look again" for the accepted sets an
+    offset edit gave other frames than they showed when decided ("" for none)."""
+    if not set_ids:
+        return ""
+    named = ", ".join(f"#{i}" for i in set_ids[:most]) + (" …" if len(set_ids) > most else "")
+    if len(set_ids) == 1:
+        return f"; accepted set {named} now shows other frames: look again"
+    return f"; accepted sets {named} now show other frames: look again"

@@ -139,6 +139,12 @@ class ReviewModel:
         # sets one search added
         self._undo: list[tuple] = []
         self._redo: list[tuple] = []
+        #: per set, the frames it showed before an offset edit whose re-scoring has not
+        #: landed yet (what a decision made before the edit looked at)
+        self._shown_before_edit: dict[int, tuple[tuple[str, int], ...]] = {}
+        #: ids of the accepted sets the last re-scoring gave other frames than they showed
+        #: before the offset edit (an export would write frames nobody looked at)
+        self.accepted_with_new_frames: list[int] = []
         self._stamps = (
             {s.name: source.stamps(s.name) for s in source.streams} if source else {}
         )
@@ -345,6 +351,9 @@ class ReviewModel:
         """
         self._undo.append(self._sync_state())
         self._redo.clear()
+        for frame_set in self.session.sets:  # sets still waiting keep what they showed
+            if frame_set.id not in self._shown_before_edit and not self.needs_rescore(frame_set):
+                self._shown_before_edit[frame_set.id] = _frame_keys(frame_set)
         self._change_sync(sync)
 
     def _sync_state(self) -> tuple:
@@ -426,6 +435,9 @@ class ReviewModel:
                     self.session.extra[key] = dict(measured[key])
                 else:
                     self.session.extra.pop(key, None)
+            waiting = set(self.rescore_ids())  # the others show scored frames again
+            self._shown_before_edit = {i: keys for i, keys in self._shown_before_edit.items()
+                                       if i in waiting}
             self._change_sync(sync)
             return now
         if kind == "decision":
@@ -709,14 +721,23 @@ class ReviewModel:
         """Take re-scored sets; returns the ids taken (then tells listeners and saves).
 
         A result for another sync than the current one is stale and dropped whole; sets
-        removed meanwhile are skipped. Decisions stay as they are now. When the playhead
-        is at the current set it moves to the set's new chosen time.
+        removed meanwhile are skipped. Decisions stay as they are now; accepted sets given
+        other frames than they showed before the offset edit are listed in
+        :attr:`accepted_with_new_frames`. When the playhead is at the current set it moves
+        to the set's new chosen time.
         """
         current = self.current_set
         at_current = current is not None and self.playhead_ns == set_time_ns(current)
         taken = apply_rescore(self.session, result)
         if not taken:
             return []
+        self.accepted_with_new_frames = []
+        for set_id in taken:
+            before = self._shown_before_edit.pop(set_id, None)
+            frame_set = self.session.set_by_id(set_id)
+            if before is not None and frame_set.decision == "accepted" \
+                    and _frame_keys(frame_set) != before:
+                self.accepted_with_new_frames.append(set_id)
         self._emit("rescored", taken)
         if at_current and self.current_set is not None:
             self.set_playhead(set_time_ns(self.current_set))
@@ -796,6 +817,11 @@ class ReviewModel:
     def trigger(self, action: str) -> None:
         """Run a named action (what a key binding maps to)."""
         getattr(self, action)()
+
+
+def _frame_keys(frame_set: FrameSet) -> tuple[tuple[str, int], ...]:
+    """Which frame of each stream a set shows."""
+    return tuple((f.stream, f.index) for f in frame_set.frames)
 
 
 #: a redo entry holds the inverse of the step it redoes (undoing an add stores a remove)

@@ -92,3 +92,19 @@ def test_cancel_before_rescoring_starts_says_so_and_keeps_nearest_frames(
     assert window.rescorer.task is None and model.rescore_ids()
     qtbot.keyClick(window, Qt.Key.Key_BracketLeft)  # the next edit re-scores again
     qtbot.waitUntil(lambda: model.rescore_ids() == [], timeout=30_000)
+
+
+def test_an_accepted_set_given_other_frames_by_an_offset_edit_is_named_as_a_warning(
+    qtbot, open_window, searched_session_file: Path
+) -> None:
+    window = open_window(searched_session_file)
+    model = window.model
+    model.go_to_set(2)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    third = model.current_set.id
+    model.nudge_offset(-600_000_000)  # far enough for other still frames in that set
+    qtbot.waitUntil(lambda: model.rescore_ids() == [] and not window.rescorer.busy(),
+                    timeout=30_000)
+    assert window.status_text.text().startswith(
+        f"▲ re-scored {len(model.session.sets)} frame sets: best still frames chosen; "
+        f"accepted set #{third} now shows other frames: look again")

@@ -208,3 +208,35 @@ def test_undoing_an_offset_edit_brings_back_the_frames_scored_before_it(
     model.redo()
     assert model.session.sets == after and model.rescore_ids() == []
     assert model.session.extra["frame_references"] == references_after
+
+
+
+def test_accepted_sets_given_other_frames_by_an_offset_edit_are_named(
+    searched_session_file: Path,
+) -> None:
+    """An export writes the chosen frames: an accepted set whose re-scored frames differ
+    from those it showed when accepted is named, so the operator can look again."""
+    model = open_model(searched_session_file)
+
+    def frames() -> dict[int, list[tuple[str, int]]]:
+        return {s.id: [(f.stream, f.index) for f in s.frames] for s in model.session.sets}
+
+    shown = frames()
+    first, second, third = (s.id for s in model.session.sets[:3])
+    for index, decide in ((0, model.accept), (1, model.reject), (2, model.accept)):
+        model.go_to_set(index)
+        decide()
+    model.nudge_offset(-600_000_000)
+    model.offset_plus_ms()  # a second edit before re-scoring: still compared with the first
+    _rescore(model)
+    moved = {i for i, keys in frames().items() if keys != shown[i]}
+    # at this offset the second and third sets get other still frames, the first not
+    assert first not in moved and {second, third} <= moved
+    assert model.accepted_with_new_frames == [third]  # the rejected one is not exported
+
+    model.undo()
+    model.undo()  # the frames shown when the decisions were made, no re-scoring due
+    assert frames() == shown and model.rescore_ids() == []
+    model.nudge_offset(-600_000_000)
+    _rescore(model)
+    assert model.accepted_with_new_frames == [third]
