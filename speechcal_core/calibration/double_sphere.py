@@ -6,6 +6,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 from scipy.optimize import least_squares
+from scipy.special import expit
 
 from speechcal_core.calibration.views import CalibrationResult, View, view_errors
 
@@ -48,7 +49,7 @@ def model_intrinsics(free: np.ndarray) -> np.ndarray:
     alpha -22) while the reprojection error hardly changes, or take 200 evaluations
     without converging (11 s for 99 views of 1280 x 720)."""
     fx, fy, cx, cy, u, v = free
-    return np.array([fx, fy, cx, cy, np.tanh(u), 1.0 / (1.0 + np.exp(-v))])
+    return np.array([fx, fy, cx, cy, np.tanh(u), expit(v)])
 
 
 def _problem(views: Sequence[View], intr: np.ndarray | None) -> tuple[
