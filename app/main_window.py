@@ -606,13 +606,14 @@ class ReviewWindow(QMainWindow):
         if model is None:
             return
         removing = model.current_set if action == "remove_set" else None
-        step = {"undo": model.undo_label, "redo": model.redo_label}.get(action, "")
+        done, step = {"undo": ("undone", model.undo_label),
+                      "redo": ("redone", model.redo_label)}.get(action, ("", ""))
         model.trigger(action)
         if removing is not None and all(s.id != removing.id for s in model.session.sets):
             # the set may have been off screen (the playhead between sets)
             self.status.say(f"set #{removing.id} removed · Ctrl+Z puts it back")
         elif step:  # also replaces a message the step made untrue ("set #3 removed")
-            self.status.say(f"{action}ne: {step}")
+            self.status.say(f"{done}: {step}")
 
     def _refresh_playhead(self) -> None:
         model = self.model

@@ -210,7 +210,6 @@ def test_undoing_an_offset_edit_brings_back_the_frames_scored_before_it(
     assert model.session.extra["frame_references"] == references_after
 
 
-
 def test_accepted_sets_given_other_frames_by_an_offset_edit_are_named(
     searched_session_file: Path,
 ) -> None:
