@@ -1,6 +1,10 @@
 """What the window's background actions share: one task at a time, started after a quiet
 spell (edits come in quick succession), for the model the window had when it started.
 
+Each kind of action has a thread of its own (:func:`app.tasks.lane`): the operator's
+"find more like this" starts at once even while a re-scoring and a calibration check
+run, instead of queueing behind them on Qt's shared pool (one thread per core).
+
 Subclasses say what to run (:meth:`BackgroundAction.start_if_needed`, which calls
 :meth:`BackgroundAction.launch`) and take the result (``_finished``, ``_failed``).
 """
@@ -12,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 from PySide6.QtCore import QObject, QTimer
 
-from app.tasks import BackgroundTask, start
+from app.tasks import BackgroundTask, lane, start
 
 if TYPE_CHECKING:
     from app.main_window import ReviewWindow
@@ -56,7 +60,7 @@ class BackgroundAction(QObject):
             self.task.signals.progress.connect(progress)
         self.task.signals.finished.connect(self._finished)
         self.task.signals.failed.connect(self._failed)
-        start(self.task)
+        start(self.task, lane(type(self).__name__))
         return self.task
 
     def take_model(self) -> ReviewModel | None:

@@ -25,6 +25,9 @@ _running_lock = threading.Lock()
 #: result discarded) even once nothing else holds the task, e.g. an opening superseded
 #: by another (UI thread only)
 _unreleased: set[BackgroundTask] = set()
+#: one-thread pools by name (see :func:`lane`): made on first use and kept for the life
+#: of the process, so that closing a window never waits for a pool's thread
+_lanes: dict[str, QThreadPool] = {}
 
 
 class TaskSignals(QObject):
@@ -146,6 +149,16 @@ def start(task: BackgroundTask, pool: QThreadPool | None = None) -> BackgroundTa
         _running.add(task)
     (pool or QThreadPool.globalInstance()).start(task)
     return task
+
+
+def lane(name: str) -> QThreadPool:
+    """The pool of one thread called ``name``: tasks started on it run one after another,
+    never queued behind other kinds of work on the shared pool."""
+    pool = _lanes.get(name)
+    if pool is None:
+        pool = _lanes[name] = QThreadPool()
+        pool.setMaxThreadCount(1)
+    return pool
 
 
 def running() -> list[BackgroundTask]:
