@@ -100,18 +100,26 @@ def check_cameras(
     """``{"<stream>": entry}`` for every stream with enough views (others are left out).
 
     Cameras are fitted in parallel threads (OpenCV and MINPACK release the GIL).
+    ``progress`` is called before and after each camera's fits; when it raises (the
+    operator cancelled, or the check is for frames that have changed), no further camera
+    is fitted and the exception propagates once the fits already running have ended.
     """
     models = tuple(models)
     names = [s for s in views if s in sizes]
     done = [0]
 
     def one(stream: str) -> dict[str, Any] | None:
+        if progress:
+            progress("calibration", done[0] / max(1, len(names)))
         entry = calibration_entry(fit_models(views[stream], sizes[stream], models, wide_only))
         done[0] += 1
         if progress:
             progress("calibration", done[0] / max(1, len(names)))
         return entry
 
-    with ThreadPoolExecutor(max_workers=min(4, os.cpu_count() or 1)) as pool:
+    pool = ThreadPoolExecutor(max_workers=min(4, os.cpu_count() or 1))
+    try:
         entries = list(pool.map(one, names))
+    finally:
+        pool.shutdown(cancel_futures=True)
     return {s: e for s, e in zip(names, entries, strict=True) if e is not None}

@@ -84,10 +84,16 @@ def checks_request(session: Session, sizes: Mapping[str, tuple[int, int]]) -> Ch
                          detections_from_details(details), dict(sizes), target)
 
 
+def still_wanted(session: Session, basis: str) -> bool:
+    """Whether checks computed over ``basis`` (a request's, a result's) are over the
+    frames and decisions the session has now, so they would be taken."""
+    return basis == checks_basis(session.sets)
+
+
 def apply_checks(session: Session, result: ChecksResult) -> bool:
     """Store the checks in the session unless its frames or decisions changed since the
     request was made (then False: they are due again)."""
-    if result.basis != checks_basis(session.sets):
+    if not still_wanted(session, result.basis):
         return False
     session.calibration = result.calibration
     session.extra["coverage"] = result.coverage

@@ -27,6 +27,7 @@ from speechcal_core.review.checks import (
     apply_checks,
     checks_due,
     checks_request,
+    still_wanted,
     stream_sizes,
 )
 from speechcal_core.review.detect_again import (
@@ -755,6 +756,11 @@ class ReviewModel:
         if self.source is None:
             return None
         return checks_request(self.session, stream_sizes(self.source))
+
+    def checks_wanted(self, request: ChecksRequest) -> bool:
+        """Whether checks computed from ``request`` would still be taken: the session's
+        frames and decisions are the ones it was made over."""
+        return still_wanted(self.session, request.basis)
 
     def apply_checks(self, result: ChecksResult) -> bool:
         """Take recomputed checks unless frames or decisions changed meanwhile (then

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
@@ -11,6 +12,8 @@ from PySide6.QtCore import QThreadPool
 
 import speechcal_core.export
 from app.main_window import ReviewWindow
+from app.tasks import Cancelled
+from speechcal_core.review.checks import ChecksRequest
 from speechcal_core.review.rescore import RescoreRequest
 
 
@@ -71,3 +74,35 @@ def export_gate(monkeypatch: pytest.MonkeyPatch) -> Iterator[threading.Event]:
     yield event
     event.set()
     pool.setMaxThreadCount(threads)
+
+
+@dataclass
+class ChecksGate:
+    """Calibration checks that wait on their worker thread until :attr:`release` is set,
+    and how each ran: ``(basis, "taken" | "cancelled")`` in :attr:`runs`."""
+
+    entered: threading.Event = field(default_factory=threading.Event)
+    release: threading.Event = field(default_factory=threading.Event)
+    runs: list[tuple[str, str]] = field(default_factory=list)
+
+
+@pytest.fixture
+def checks_gate(monkeypatch: pytest.MonkeyPatch) -> Iterator[ChecksGate]:
+    """The window's calibration checks wait until the test releases them (see ChecksGate)."""
+    gate = ChecksGate()
+    run = ChecksRequest.run
+
+    def gated(self, progress=None):
+        gate.entered.set()
+        gate.release.wait(30)
+        try:
+            result = run(self, progress)
+        except Cancelled:
+            gate.runs.append((self.basis, "cancelled"))
+            raise
+        gate.runs.append((self.basis, "taken"))
+        return result
+
+    monkeypatch.setattr(ChecksRequest, "run", gated)
+    yield gate
+    gate.release.set()

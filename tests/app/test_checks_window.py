@@ -1,0 +1,59 @@
+"""The calibration check in the window: a newer decision stops a check under way, and the
+operator's own searches never wait behind one."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from PySide6.QtCore import Qt, QThreadPool
+
+from speechcal_core.frames.analysis import checks_basis
+from speechcal_core.session.store import load_session
+
+
+@pytest.fixture
+def one_shared_thread() -> Iterator[None]:
+    """Qt's shared pool with a single thread, as on a one-core laptop."""
+    pool = QThreadPool.globalInstance()
+    threads = pool.maxThreadCount()
+    pool.setMaxThreadCount(1)
+    yield
+    pool.setMaxThreadCount(threads)
+
+
+def test_a_decision_during_a_check_cancels_it_and_the_next_check_lands(
+    qtbot, open_window, searched_session_file: Path, checks_gate,
+) -> None:
+    window = open_window(searched_session_file)
+    model = window.model
+    assert not model.checks_due()
+    qtbot.keyClick(window, Qt.Key.Key_R)  # reject the first set: the checks are due
+    qtbot.waitUntil(checks_gate.entered.is_set, timeout=5_000)
+    first = checks_basis(model.session.sets)
+    model.go_to_set(1)
+    qtbot.keyClick(window, Qt.Key.Key_R)  # and the second, while that check runs
+    second = checks_basis(model.session.sets)
+    checks_gate.release.set()
+    qtbot.waitUntil(lambda: not window.checker.busy(), timeout=30_000)
+
+    assert checks_gate.runs == [(first, "cancelled"), (second, "taken")]
+    assert window.checker.last_error == "" and not model.checks_due()
+    assert load_session(searched_session_file).extra["checks_basis"] == second
+
+
+def test_find_more_like_this_does_not_wait_for_a_running_check(
+    qtbot, open_window, searched_session_file: Path, checks_gate, one_shared_thread,
+) -> None:
+    window = open_window(searched_session_file)
+    qtbot.keyClick(window, Qt.Key.Key_R)
+    qtbot.waitUntil(checks_gate.entered.is_set, timeout=5_000)
+    qtbot.keyClick(window, Qt.Key.Key_S)
+    assert window.status.running("similar")
+    qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)  # check still held
+    assert window.similar.last is not None and window.similar.last_error == ""
+    assert window.checker.busy() and checks_gate.runs == []
+    checks_gate.release.set()
+    qtbot.waitUntil(lambda: not window.checker.busy(), timeout=30_000)
+    assert checks_gate.runs == [(checks_basis(window.model.session.sets), "taken")]
