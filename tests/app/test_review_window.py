@@ -170,9 +170,12 @@ def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
     rows = window.table.rowCount()
     a, b = (set_time_ns(s) for s in model.session.sets[:2])
     model.set_playhead((a + b) // 2)
+    marks = dict(window.waveform._marks_of)
     qtbot.keyClick(window, Qt.Key.Key_T)
     assert window.table.rowCount() == rows + 1
     assert len(window.waveform._markers) == 2 * (rows + 1)  # region + label per set
+    # only the new set's mark is made: the others stay (made again, they took 0.3 s)
+    assert {i: window.waveform._marks_of[i] for i in marks} == marks
     assert window.table.selectedIndexes()[0].row() == 1 == model.current
     assert window.table.item(1, 0).text() == str(model.current_set.id)
     assert window.table.item(1, column("word")).text().endswith(" · added")
@@ -181,6 +184,7 @@ def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
     qtbot.keyClick(window, Qt.Key.Key_Delete)
     assert window.table.rowCount() == rows
     assert len(window.waveform._markers) == 2 * rows
+    assert window.waveform._marks_of == marks
     assert len(load_session(truth_session_file).sets) == rows
     assert window.counts_label.text().endswith(f"? {rows} undecided")
 
