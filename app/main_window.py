@@ -71,6 +71,12 @@ PLAY_STATES = {False: ("▶ play", "play from the playhead, with the sound  (Spa
                True: ("❚❚ pause", "pause  (Space)")}
 #: play from a playhead this close to the session's end starts again from its start
 END_SLACK_NS = 100_000_000
+#: the sync line's tooltip when few words fall at a still board (see word_stillness)
+MOVING_WORDS_TIP = (
+    "The board is held still at each trigger word, yet here many words fall while it "
+    "moves. Is the audio this recording's? If it is, the offset is off: drag the clap "
+    "handle on the waveform onto the clap, or move the audio with { } (±1 frame) until "
+    "the words fall where the board stops.")
 #: the Edit menu's keys (a QShortcut on them too would be ambiguous)
 UNDO_KEYS, REDO_KEYS = ("Ctrl+Z",), ("Ctrl+Shift+Z", "Ctrl+Y")
 #: the waveform is never squeezed below this (pixels): at the window's least height it
@@ -701,6 +707,7 @@ class ReviewWindow(QMainWindow):
         self.waveform.set_sets(model.session.sets)
         self._update_counts()
         self._update_info_line()  # it gives the set's place in the list
+        self._update_sync_line()  # how many words fall at a still board
         revised = self._opening_text()  # its count of sets changed
         self.status.revise(self._opened_note, revised)
         self._opened_note = revised
@@ -724,10 +731,12 @@ class ReviewWindow(QMainWindow):
         self._update_check_line()
 
     def _on_rescored(self, set_ids: list[int]) -> None:
-        """Re-scored sets: their rows get figures, the tiles their chosen frames."""
+        """Re-scored sets: their rows get figures, the tiles their chosen frames, the sync
+        line how many words fall at a still board."""
         self.refresh_rescore_marks()
         self._refresh_playhead()
         self._update_check_line()
+        self._update_sync_line()
 
     def _rescore_marks(self) -> set[int]:
         """Ids of the sets whose figures re-scoring will bring (shown as … in the list)."""
@@ -817,11 +826,16 @@ class ReviewWindow(QMainWindow):
         if off:
             worst = "".join(f" · {c.get('name')} clap {(c.get('residual_ns') or 0) / 1e6:+.1f} "
                             "ms off the others" for c in off)
+        notes = [str(w) for w in session.sync_evidence.get("warnings") or []] if off else []
+        stillness = self.model.word_stillness()
+        if stillness.doubtful:
+            worst += f" · only {stillness.still} of {stillness.judged} words at a still board"
+            notes.insert(0, MOVING_WORDS_TIP)
+        warn = bool(off) or stillness.doubtful
         text = f"{audio_start_text(lead)} · drift {sync.drift * 1e6:.1f} ppm · {how}{worst}"
-        self.sync_line.setText(f"{WARNING_SYMBOL} {text}" if off else text)
-        self.sync_line.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if off else "")
-        warnings = session.sync_evidence.get("warnings") or []
-        self.sync_line.setToolTip("\n".join(str(w) for w in warnings) if off else "")
+        self.sync_line.setText(f"{WARNING_SYMBOL} {text}" if warn else text)
+        self.sync_line.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if warn else "")
+        self.sync_line.setToolTip("\n".join(notes))
 
     def _autosave(self, session) -> None:
         """Save after every change; a failure is warned about, never raised."""

@@ -116,6 +116,7 @@ def process_loaded(
     """:func:`process_recording` on a recording and audio the caller already opened
     (the review keeps both for display instead of reading them twice)."""
     from speechcal_core.frames.analysis import analyse_frames
+    from speechcal_core.frames.word_stillness import moving_words_note, word_stillness
     from speechcal_core.sync.pipeline import sync_recording
     from speechcal_core.target import TargetSpec
 
@@ -150,7 +151,9 @@ def process_loaded(
                               options=frame_options, progress=frames_progress)
     outside = outside_recording_note(analysis.sets, span, sync)
     short = audio_ends_early_note(audio, sound.duration_s, span, sync)
-    notes = [*notes, *(n for n in (outside, short) if n), *recording_notes(source)]
+    moving = moving_words_note(
+        word_stillness(analysis.sets, analysis.extra.get("frame_details") or {}), audio)
+    notes = [*notes, *(n for n in (outside, short, moving) if n), *recording_notes(source)]
     # what the review's "find trigger words" starts from (a transcript has no settings)
     settings = {} if transcript is not None else {
         SENSITIVITY_KEY: float(sensitivity),

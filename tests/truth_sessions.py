@@ -32,18 +32,20 @@ def truth_session(folder: Path, truth: dict) -> Session:
     return Session([recording], str(folder / truth["audio"]), truth_sync(truth), sets)
 
 
-def searched_session(folder: Path, truth: dict) -> Session:
-    """A session as ``speechcal process`` makes it from the true triggers and sync: best
-    still frames with their figures, frame details and references, the default target."""
+def searched_session(folder: Path, truth: dict, sync: SyncModel | None = None) -> Session:
+    """A session as ``speechcal process`` makes it from the true triggers and sync (or
+    ``sync``): best still frames with their figures, frame details and references, the
+    default target."""
     from speechcal_core.frames.analysis import analyse_frames
     from speechcal_core.sources import open_recording
     from speechcal_core.target import TargetSpec
 
     recording = str(folder / truth["recording"])
     target = TargetSpec()
+    sync = sync or truth_sync(truth)
     with open_recording([recording]) as source:
-        analysis = analyse_frames(source, truth_sync(truth), truth_triggers(truth), target)
-    return Session([recording], str(folder / truth["audio"]), truth_sync(truth),
+        analysis = analyse_frames(source, sync, truth_triggers(truth), target)
+    return Session([recording], str(folder / truth["audio"]), sync,
                    analysis.sets, calibration=analysis.calibration,
                    extra={**analysis.extra, "target": asdict(target)})
 

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
+from speechcal_core.frames.word_stillness import WordStillness, word_stillness
 from speechcal_core.review.checks import (
     ChecksRequest,
     ChecksResult,
@@ -756,6 +757,12 @@ class ReviewModel:
         if self.source is None:
             return None
         return checks_request(self.session, stream_sizes(self.source))
+
+    def word_stillness(self) -> WordStillness:
+        """How many sets have their word at a still board, per their last best-still
+        search at their present time (few: another session's audio, or a wrong offset)."""
+        details = self.session.extra.get("frame_details")
+        return word_stillness(self.session.sets, details if isinstance(details, dict) else {})
 
     def checks_wanted(self, request: ChecksRequest) -> bool:
         """Whether checks computed from ``request`` would still be taken: the session's

@@ -210,3 +210,26 @@ def test_an_offset_edit_moves_the_trigger_marks_it_does_not_rebuild_them(
     labels = sorted(label.pos().x() for _x, label, _w in wave._labels)
     assert labels == pytest.approx(sorted((a + b) / 2 for a, b in zip(
         regions[::2], regions[1::2], strict=True)), abs=1e-6)
+
+
+def test_sync_line_warns_while_many_words_fall_in_a_move_until_the_offset_is_right(
+        qtbot, open_window, noisy_synth, tmp_path: Path) -> None:
+    """A session processed with the offset a second off (another session's audio looks
+    the same): amber, with what to do in the tooltip; put right, the warning goes once
+    the sets are re-scored."""
+    from truth_sessions import searched_session, truth_sync
+
+    folder, truth = noisy_synth
+    sync = truth_sync(truth)
+    path = tmp_path / "offset_off.json"
+    save_session(searched_session(folder, truth, sync.with_offset(sync.offset_ns + 10**9)),
+                 path)
+    window = open_window(path)
+    text = window.sync_line.text()
+    assert text.startswith("▲ ") and " words at a still board" in text
+    assert "Is the audio this recording's?" in window.sync_line.toolTip()
+    assert "color" in window.sync_line.styleSheet()
+    window.model.nudge_offset(-10**9)
+    qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
+    assert not window.sync_line.text().startswith("▲") and not window.sync_line.styleSheet()
+    assert window.model.word_stillness().judged == len(truth["triggers"])
