@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from calib_views import synthetic_views
 
+from speechcal_core.calibration import fisheye
 from speechcal_core.calibration.check import best_model, calibration_entry, fit_models
 from speechcal_core.calibration.double_sphere import project_double_sphere
 from speechcal_core.calibration.views import View
@@ -89,3 +91,26 @@ def test_wide_only_fits_fisheye_models_to_wide_lenses_only() -> None:
     cam, views = synthetic_views(fisheye=True, holds=8)
     wide = fit_models(views, (cam.width, cam.height), wide_only=True)
     assert set(wide) == {"pinhole", "fisheye", "double-sphere"}
+
+
+def test_fisheye_on_many_views_fits_a_subset_and_poses_every_view(monkeypatch) -> None:
+    """Over ``FIT_VIEWS`` views the intrinsics come from a spread subset (the joint fit of
+    108 views took 1.5 s): every view still gets its pose and error, as a joint fit of
+    all views gives them, and a bad view stands out as before."""
+    cam, views = synthetic_views(fisheye=True, seed=1, holds=100)
+    rng = np.random.default_rng(0)
+    many = [View(k, v.object_points, v.image_points + rng.normal(0, 0.1, v.image_points.shape))
+            for k, v in enumerate(views * 3)]
+    assert len(many) > fisheye.FIT_VIEWS
+    off = many[40].image_points.copy()
+    off[:8] += 6.0  # eight corners off by 6 px (e.g. a mis-detected tag)
+    many[40] = View(40, many[40].object_points, off)
+    size = (cam.width, cam.height)
+    fit = fisheye.calibrate_fisheye(many, size)
+    assert fit.set_ids == [v.set_id for v in many] and len(fit.rvecs) == len(many)
+    assert _relative_error(fit.intrinsics, cam.intrinsics).max() < 0.01
+    monkeypatch.setattr(fisheye, "FIT_VIEWS", len(many))  # one joint fit of every view
+    whole = fisheye.calibrate_fisheye(many, size)
+    assert fit.rms_px == pytest.approx(whole.rms_px, abs=0.002)
+    assert np.allclose(fit.view_rms_px, whole.view_rms_px, atol=0.01)
+    assert int(np.argmax(fit.view_rms_px)) == 40
