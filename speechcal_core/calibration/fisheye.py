@@ -61,7 +61,10 @@ def _poses(views: Sequence[View], k: np.ndarray, d: np.ndarray) -> tuple[list, l
     rvecs, tvecs = [], []
     for view in views:
         obj, img = _points(view)
-        ok, r, t = cv2.fisheye.solvePnP(obj.reshape(-1, 1, 3), img.reshape(-1, 1, 2), k, d)
+        try:
+            ok, r, t = cv2.fisheye.solvePnP(obj.reshape(-1, 1, 3), img.reshape(-1, 1, 2), k, d)
+        except cv2.error:
+            return None
         if not ok or not (np.all(np.isfinite(r)) and np.all(np.isfinite(t))):
             return None
         rvecs.append(r)
