@@ -390,7 +390,7 @@ class ReviewWindow(QMainWindow):
         self.waveform.setMinimumHeight(WAVEFORM_MIN_HEIGHT)
         bottom_layout.addWidget(self.waveform, 1)
         sync_row = QHBoxLayout()
-        self.sync_line = QLabel("")
+        self.sync_line = EllipsisLabel()  # a warning's words never widen the window
         sync_row.addWidget(self.sync_line, 1)
         for label, action, tip in (
             ("−1 frame", "offset_minus_frame", "audio one frame earlier  ({)"),
@@ -810,6 +810,9 @@ class ReviewWindow(QMainWindow):
                 inputs.close()
 
     def _update_sync_line(self) -> None:
+        """The offset line: where the audio starts, drift, how the offset was found; in
+        amber and first, what looks wrong (a camera's clap off the others, words that
+        fall while the board moves), so a narrow window cuts the rest, not that."""
         if self.model is None or self.inputs is None:
             return
         session = self.model.session
@@ -821,21 +824,23 @@ class ReviewWindow(QMainWindow):
         residuals = [abs(c.get("residual_ns") or 0) for c in cams]
         # the residuals are the automatic sync's: an edited offset has none to show
         shown = residuals and sync.source != "manual"
-        worst = f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms" if shown else ""
         off = [c for c in cams if shown and clap_off(c)]
-        if off:
-            worst = "".join(f" · {c.get('name')} clap {(c.get('residual_ns') or 0) / 1e6:+.1f} "
-                            "ms off the others" for c in off)
+        alerts = [f"{c.get('name')} clap {(c.get('residual_ns') or 0) / 1e6:+.1f} ms off the "
+                  "others" for c in off]
         notes = [str(w) for w in session.sync_evidence.get("warnings") or []] if off else []
         stillness = self.model.word_stillness()
         if stillness.doubtful:
-            worst += f" · only {stillness.still} of {stillness.judged} words at a still board"
+            alerts.insert(0, f"only {stillness.still} of {stillness.judged} words at a still "
+                             "board")
             notes.insert(0, MOVING_WORDS_TIP)
-        warn = bool(off) or stillness.doubtful
+        worst = f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms" if shown and not off \
+            else ""
         text = f"{audio_start_text(lead)} · drift {sync.drift * 1e6:.1f} ppm · {how}{worst}"
-        self.sync_line.setText(f"{WARNING_SYMBOL} {text}" if warn else text)
-        self.sync_line.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if warn else "")
-        self.sync_line.setToolTip("\n".join(notes))
+        if alerts:
+            text = f"{WARNING_SYMBOL} {' · '.join(alerts)} · {text}"
+        self.sync_line.setText(text)
+        self.sync_line.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if alerts else "")
+        self.sync_line.setToolTip("\n".join([text, *notes]))  # in full, however narrow
 
     def _autosave(self, session) -> None:
         """Save after every change; a failure is warned about, never raised."""
