@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, replace
 
 import cv2
@@ -19,6 +19,9 @@ MAX_EVENTS = 6  # motion bursts checked for the closing-and-parting shape of a c
 #: hands, seen at WORK_WIDTH, gave a flat 6.8-7.5 px of noise whose "V" was a frame off,
 #: and it overruled the full-resolution fit (the two disagreed by more than half a frame)
 MIN_V_DEPTH_PX = 2.0
+#: the event region's frames are worked on in blocks of about this many bytes (float32),
+#: so that a region as large as the picture never needs all its frames as floats at once
+BLOCK_BYTES = 16 << 20
 
 
 @dataclass(frozen=True)
@@ -44,20 +47,41 @@ def to_gray_small(frame: np.ndarray, width: int = WORK_WIDTH,
                   depth: int | None = None) -> tuple[np.ndarray, float]:
     """Gray float32 image at about ``width`` pixels wide (0-255, a 16-bit frame scaled by
     its stream's sensor ``depth``, or its own), and the scale factor applied."""
-    img = frame
-    if img.ndim == 3:
-        img = cv2.cvtColor(img, cv2.COLOR_BGR2GRAY) if img.shape[2] == 3 else img[..., 0]
-    sixteen = img.dtype == np.uint16
-    if sixteen and depth is None:
-        depth = sensor_depth(int(img.max()) if img.size else 0)
-    img = img.astype(np.float32)
-    if sixteen and depth is not None and depth > 8:
-        img = img / float(1 << (depth - 8))
+    img = _to_float(*_gray_plane(frame, depth))
     scale = min(1.0, width / img.shape[1])
     if scale < 1.0:
         size = (max(1, round(img.shape[1] * scale)), max(1, round(img.shape[0] * scale)))
         img = cv2.resize(img, size, interpolation=cv2.INTER_AREA)
     return img, scale
+
+
+def gray_full(frame: np.ndarray, depth: int | None = None) -> np.ndarray:
+    """The frame at full resolution with the values of :func:`to_gray_small` (no resize):
+    an 8-bit frame's gray stays uint8 (a quarter of the float32 bytes; converting it gives
+    those values exactly), a 16-bit frame's comes as float32 on the 0-255 scale."""
+    plane, divisor = _gray_plane(frame, depth)
+    if plane.dtype == np.uint8 and divisor == 1.0:
+        # its own compact copy: not a view that keeps a decoded buffer or colour frame alive
+        return plane if plane.base is None and plane.flags.c_contiguous else plane.copy()
+    return _to_float(plane, divisor)
+
+
+def _gray_plane(frame: np.ndarray, depth: int | None) -> tuple[np.ndarray, float]:
+    """The gray plane in the frame's own type, and what divides it onto 0-255 (or 1)."""
+    img = frame
+    if img.ndim == 3:
+        img = cv2.cvtColor(img, cv2.COLOR_BGR2GRAY) if img.shape[2] == 3 else img[..., 0]
+    if img.dtype == np.uint16:
+        if depth is None:
+            depth = sensor_depth(int(img.max()) if img.size else 0)
+        if depth is not None and depth > 8:
+            return img, float(1 << (depth - 8))
+    return img, 1.0
+
+
+def _to_float(plane: np.ndarray, divisor: float) -> np.ndarray:
+    img = plane.astype(np.float32)
+    return img / divisor if divisor != 1.0 else img
 
 
 def find_video_clap(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np.ndarray,
@@ -69,8 +93,10 @@ def find_video_clap(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np.
     as a fan or a blinking light repeats and is ignored), then times the event to a
     fraction of a frame from the closing and opening distance between the two moving
     parts. ``scale``: the frames are already gray float32 from :func:`to_gray_small` at
-    this scale (the ROI is still reported in full-frame pixels); ``detail(i)`` then gives
-    frame i at full resolution for the final timing. None when no event is there.
+    this scale (the ROI is still reported in full-frame pixels), as a list or as one
+    (n, h, w) float32 array (used as it is); ``detail(i)`` then gives frame i at full
+    resolution for the final timing, as :func:`gray_full` does (uint8 or float32 gray).
+    None when no event is there.
     """
     found = find_video_claps(frames, stamps_ns, stream=stream, scale=scale, detail=detail)
     return found[0] if found else None
@@ -86,17 +112,19 @@ def find_video_claps(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np
         return []
     first = np.flatnonzero(np.r_[True, np.diff(stamps) != 0])
     if first.size < stamps.size:  # a topic recorded twice: each frame once, at its stamp
-        once = find_video_claps([frames[i] for i in first], stamps[first], stream=stream,
+        kept = frames[first] if isinstance(frames, np.ndarray) else [frames[i] for i in first]
+        once = find_video_claps(kept, stamps[first], stream=stream,
                                 scale=scale, detail=None if detail is None
                                 else lambda i: detail(int(first[i])))
         return [replace(c, frame_index=int(first[c.frame_index])) for c in once]
     if scale is None:
-        small = [to_gray_small(f)[0] for f in frames]
+        stack = np.stack([to_gray_small(f)[0] for f in frames])
         scale = to_gray_small(frames[0])[1]
-        detail = detail or (lambda i: to_gray_small(frames[i], 1 << 30)[0])
+        detail = detail or (lambda i: gray_full(frames[i]))
+    elif isinstance(frames, np.ndarray) and frames.ndim == 3 and frames.dtype == np.float32:
+        stack = frames  # already the work-size stack: no second copy
     else:
-        small = list(frames)
-    stack = np.stack(small).astype(np.float32, copy=False)
+        stack = np.stack(list(frames)).astype(np.float32, copy=False)
     t = regular_times(stamps)
     period = float(np.median(np.diff(t))) if t.size > 1 else 1 / 30
     events = _events(stack, t, period)
@@ -162,10 +190,16 @@ def _events(stack: np.ndarray, t: np.ndarray, period: float,
     ny, nx = hgt // cell, wid // cell
     if ny < 1 or nx < 1:
         return []
-    diff = np.abs(np.diff(stack, axis=0))  # n-1 frames
-    crop = diff[:, : ny * cell, : nx * cell]
-    energy = crop.reshape(n - 1, ny, cell, nx, cell).mean(axis=(2, 4))  # (n-1, ny, nx)
-    energy = np.concatenate([energy[:1], energy], axis=0)  # align with frames
+    # mean absolute frame difference per cell, a block of frames at a time (a copy of the
+    # whole stack per step would be several times its size); energy[0] copies energy[1]
+    energy = np.empty((n, ny, nx), np.float32)
+    step = max(1, BLOCK_BYTES // (4 * hgt * wid))
+    for a in range(0, n - 1, step):
+        b = min(n - 1, a + step)
+        diff = np.diff(stack[a:b + 1, : ny * cell, : nx * cell], axis=0)
+        np.abs(diff, out=diff)
+        energy[a + 1:b + 1] = diff.reshape(b - a, ny, cell, nx, cell).mean(axis=(2, 4))
+    energy[0] = energy[1]  # align with frames
     w = max(1, round(EVENT_S / period))
     kernel = np.ones(w) / w
     smooth = np.apply_along_axis(lambda v: np.convolve(v, kernel, mode="same"), 0, energy)
@@ -229,30 +263,96 @@ def _connected(mask: np.ndarray, seed: tuple[int, ...]) -> np.ndarray:
     return labels == labels[seed]
 
 
-def _refine(roi: np.ndarray, t: np.ndarray, k: int, period: float) -> float | None:
-    """Sub-frame clap time from the V of the distance between the two moving parts."""
-    n = roi.shape[0]
-    bg = _background(roi, k, period)
-    resid = np.abs(roi - bg[None])
-    noise = float(np.median(resid)) * 1.4826 + 1.0
+class _Frames:
+    """The frames of an event region as float32 blocks: slices of a stack, or full-resolution
+    crops blurred when a block is asked for (each pass blurs them again: a little time, where
+    keeping every blurred crop would take four bytes a pixel for the whole window)."""
+
+    def __init__(self, count: int, shape: tuple[int, int],
+                 read: Callable[[int, int, slice], np.ndarray], owned: bool,
+                 release: Callable[[], None] = lambda: None) -> None:
+        self.count, self.shape, self.read = count, shape, read
+        self.owned = owned  # the blocks read are new arrays, free to overwrite
+        self.release = release  # lets go of the crops once they are no longer read
+
+    @classmethod
+    def of_stack(cls, roi: np.ndarray) -> _Frames:
+        return cls(roi.shape[0], roi.shape[1:], lambda a, b, rows: roi[a:b, rows], False)
+
+    @classmethod
+    def of_crops(cls, crops: list[np.ndarray]) -> _Frames:
+        def read(a: int, b: int, rows: slice) -> np.ndarray:
+            first = crops[a][rows]
+            out = np.empty((b - a, *first.shape), np.float32)
+            for i in range(a, b):
+                src = np.ascontiguousarray(crops[i], dtype=np.float32)
+                out[i - a] = cv2.GaussianBlur(src, (5, 5), 1.0)[rows]  # sensor noise off edges
+            return out
+        return cls(len(crops), crops[0].shape, read, True, crops.clear)
+
+    def blocks(self, a: int, b: int) -> Iterator[tuple[int, np.ndarray]]:
+        """(first frame, frames) of [a, b) a block at a time."""
+        step = max(1, BLOCK_BYTES // (4 * self.shape[0] * self.shape[1]))
+        for s in range(a, b, step):
+            yield s, self.read(s, min(b, s + step), slice(None))
+
+    def resid(self, a: int, b: int, bg: np.ndarray) -> Iterator[tuple[int, np.ndarray]]:
+        """(first frame, |frames - bg|) of [a, b) a block at a time."""
+        for s, block in self.blocks(a, b):
+            out = np.subtract(block, bg, out=block if self.owned else None)
+            yield s, np.abs(out, out=out)
+
+    def median(self, a: int, b: int) -> np.ndarray:
+        """Per-pixel median of frames [a, b), a band of rows at a time."""
+        hgt, wid = self.shape
+        out = np.empty((hgt, wid), np.float32)
+        band = max(1, BLOCK_BYTES // (4 * wid * (b - a)))
+        for r in range(0, hgt, band):
+            rows = slice(r, r + band)
+            out[rows] = np.median(self.read(a, b, rows), axis=0, overwrite_input=self.owned)
+        return out
+
+
+def _refine(roi: np.ndarray | _Frames, t: np.ndarray, k: int, period: float) -> float | None:
+    """Sub-frame clap time from the V of the distance between the two moving parts.
+
+    ``roi``: the region's frames, an (n, h, w) array or :class:`_Frames`; they are read a
+    block at a time, pass after pass, instead of being held as residuals all at once.
+    """
+    frames = roi if isinstance(roi, _Frames) else _Frames.of_stack(roi)
+    n, (hgt, wid) = frames.count, frames.shape
+    bg = _background(frames, k, period)
+    noise = _median_of(lambda: (r for _, r in frames.resid(0, n, bg))) * 1.4826 + 1.0
     thr = max(10.0, 4.0 * noise)
     lo, hi = max(0, k - round(0.8 / period)), min(n, k + round(0.8 / period) + 1)
-    fg = resid[lo:hi] > thr
-    pts = np.argwhere(fg)
-    if pts.shape[0] < 20:
+    fg = np.empty((hi - lo, hgt, wid), dtype=bool)
+    for s, r in frames.resid(lo, hi, bg):
+        np.greater(r, thr, out=fg[s - lo: s - lo + r.shape[0]])
+    frames.release()  # crops of a large region: their memory goes to the points below
+    count = int(np.count_nonzero(fg))
+    if count < 20:
         return None
-    coords = pts[:, 1:].astype(np.float64)  # (y, x)
-    centre = coords.mean(axis=0)
-    _, vecs = np.linalg.eigh(np.cov((coords - centre).T))
+    # (y, x) of every foreground pixel frame by frame, as rows: np.cov's own layout
+    coords = np.empty((2, count))
+    at = 0
+    for m in fg:
+        ys, xs = np.nonzero(m)
+        coords[0, at:at + ys.size] = ys
+        coords[1, at:at + ys.size] = xs
+        at += ys.size
+    centre = coords.mean(axis=1)  # whole-number sums: exact in any order
+    coords -= centre[:, None]
+    _, vecs = np.linalg.eigh(_cov_rows(coords))
+    del coords
     axis = vecs[:, -1]  # major axis: the approach direction
-    yy, xx = np.mgrid[0: roi.shape[1], 0: roi.shape[2]]
+    yy, xx = np.arange(hgt)[:, None], np.arange(wid)[None, :]
     proj = (yy - centre[0]) * axis[0] + (xx - centre[1]) * axis[1]
     times, dists = [], []
     for j in range(lo, hi):
-        m = resid[j] > thr
+        m = fg[j - lo]
         if m.sum() < 6:
             continue
-        d = _blob_distance(proj[m], np.ones(int(m.sum())))
+        d = _blob_distance(proj[m])
         if d is not None:
             times.append(t[j])
             dists.append(d)
@@ -264,35 +364,91 @@ def _refine(roi: np.ndarray, t: np.ndarray, k: int, period: float) -> float | No
 def _refine_full(detail: Callable[[int], np.ndarray], box: tuple[int, int, int, int],
                  t: np.ndarray, k: int, period: float) -> float | None:
     """The V fit again on full-resolution crops of the event region (finer distances)."""
-    x, y, w, h = box
     span = round(1.9 / period)
     j0, j1 = max(0, k - span), min(t.size, k + span + 1)
+    frames = _crops(detail, box, j0, j1)
+    if frames is None:
+        return None
+    return _refine(frames, t[j0:j1], k - j0, period)
+
+
+def _crops(detail: Callable[[int], np.ndarray], box: tuple[int, int, int, int],
+           j0: int, j1: int) -> _Frames | None:
+    """Crops of frames [j0, j1) as they come (uint8 where they are), blurred when read;
+    None when they differ in size."""
+    x, y, w, h = box
     crops = []
     for j in range(j0, j1):
-        crop = np.ascontiguousarray(detail(j)[y:y + h, x:x + w])
-        crops.append(cv2.GaussianBlur(crop, (5, 5), 1.0))  # sensor noise off the edges
+        full = detail(j)
+        crop = full[y:y + h, x:x + w]
+        # a small crop is copied: its view would keep the whole frame alive
+        crops.append(crop if 2 * crop.nbytes >= full.nbytes else crop.copy())
     if len({c.shape for c in crops}) != 1:
         return None
-    return _refine(np.stack(crops), t[j0:j1], k - j0, period)
+    return _Frames.of_crops(crops)
 
 
-def _background(roi: np.ndarray, k: int, period: float) -> np.ndarray:
+def _background(frames: _Frames, k: int, period: float) -> np.ndarray:
     """Median of the frames just before the event (or just after, if it starts the clip)."""
-    n = roi.shape[0]
+    n = frames.count
     near, far = round(0.9 / period), round(1.8 / period)
-    before = roi[max(0, k - far): max(0, k - near)]
-    if before.shape[0] >= 3:
-        return np.median(before, axis=0)
-    after = roi[min(n, k + near): min(n, k + far)]
-    if after.shape[0] >= 3:
-        return np.median(after, axis=0)
-    return np.median(roi, axis=0)
+    if max(0, k - near) - max(0, k - far) >= 3:
+        return frames.median(max(0, k - far), max(0, k - near))
+    if min(n, k + far) - min(n, k + near) >= 3:
+        return frames.median(min(n, k + near), min(n, k + far))
+    return frames.median(0, n)
 
 
-def _blob_distance(p: np.ndarray, wgt: np.ndarray) -> float | None:
-    """Distance between the weighted centroids of two parts split by the widest gap."""
-    order = np.argsort(p)
-    ps, ws = p[order], wgt[order]
+def _median_of(chunks: Callable[[], Iterable[np.ndarray]]) -> float:
+    """``float(np.median(...))`` of the values of non-negative float32 arrays, exactly,
+    without putting them together: two passes of ``chunks()`` count the values' bit
+    patterns (which sort as the values do) by their upper, then lower 16 bits."""
+    top = np.zeros(1 << 16, np.int64)
+    for c in chunks():
+        for part in _bits(c):
+            top += np.bincount(part >> 16, minlength=1 << 16)
+    if top[0x7F80:].any() or not top.any():  # inf, NaN or negative values; or none at all
+        return float(np.median(np.concatenate([np.ravel(c) for c in chunks()])))
+    n = int(top.sum())
+    ranks = (n // 2 - 1, n // 2) if n % 2 == 0 else (n // 2,)
+    cum = np.cumsum(top)
+    where = [(int(np.searchsorted(cum, r, side="right")), r) for r in ranks]
+    low = {b: np.zeros(1 << 16, np.int64) for b, _ in where}
+    for c in chunks():
+        for part in _bits(c):
+            upper = part >> 16
+            for b, hist in low.items():
+                hist += np.bincount(part[upper == b] & 0xFFFF, minlength=1 << 16)
+    values = []
+    for b, r in where:
+        before = int(cum[b - 1]) if b else 0
+        lo = int(np.searchsorted(np.cumsum(low[b]), r - before, side="right"))
+        values.append(np.array([(b << 16) | lo], np.uint32).view(np.float32)[0])
+    return float(np.mean(np.array(values, np.float32)))  # np.median's mean of the middle
+
+
+def _bits(c: np.ndarray, size: int = 1 << 20) -> Iterator[np.ndarray]:
+    """The float32 values' bit patterns, ``size`` at a time (bincount copies them to int64)."""
+    flat = np.ascontiguousarray(c, dtype=np.float32).reshape(-1).view(np.uint32)
+    for s in range(0, flat.size, size):
+        yield flat[s:s + size]
+
+
+def _cov_rows(m: np.ndarray) -> np.ndarray:
+    """``np.cov(m)`` of a C-ordered (rows, n) float64 array, which is overwritten: the same
+    arithmetic on the same layout as np.cov's copy of its input, without that copy (the
+    foreground of a large region has tens of millions of points)."""
+    avg = np.average(m, axis=1)
+    m -= avg[:, None]
+    c = np.dot(m, m.T.conj())
+    c *= np.true_divide(1, m.shape[1] - 1)
+    return c.squeeze()
+
+
+def _blob_distance(p: np.ndarray) -> float | None:
+    """Distance between the centroids of two parts split by the widest gap."""
+    ps = np.sort(p)
+    ws = np.ones(ps.size)
     gaps = np.diff(ps)
     if gaps.size == 0:
         return None

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import functools
+from collections import OrderedDict
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -11,7 +11,7 @@ import numpy as np
 from speechcal_core.sources.depth import stream_depth
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sync.clap_audio import ClapCandidate, audio_levels, find_audio_claps
-from speechcal_core.sync.clap_video import VideoClap, find_video_claps, to_gray_small
+from speechcal_core.sync.clap_video import VideoClap, find_video_claps, gray_full, to_gray_small
 from speechcal_core.sync.errors import SyncError
 from speechcal_core.sync.estimate import CameraClap, Clap, SyncResult, build_result
 
@@ -23,6 +23,9 @@ SEARCH_S = 20.0  # the first clap is looked for in this much video from each str
 NEAR_S = 2.0  # other cameras (and the closing clap) are looked for this close to the expected time
 AGREE_S = 0.3  # camera clocks closer than this count as seeing the same event
 MIN_CLAP_GAP_S = 5.0  # a closing clap lies at least this long after the first
+#: full-resolution frames kept for the clap timing (events near each other share frames):
+#: about 130 gray 1280x720 frames, more than the ~4 s a timing reads at 30 fps
+DETAIL_CACHE_BYTES = 128 << 20
 
 Progress = Callable[[str], None]
 #: how to go on without a clap heard: ``sync`` takes it by hand, ``process`` the offset
@@ -81,26 +84,50 @@ def video_clap_candidates(source: FrameSource, stream: str, t0_ns: int,
     i0, i1 = np.searchsorted(stamps, [t0_ns, t1_ns])
     if i1 - i0 < 5:
         return []
-    frames, kept, scale = [], [], 1.0
+    small: np.ndarray | None = None  # the work-size frames, one float32 stack
+    kept: list[int] = []
+    scale = 1.0
     depth = stream_depth(source, stream)
     for i in range(int(i0), int(i1)):
         try:
             img, scale = to_gray_small(source.frame(stream, i), depth=depth)
         except SourceError:  # a bad frame is skipped, not fatal
             continue
-        if frames and img.shape != frames[0].shape:
+        if small is None:
+            small = np.empty((int(i1 - i0), *img.shape), np.float32)
+        elif img.shape != small.shape[1:]:
             continue
-        frames.append(img)
+        small[len(kept)] = img
         kept.append(int(stamps[i]))
-    if len(frames) < 5:
+    if small is None or len(kept) < 5:
         return []
     index = [int(np.searchsorted(stamps, k)) for k in kept]
+    detail = _detail_reader(source, stream, index, depth)
+    return find_video_claps(small[:len(kept)], np.array(kept), stream=stream, scale=scale,
+                            detail=detail)
 
-    @functools.lru_cache(maxsize=160)
+
+def _detail_reader(source: FrameSource, stream: str, index: list[int],
+                   depth: int | None) -> Callable[[int], np.ndarray]:
+    """Frame ``index[j]`` at full resolution (:func:`gray_full`), the most recently read
+    kept up to DETAIL_CACHE_BYTES."""
+    cache: OrderedDict[int, np.ndarray] = OrderedDict()
+    held = 0
+
     def detail(j: int) -> np.ndarray:
-        return to_gray_small(source.frame(stream, index[j]), 1 << 30, depth)[0]
+        nonlocal held
+        img = cache.get(j)
+        if img is not None:
+            cache.move_to_end(j)
+            return img
+        img = gray_full(source.frame(stream, index[j]), depth)
+        cache[j] = img
+        held += img.nbytes
+        while held > DETAIL_CACHE_BYTES and len(cache) > 1:
+            held -= cache.popitem(last=False)[1].nbytes
+        return img
 
-    return find_video_claps(frames, np.array(kept), stream=stream, scale=scale, detail=detail)
+    return detail
 
 
 def video_claps(source: FrameSource, t0: dict[str, int], t1: dict[str, int],
