@@ -200,7 +200,8 @@ def _events(stack: np.ndarray, t: np.ndarray, period: float,
         np.abs(diff, out=diff)
         energy[a + 1:b + 1] = diff.reshape(b - a, ny, cell, nx, cell).mean(axis=(2, 4))
     energy[0] = energy[1]  # align with frames
-    w = max(1, round(EVENT_S / period))
+    # never longer than the clip: np.convolve's "same" is as long as the longer input
+    w = max(1, min(n, round(EVENT_S / period)))
     kernel = np.ones(w) / w
     smooth = np.apply_along_axis(lambda v: np.convolve(v, kernel, mode="same"), 0, energy)
     noise = max(float(np.median(energy)), 0.05)

@@ -45,6 +45,14 @@ def test_too_few_frames() -> None:
     assert find_video_clap(frames, stamps) is None
 
 
+@pytest.mark.parametrize("seconds", [0.2, 0.25, 0.3, 0.35])
+def test_a_window_shorter_than_a_motion_burst_gives_no_clap_not_an_error(seconds) -> None:
+    """6-10 frames (a camera that stops just before the closing clap's window) made the
+    smoothing longer than the clip and the search raise ValueError."""
+    frames, stamps = clap_clip(seconds=seconds, clap_s=0.1)
+    assert find_video_clap(frames, stamps) is None
+
+
 def test_a_topic_recorded_twice_still_gives_its_clap() -> None:
     """Two recorders on one topic: every frame twice, with the same stamp."""
     frames, stamps = clap_clip(seed=0, clap_s=1.5)
