@@ -152,7 +152,8 @@ def process_loaded(
     outside = outside_recording_note(analysis.sets, span, sync)
     short = audio_ends_early_note(audio, sound.duration_s, span, sync)
     moving = moving_words_note(
-        word_stillness(analysis.sets, analysis.extra.get("frame_details") or {}), audio)
+        word_stillness(analysis.sets, analysis.extra.get("frame_details") or {}), audio,
+        transcript)
     notes = [*notes, *(n for n in (outside, short, moving) if n), *recording_notes(source)]
     # what the review's "find trigger words" starts from (a transcript has no settings)
     settings = {} if transcript is not None else {
