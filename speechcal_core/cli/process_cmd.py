@@ -39,7 +39,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="the session file to write")
     p.add_argument("--force", action="store_true",
                    help="replace an existing session file, and no other file (its review "
-                        "decisions are lost; the old file is kept as SESSION.json.bak)")
+                        "decisions are lost; the old file is kept as SESSION.json.bak, "
+                        "unless that .bak holds review work and the old file none)")
     p.add_argument("--json", action="store_true",
                    help="print what was written as JSON on stdout (session, sets, sync, notes)")
     return p
@@ -75,10 +76,18 @@ def run(args: argparse.Namespace) -> int:
         target=target,
         progress=report,
     )
-    replaced = Path(args.output).exists()
-    save_session(session, args.output)
-    if replaced:
-        progress(f"the file it replaced is kept as {args.output}.bak")
+    out = Path(args.output)
+    replaced = out.exists()
+    bak = out.with_name(out.name + ".bak")
+    # a .bak holding review work is not given up for a file that holds none (a second
+    # --force would otherwise lose the decisions the first one kept)
+    kept = review_work(bak) if replaced and bak.exists() and not review_work(out) else ""
+    save_session(session, out, backup=not kept)
+    if kept:
+        progress(f"{bak} is left as it was: it holds review work ({kept}) and the file "
+                 "replaced held none")
+    elif replaced:
+        progress(f"the file it replaced is kept as {bak}")
     notes = [*session.sync_evidence.get("warnings", []),
              *session.extra.get("detection_notes", [])]
     for note in notes:
@@ -121,6 +130,25 @@ def _refuse_to_replace_other_files(out: Path) -> None:
         raise OutputExistsError(f"{out} exists and --force replaces only a session file, "
                                 f"which this is not ({reason}); choose another -o, or move "
                                 "it away first") from None
+
+
+def review_work(path: Path) -> str:
+    """What an operator did in the session file at ``path`` ("12 decisions, 2 sets
+    added"); "" for nothing, or a file that does not read as a session. (An edited
+    offset does not count: ``--offset-ns`` gives one too.)"""
+    from speechcal_core.review.summary import SOURCE_MARKS
+    from speechcal_core.session.store import SessionFileError, load_session
+
+    try:
+        session = load_session(path)
+    except SessionFileError:
+        return ""
+    decided = sum(1 for s in session.sets if s.decision != "undecided")
+    added = sum(1 for s in session.sets if s.trigger.source in SOURCE_MARKS)
+    work = [f"{decided} decision{'' if decided == 1 else 's'}"] if decided else []
+    if added:
+        work.append(f"{added} set{'' if added == 1 else 's'} added")
+    return ", ".join(work)
 
 
 def _summary(session: Session) -> str:

@@ -44,11 +44,12 @@ def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
 
 def save_session(session: Session, path: str | Path,
                  writer: SessionWriter | None = None,
-                 expect: tuple[int, int, int] | None = None) -> None:
-    """Write atomically; the previous version stays as ``<path>.bak``. A ``writer`` kept
-    from save to save re-uses the text of what did not change (autosave). With ``expect``
-    (the :func:`file_stamp` the file had when it was read or last saved), a file that
-    another window or program changed since is not overwritten: SessionFileError."""
+                 expect: tuple[int, int, int] | None = None, *, backup: bool = True) -> None:
+    """Write atomically; the previous version stays as ``<path>.bak`` (unless ``backup``
+    is False: the ``.bak`` there is left as it is). A ``writer`` kept from save to save
+    re-uses the text of what did not change (autosave). With ``expect`` (the
+    :func:`file_stamp` the file had when it was read or last saved), a file that another
+    window or program changed since is not overwritten: SessionFileError."""
     path = Path(path)
     now = file_stamp(path)
     if expect is not None and now is not None and now != expect:
@@ -58,7 +59,7 @@ def save_session(session: Session, path: str | Path,
     document = session_to_dict(session, path)
     text = writer.text(document) if writer is not None else session_text(document)
     try:
-        atomic_write_text(path, text, keep_backup=True)
+        atomic_write_text(path, text, keep_backup=backup)
     except OSError as exc:
         raise _save_error(path, exc.strerror or str(exc)) from exc
 

@@ -179,3 +179,29 @@ def test_force_replaces_only_a_session_file(synth, tmp_path: Path, capsys, kind:
     assert "choose another -o, or move it away first" in err and "--audio AUDIO" not in err
     assert victim.read_text() == before
     assert not victim.with_name(victim.name + ".bak").exists()
+
+
+def test_a_second_force_leaves_the_bak_that_holds_the_review_work(
+        synth, tmp_path: Path, capsys) -> None:
+    """The first --force keeps the reviewed file as .bak; a second one used to replace
+    that .bak with the first one's fresh, undecided file: the decisions were gone."""
+    from speechcal_core.session.store import load_session, save_session
+
+    out, truth = synth
+    path = tmp_path / "session.json"
+    run = ["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+           "--offset-ns", str(truth["sync"]["offset_ns"]), "-o", str(path)]
+    assert main(run) == 0
+    reviewed = load_session(path)
+    reviewed.sets[:3] = [s.with_decision("accepted") for s in reviewed.sets[:3]]
+    save_session(reviewed, path)
+    capsys.readouterr()
+
+    assert main([*run, "--force"]) == 0
+    assert f"the file it replaced is kept as {path}.bak" in capsys.readouterr().err
+    assert main([*run, "--force"]) == 0
+    err = capsys.readouterr().err
+    assert f"{path}.bak is left as it was: it holds review work (3 decisions)" in err
+    kept = load_session(path.with_name("session.json.bak"))
+    assert [s.decision for s in kept.sets[:3]] == ["accepted"] * 3
+    assert all(s.decision == "undecided" for s in load_session(path).sets)
