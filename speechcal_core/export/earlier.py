@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from speechcal_core.target import TargetError, TargetSpec
 from speechcal_core.text import listed
 
 #: files every export writes beside the frames (target.yaml: kalibr only; corners.json
@@ -13,13 +14,16 @@ from speechcal_core.text import listed
 EXPORT_OWN = frozenset({"manifest.json", "manifest.csv", "target.yaml", "corners.json",
                         "corners.vnl"})
 FORMATS = ("kalibr", "folders", "rosbag1", "rosbag2")
+TARGET_FILE = "target.yaml"  # kalibr's, beside the camera folders
 
 
-def not_replaceable(out: Path) -> str:
+def not_replaceable(out: Path, board: TargetSpec | None = None) -> str:
     """Why an existing ``out`` must not be replaced by an export even when forced ("" if
-    it may): a file, a folder that is no earlier export, or an earlier export holding files
-    it did not write (a calibration result, notes). A link may go: replacing it leaves what
-    it points to."""
+    it may): a file, a folder that is no earlier export, an earlier export holding files
+    it did not write (a calibration result, notes), or one whose ``target.yaml`` now
+    describes another board than it wrote and than ``board`` (the one the new export
+    writes, if known): the operator measured the board. A link may go: replacing it
+    leaves what it points to."""
     if out.is_symlink() or not out.exists():
         return ""
     if not out.is_dir():
@@ -36,7 +40,41 @@ def not_replaceable(out: Path) -> str:
     if extra:
         return (f"this earlier export also holds files it did not write ({listed(extra)}), "
                 "and an export never replaces those")
-    return ""
+    return edited_target(out, board)
+
+
+def edited_target(out: Path, board: TargetSpec | None = None) -> str:
+    """Why the earlier export ``out`` is kept for its ``target.yaml`` ("" if not): the file
+    describes another board than the manifest says the export wrote (an edited tag size)
+    and than ``board``; or it no longer reads as a target."""
+    path = out / TARGET_FILE
+    wrote = _written_board(out / "manifest.json")
+    if wrote is None or not path.is_file():
+        return ""
+    keep = (f"and an export never replaces that; to export for that board, copy it out "
+            f"and give it with --target, or move {TARGET_FILE} away")
+    try:
+        now = TargetSpec.from_kalibr_yaml(path)
+    except TargetError:
+        return f"its {TARGET_FILE} was changed and no longer reads as a target, {keep}"
+    if now in (wrote, board):
+        return ""
+    return (f"its {TARGET_FILE} was changed after the export wrote it: it describes a "
+            f"{now.describe()}, the export wrote a {wrote.describe()}, {keep}")
+
+
+def _written_board(manifest: Path) -> TargetSpec | None:
+    """The board an export's ``target.yaml`` described when written (its manifest's
+    ``"target"``), or None (no such export, or not Kalibr's)."""
+    document = _manifest(manifest)
+    board = document.get("target") if document is not None else None
+    if not isinstance(board, dict):
+        return None
+    try:
+        return TargetSpec(str(board["kind"]), int(board["rows"]), int(board["cols"]),
+                          float(board["size"]), float(board["spacing"]))
+    except (KeyError, TypeError, ValueError, TargetError):
+        return None
 
 
 def enclosing_export(out: Path) -> Path | None:
@@ -50,15 +88,23 @@ def enclosing_export(out: Path) -> Path | None:
     return None
 
 
-def export_files(manifest: Path) -> set[str] | None:
-    """The paths (relative, with ``/``) an export wrote, from its ``manifest.json``; None
-    when that is not the manifest of an export."""
+def _manifest(manifest: Path) -> dict | None:
+    """An export's ``manifest.json`` as a dict; None when that is not one."""
     try:
         document = json.loads(manifest.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError):
         return None
     if not (isinstance(document, dict) and document.get("format") in FORMATS
             and isinstance(document.get("sets"), list)):
+        return None
+    return document
+
+
+def export_files(manifest: Path) -> set[str] | None:
+    """The paths (relative, with ``/``) an export wrote, from its ``manifest.json``; None
+    when that is not the manifest of an export."""
+    document = _manifest(manifest)
+    if document is None:
         return None
     written = set(EXPORT_OWN)
     for frame_set in document["sets"]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from speechcal_core.export.earlier import TARGET_FILE
 from speechcal_core.export.images import Progress, write_image_folders
 from speechcal_core.fsutil import atomic_write_text
 
@@ -19,7 +20,6 @@ if TYPE_CHECKING:
     from speechcal_core.sources.base import FrameSource
     from speechcal_core.target import TargetSpec
 
-TARGET_FILE = "target.yaml"
 
 
 def kalibr_folders(plan: Plan) -> dict[str, str]:

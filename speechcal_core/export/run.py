@@ -79,10 +79,12 @@ def _noop(_text: str, _fraction: float) -> None:
     pass
 
 
-def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> None:
+def check_output(out: Path, force: bool, protected: dict[str, list[Path]],
+                 board: TargetSpec | None = None) -> None:
     """Refuse an existing ``out`` without ``force``; always one that is, holds or lies
     inside an input the export reads (``protected``: what it is -> its paths), one that
-    :func:`~speechcal_core.export.earlier.not_replaceable` keeps, and one under a file."""
+    :func:`~speechcal_core.export.earlier.not_replaceable` keeps (``board``: the one a
+    Kalibr export writes in its target.yaml), and one under a file."""
     touched = overlap(out, protected)
     if touched is not None:
         relation, what, p = touched
@@ -98,7 +100,7 @@ def check_output(out: Path, force: bool, protected: dict[str, list[Path]]) -> No
                           "outside it")
     if os.path.lexists(out):
         # what even --force may not replace is said first: "pass --force" would not help
-        problem = not_replaceable(out)
+        problem = not_replaceable(out, board)
         if not problem and not force:
             raise OutputExistsError(f"{out} already exists; choose another folder or pass "
                                     "--force")
@@ -140,14 +142,20 @@ def _write(fmt: str, source: FrameSource, plan: Plan, root: Path, target: Target
 
 
 def _preflight(session: Session, fmt: str, out: Path, *, force: bool, include_undecided: bool,
-               session_path: str | Path | None) -> list[FrameSet]:
+               session_path: str | Path | None, target: TargetSpec | None) -> list[FrameSet]:
     """The sets to export, after the checks that need no recording: format, sets, folder."""
     if fmt not in FORMATS:
         raise UsageError(f"unknown export format {fmt!r}; use one of {', '.join(FORMATS)}")
     where = str(session_path) if session_path else "the session"
     sets = select_sets(session, include_undecided=include_undecided, where=where)
-    check_output(out, force, session_inputs(session, session_path))
+    check_output(out, force, session_inputs(session, session_path),
+                 _board_written(session, fmt, target))
     return sets
+
+
+def _board_written(session: Session, fmt: str, target: TargetSpec | None) -> TargetSpec | None:
+    """The board an export in ``fmt`` describes in its target.yaml (Kalibr's only)."""
+    return export_target(session, target)[0] if fmt == "kalibr" else None
 
 
 def session_inputs(session: Session, session_path: str | Path | None
@@ -178,7 +186,7 @@ def export_frame_sets(
     from the open ``source`` to the folder ``out`` in ``fmt`` (one of :data:`FORMATS`)."""
     out = Path(out).absolute()
     sets = _preflight(session, fmt, out, force=force, include_undecided=include_undecided,
-                      session_path=session_path)
+                      session_path=session_path, target=target)
     _refuse_waiting(session, include_undecided, session_path)
     return _export(session, source, sets, fmt, out, force=force,
                    include_undecided=include_undecided, target=target,
@@ -210,7 +218,9 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     report("checking the chosen frames", 0.0)
     plan = make_plan(source, sets, where)
     spec, target_from = export_target(session, target)
-    with staged_directory(out, force=force, may_replace=not_replaceable) as root, \
+    yaml_board = spec if fmt == "kalibr" else None  # what its target.yaml will describe
+    with staged_directory(out, force=force,
+                          may_replace=lambda p: not_replaceable(p, yaml_board)) as root, \
             _named_as(root, out):
         outcome, cameras = _write(fmt, source, plan, root, spec,
                                   lambda text, f: report(text, 0.95 * f))
@@ -269,7 +279,7 @@ def export_session_file(
     stamp = file_stamp(session_path)
     session = load_session(session_path)
     sets = _preflight(session, fmt, out, force=force, include_undecided=include_undecided,
-                      session_path=session_path)
+                      session_path=session_path, target=target)
     check_recording_present(session, session_path)
     report = progress or _noop
     report("opening the recording", 0.0)

@@ -93,6 +93,37 @@ def test_force_never_replaces_an_earlier_export_holding_other_files(
     assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*")) == before
 
 
+def test_force_keeps_an_earlier_export_whose_target_yaml_was_measured_and_edited(
+        session_file, tmp_path, capsys) -> None:
+    """A tag size put right by hand in an exported target.yaml was written over by the
+    next --force without a word; the edited board is now kept, or taken with --target."""
+    path = session_file()
+    out = tmp_path / "exp"
+    assert _run(capsys, str(path), "--format", "kalibr", "--out", str(out))[0] == 0
+    target = out / "target.yaml"
+    edited = target.read_text().replace("tagSize: 0.055", "tagSize: 0.0588")
+    assert edited != target.read_text()
+    target.write_text(edited)
+    code, stdout, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out),
+                             "--force")
+    assert code == 1 and stdout == "" and err.count("\n") == 1
+    assert ("its target.yaml was changed after the export wrote it: it describes a 6x6 "
+            "AprilGrid of 0.0588 m tags, the export wrote a 6x6 AprilGrid of 0.055 m tags")\
+        in err
+    assert "copy it out and give it with --target" in err
+    assert target.read_text() == edited
+
+    measured = tmp_path / "measured.yaml"
+    measured.write_text(edited)
+    code, _stdout, _err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out),
+                               "--force", "--target", str(measured))
+    assert code == 0, _err
+    assert "tagSize: 0.0588" in target.read_text()
+    # that export wrote the measured board: the next --force may replace it again
+    assert _run(capsys, str(path), "--format", "kalibr", "--out", str(out), "--force",
+                "--target", str(measured))[0] == 0
+
+
 def test_an_export_inside_an_earlier_export_is_refused(session_file, tmp_path, capsys) -> None:
     """Kalibr reads a camera folder with everything under it: frames exported into an
     earlier export would join its calibration, and that export could not be replaced."""
