@@ -89,6 +89,12 @@ def shared_names(sets: list[FrameSet]) -> dict[int, str]:
     return names
 
 
+#: what to do when the session's recording is not the one it was made from
+_OWN_RECORDING = ("point the session at its own recording (speechcal review RECORDING "
+                  "--audio AUDIO --session SESSION.json), or process this one into a new "
+                  "session (its review starts anew)")
+
+
 def resolve_index(source: FrameSource, choice: FrameChoice, where: str) -> int:
     """The frame's index in ``source``, found by its header stamp if the index moved."""
     stamps = source.stamps(choice.stream)
@@ -100,7 +106,7 @@ def resolve_index(source: FrameSource, choice: FrameChoice, where: str) -> int:
         return k
     raise ExportError(
         f"{where}: {choice.stream} has no frame stamped {choice.stamp_ns}; the recording "
-        "differs from the one this session was made from (process it again)"
+        f"differs from the one this session was made from: {_OWN_RECORDING}"
     )
 
 
@@ -112,7 +118,7 @@ def make_plan(source: FrameSource, sets: list[FrameSet], where: str) -> Plan:
     if missing:
         raise ExportError(
             f"{where}: the recording has no stream {missing[0]!r} (it has {', '.join(known)}); "
-            "the session belongs to another recording"
+            f"the session belongs to another recording: {_OWN_RECORDING}"
         )
     streams = [n for n in known if n in used]
     names = shared_names(sets)

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY
 from speechcal_core.session.model import Session
@@ -92,9 +94,14 @@ def load_for_review(
             stamp = file_stamp(path)
             session = load_session(path)
             note = f"opened the existing {path.name} (review work kept)"
-            moved = _follow_moved_files(session, recording, audio)
+            moved, source = _follow_moved_files(session, recording, audio)
             if moved:
-                save_session(session, path, expect=stamp)
+                try:
+                    save_session(session, path, expect=stamp)
+                except BaseException:
+                    if source is not None:
+                        source.close()
+                    raise
                 stamp = file_stamp(path)
                 note += f"; {moved}"
             if not any(_same_file(r, kept) for r in recording for kept in session.recording):
@@ -195,14 +202,28 @@ def _waveform(session: Session, sound: Audio | None, note: str, report: Progress
         return None, f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
 
 
-def _follow_moved_files(session: Session, recording: Sequence[str], audio: str) -> str:
+def _follow_moved_files(session: Session, recording: Sequence[str], audio: str
+                        ) -> tuple[str, FrameSource | None]:
     """Point ``session`` at ``recording`` and ``audio`` where its own files are gone and
-    the given ones carry the same names (the folder was moved or copied): says what moved,
-    "" when nothing did. The review's decisions stay with the session."""
-    said = []
+    the given ones carry the same names (the folder was moved or copied): says what moved
+    ("" when nothing did) and gives the recording opened to check it (None when it was
+    not). The review's decisions stay with the session. A recording of the same name
+    that does not hold the session's frames (every take is ``recording.bag``) is a
+    UsageError: nothing is changed."""
+    from speechcal_core.sources import open_recording
+
+    said, source = [], None
     old = session.recording
     if (not all(Path(p).exists() for p in old) and len(recording) == len(old)
             and sorted(Path(p).name for p in old) == sorted(Path(r).name for r in recording)):
+        source = open_recording(list(recording))
+        problem = frames_missing(session, source)
+        if problem:
+            source.close()
+            raise UsageError(
+                f"{', '.join(recording)} is not the recording this session was made from, "
+                f"though its name is the same ({problem}); give the session's own "
+                "recording, or process this one into another session file (--session)")
         session.recording = [str(Path(r).absolute()) for r in recording]
         said.append(f"its recording moved from {Path(old[0]).parent} and is now read from "
                     f"{Path(recording[0]).absolute().parent}")
@@ -210,7 +231,25 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str) 
             and Path(session.audio).name == Path(audio).name):
         said.append(f"its audio is now read from {Path(audio).absolute()}")
         session.audio = str(Path(audio).absolute())
-    return "; ".join(said)
+    return "; ".join(said), source
+
+
+def frames_missing(session: Session, source: FrameSource) -> str:
+    """The first of the session's chosen frames ``source`` lacks, in words ("" when it
+    has them all): its camera, or a frame of that header stamp."""
+    streams = {s.name for s in source.streams}
+    for frame_set in session.sets:
+        for frame in frame_set.frames:
+            if frame.index < 0:
+                continue
+            if frame.stream not in streams:
+                return f"it has no camera {frame.stream}"
+            stamps = source.stamps(frame.stream)
+            k = int(np.searchsorted(stamps, frame.stamp_ns))
+            if k >= stamps.size or int(stamps[k]) != frame.stamp_ns:
+                return (f"{frame.stream} has no frame stamped {frame.stamp_ns}, set "
+                        f"{frame_set.id}'s")
+    return ""
 
 
 def _same_file(a: str | Path, b: str | Path) -> bool:

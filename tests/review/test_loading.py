@@ -135,6 +135,31 @@ def test_a_moved_recording_given_with_the_session_is_followed_and_the_review_kep
     assert Path(saved.audio).resolve() == new_audio and saved.sets[0].decision == "accepted"
 
 
+def test_another_recording_of_the_same_name_is_not_taken_for_the_moved_one(
+        tiny_synth, snapshot_synth, tmp_path: Path) -> None:
+    """Every take is recording.bag: the session's own gone, another take of that name
+    was taken for it, saved, and shown with the old decisions on other frames."""
+    from speechcal_core.errors import UsageError
+
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    session_path = tmp_path / "reviews" / "lab.json"
+    session_path.parent.mkdir()
+    load_for_review(recording=[recording], audio=audio, new_session_path=session_path).close()
+    shutil.rmtree(Path(recording).parent)
+    folder, truth = snapshot_synth
+    other = tmp_path / "other"
+    shutil.copytree(folder, other)
+    assert Path(recording).name == truth["recording"] and Path(audio).name == truth["audio"]
+    before = session_path.read_text()
+    with pytest.raises(UsageError) as refused:
+        load_for_review(recording=[str(other / truth["recording"])],
+                        audio=str(other / truth["audio"]), new_session_path=session_path)
+    assert "is not the recording this session was made from, though its name is the same (" \
+        in str(refused.value)
+    assert "process this one into another session file (--session)" in str(refused.value)
+    assert session_path.read_text() == before
+
+
 def test_an_existing_session_keeps_its_trigger_words_and_says_so(
         tiny_synth, tmp_path: Path) -> None:
     from speechcal_core.speech.matching import TriggerSpec
