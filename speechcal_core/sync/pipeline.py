@@ -186,9 +186,13 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
     t1 = {s.name: min(s.last_ns, s.first_ns + int(search_s * 1e9)) for s in infos}
     cams1 = video_claps(source, t0, t1, progress)
     if not cams1:
+        # two recordings given as one interleave their frames: that hides any clap
+        mixed = [f"{s.name}: {s.stamp_problems}; give one recording's files, or "
+                 for s in infos if s.stamp_problems]
         raise SyncError(f"no clap seen in the first {search_s:g} s of any camera "
-                        f"({', '.join(t0)}); make the clap visible to the cameras, search "
-                        "longer (--search-s), or set it by hand (--video-clap-ns)")
+                        f"({', '.join(t0)}); {mixed[0] if mixed else ''}make the clap "
+                        "visible to the cameras, search longer (--search-s), or set it by "
+                        "hand (--video-clap-ns)")
     missing = [n for n in t0 if n not in {c.stream for c in cams1}]
     if missing:
         notes.append(f"no clap seen by {', '.join(missing)}")

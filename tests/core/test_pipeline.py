@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from speechcal_core.pipeline import process_recording
 
 
@@ -68,6 +70,29 @@ def test_two_recordings_given_as_one_are_noted(tiny_synth: tuple[Path, dict],
     err = capsys.readouterr().err
     assert "note: /cam0/image_raw: " in err
     assert "of one file fall among another's (another recording given too?" in err
+
+
+def test_two_recordings_given_as_one_are_named_when_no_clap_is_seen(
+        tiny_synth: tuple[Path, dict], snapshot_synth: tuple[Path, dict]) -> None:
+    """Interleaved frames of two takes can hide the clap: the error said only "no clap
+    seen" and where to look for it; it now names the two recordings first. (Here the
+    search is cut short so that no clap is seen.)"""
+    from speechcal_core.audio import load_audio
+    from speechcal_core.sources import open_recording
+    from speechcal_core.sync.errors import SyncError
+    from speechcal_core.sync.pipeline import sync_recording
+
+    folder, truth = tiny_synth
+    other, other_truth = snapshot_synth
+    audio = load_audio(str(folder / truth["audio"]))
+    with open_recording([str(folder / truth["recording"]),
+                         str(other / other_truth["recording"])]) as source, \
+            pytest.raises(SyncError) as error:
+        sync_recording(source, audio, search_s=0.1)
+    message = str(error.value)
+    assert message.startswith("no clap seen in the first 0.1 s of any camera")
+    assert "of one file fall among another's (another recording given too?" in message
+    assert "give one recording's files, or make the clap visible" in message
 
 
 def test_json_says_what_was_written_and_stdout_holds_nothing_else(
