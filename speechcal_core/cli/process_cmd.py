@@ -32,7 +32,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     add_trigger_options(p)
     p.add_argument("--transcript", metavar="F",
                    help="take the words from a transcript (WhisperX JSON, Audacity labels, "
-                        "CSV word,start,end) instead of detecting them")
+                        "whisper TSV, CSV word,start,end) instead of detecting them")
     p.add_argument("--offset-ns", type=int, metavar="N",
                    help="the audio's start in the cameras' clock, instead of finding the clap")
     p.add_argument("-o", "--output", required=True, metavar="SESSION.json",

@@ -1,10 +1,12 @@
-"""Import timed words from existing transcripts: WhisperX, faster-whisper, Audacity, CSV."""
+"""Import timed words from existing transcripts: WhisperX, faster-whisper, Audacity, CSV,
+and openai-whisper's TSV."""
 
 from __future__ import annotations
 
 import csv
 import io
 import json
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -12,7 +14,10 @@ from typing import Any
 from speechcal_core.speech.backend import Word
 from speechcal_core.speech.errors import SpeechError
 
-FORMATS = "WhisperX JSON, faster-whisper JSON, Audacity labels (.txt) or CSV word,start,end"
+FORMATS = ("WhisperX JSON, faster-whisper JSON, Audacity labels (.txt), openai-whisper "
+           "TSV or CSV word,start,end")
+#: a subtitle cue's timing line (SRT "00:00:06,885 --> ...", WebVTT "00:06.885 --> ...")
+_CUE = re.compile(r"^\s*(\d+:)?\d+:\d+[,.]\d+\s+-->\s+")
 
 
 @dataclass
@@ -23,15 +28,45 @@ class Transcript:
     format: str
     words: list[Word] = field(default_factory=list)
     untimed: list[str] = field(default_factory=list)
+    early: list[str] = field(default_factory=list)  # words timed before the audio's start
+    repeated: int = 0  # words listed twice at the same times, taken once
 
     def note(self) -> str | None:
-        """A one-line report of skipped words, or None when every word was timed."""
-        if not self.untimed:
-            return None
-        shown = ", ".join(repr(w) for w in self.untimed[:5])
-        more = f" and {len(self.untimed) - 5} more" if len(self.untimed) > 5 else ""
-        return (f"{self.path}: {len(self.untimed)} word(s) without timestamps (none, or "
-                f"an end before the start) skipped ({shown}{more})")
+        """A one-line report of skipped words, or None when every word was taken."""
+        parts = []
+        if self.untimed:
+            parts.append(f"{len(self.untimed)} word(s) without timestamps (none, or an end "
+                         f"before the start) skipped ({_shown(self.untimed)})")
+        if self.early:
+            parts.append(f"{len(self.early)} word(s) timed before the audio's start "
+                         f"(negative times) skipped ({_shown(self.early)}); is it this "
+                         "audio's transcript, with times in seconds?")
+        if self.repeated:
+            parts.append(f"{self.repeated} word(s) listed twice at the same times, taken "
+                         "once")
+        return f"{self.path}: {'; '.join(parts)}" if parts else None
+
+    def checked(self) -> Transcript:
+        """This transcript with words timed before zero set aside and repeats dropped."""
+        seen: set[tuple[str, float, float]] = set()
+        kept = []
+        for word in self.words:
+            key = (word.word.lower(), word.start_s, word.end_s)
+            if word.start_s < 0:
+                self.early.append(word.word)
+            elif key in seen:
+                self.repeated += 1
+            else:
+                seen.add(key)
+                kept.append(word)
+        self.words = kept
+        return self
+
+
+def _shown(words: list[str]) -> str:
+    """The first five words, quoted, and how many more."""
+    more = f" and {len(words) - 5} more" if len(words) > 5 else ""
+    return ", ".join(repr(w) for w in words[:5]) + more
 
 
 def read_transcript(path: str | Path) -> Transcript:
@@ -53,11 +88,20 @@ def read_transcript(path: str | Path) -> Transcript:
         except json.JSONDecodeError as exc:
             raise SpeechError(f"{p}: broken JSON at line {exc.lineno} ({exc.msg}); "
                               f"export the transcript again") from exc
-        return _from_json(p, data)
-    first = stripped.splitlines()[0]
+        return _from_json(p, data).checked()
+    lines = stripped.splitlines()
+    if lines[0].strip().startswith("WEBVTT") or any(_CUE.match(ln) for ln in lines[:4]):
+        raise SpeechError(f"{p}: subtitles (SRT or WebVTT) time whole lines, not words; give "
+                          f"a transcript with word times ({FORMATS})")
+    first = lines[0]
     if "\t" in first:
-        return _from_audacity(p, text)
-    return _from_csv(p, text)
+        header = [c.strip().lower() for c in first.split("\t")]
+        if header == ["start", "end", "text"]:
+            return _from_whisper_tsv(p, text).checked()
+        if any(h in names for h in header for names in CSV_COLUMNS):
+            return _from_csv(p, text, delimiter="\t").checked()
+        return _from_audacity(p, text).checked()
+    return _from_csv(p, text).checked()
 
 
 def _from_json(p: Path, data: Any) -> Transcript:
@@ -132,15 +176,36 @@ def _from_audacity(p: Path, text: str) -> Transcript:
     return out
 
 
+def _from_whisper_tsv(p: Path, text: str) -> Transcript:
+    """openai-whisper's ``--output_format tsv``: ``start<TAB>end<TAB>text`` under that
+    header, times in whole milliseconds; a line's words share its times."""
+    out = Transcript(p, "whisper-tsv")
+    for n, line in enumerate(text.splitlines()[1:], 2):
+        if not line.strip():
+            continue
+        parts = line.split("\t", 2)
+        if len(parts) < 3:
+            raise SpeechError(f"{p}: line {n} is not 'start<TAB>end<TAB>text'; write the "
+                              "transcript again with whisper's --output_format tsv")
+        t0, t1 = _number(parts[0]), _number(parts[1])
+        for word in parts[2].split():
+            if t0 is None or t1 is None or t1 < t0:
+                out.untimed.append(word)
+            else:
+                out.words.append(Word(word, t0 / 1000.0, t1 / 1000.0, 1.0, "whisper-tsv"))
+    return out
+
+
 #: header names of the CSV's word, start and end columns
 CSV_COLUMNS = (("word", "text", "label"), ("start", "begin", "start_s"), ("end", "stop", "end_s"))
 
 
-def _from_csv(p: Path, text: str) -> Transcript:
+def _from_csv(p: Path, text: str, delimiter: str = ",") -> Transcript:
     """CSV ``word,start,end`` (a header row is optional and may name the columns in any
-    order, also as text/label, begin, stop; extra columns ignored)."""
+    order, also as text/label, begin, stop; extra columns ignored); tab-separated too."""
     out = Transcript(p, "csv")
-    rows = list(csv.reader(io.StringIO(text)))
+    rows = list(csv.reader(io.StringIO(text), delimiter=delimiter))
+    backwards = 0  # rows whose times are numbers, the end before the start
     header = [c.strip().lower() for c in rows[0]] if rows else []
     cols = (0, 1, 2)
     other_header = False
@@ -160,8 +225,12 @@ def _from_csv(p: Path, text: str) -> Transcript:
         t0, t1 = _number(row[cols[1]]), _number(row[cols[2]])
         if t0 is None or t1 is None or t1 < t0:
             out.untimed.append(word)
+            backwards += t0 is not None and t1 is not None
         else:
             out.words.append(Word(word, t0, t1, 1.0, "csv"))
+    if out.untimed and not out.words and backwards == len(out.untimed):
+        raise SpeechError(f"{p}: every row's end comes before its start (the first reads "
+                          f"{','.join(rows[0])!r}); the columns are word,start,end")
     if out.untimed and not out.words:  # columns in another order, or no times at all
         raise SpeechError(
             f"{p}: no row has a word with start and end times (the first reads "

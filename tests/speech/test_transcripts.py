@@ -1,4 +1,4 @@
-"""Transcript import: WhisperX, faster-whisper, Audacity labels and CSV."""
+"""Transcript import: WhisperX, faster-whisper, Audacity labels, openai-whisper TSV, CSV."""
 
 from __future__ import annotations
 
@@ -64,7 +64,35 @@ def test_audacity_labels_and_csv_are_read(tmp_path: Path) -> None:
                                                                 ("Capture!", 2.0, 2.5)]
 
 
+def test_whisper_tsv_in_milliseconds_and_tab_separated_words_with_a_header(
+        tmp_path: Path) -> None:
+    """openai-whisper's TSV was read as Audacity labels (6885 s!), and a tab-separated
+    word/start/end table listed its header as skipped words."""
+    tsv = "start\tend\ttext\n6885\t7513\tCapture.\n9000\t9400\tcapture now\n"
+    t = read_transcript(_write(tmp_path, "talk.tsv", tsv))
+    assert t.format == "whisper-tsv"
+    assert [(w.word, w.start_s, w.end_s) for w in t.words] == [
+        ("Capture.", 6.885, 7.513), ("capture", 9.0, 9.4), ("now", 9.0, 9.4)]
+    table = "word\tstart\tend\ncapture\t6.885\t7.513\n"
+    t = read_transcript(_write(tmp_path, "words.tsv", table))
+    assert [(w.word, w.start_s) for w in t.words] == [("capture", 6.885)] and not t.untimed
+
+
+def test_words_before_the_audio_and_words_listed_twice_are_noted(tmp_path: Path) -> None:
+    rows = "capture,-3.0,-2.5\ncapture,1.0,1.5\ncapture,1.0,1.5\nCapture,4.0,4.5\n"
+    t = read_transcript(_write(tmp_path, "shifted.csv", rows))
+    assert [w.start_s for w in t.words] == [1.0, 4.0]
+    note = t.note()
+    assert note is not None and note.startswith(f"{tmp_path / 'shifted.csv'}: ")
+    assert "1 word(s) timed before the audio's start (negative times) skipped" in note
+    assert "is it this audio's transcript, with times in seconds?" in note
+    assert "1 word(s) listed twice at the same times, taken once" in note
+
+
 @pytest.mark.parametrize("text, fix", [
+    ("1\n00:00:06,885 --> 00:00:07,513\nCapture.\n", "subtitles"),
+    ("WEBVTT\n\n00:06.885 --> 00:07.513\nCapture.\n", "time whole lines, not words"),
+    ("capture,3.0,1.0\ncapture,9.0,8.5\n", "every row's end comes before its start"),
     ("", "empty"),
     ("{not json", "broken JSON"),
     ('{"text": "capture"}', "without word timings"),
