@@ -49,6 +49,11 @@ def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list
     if levels.silent:
         level = ("every sample is zero" if levels.peak_dbfs == -np.inf
                  else f"peak {levels.peak_dbfs:.0f} dBFS")
+        n = audio.channels_in_file
+        if audio.channel is None and n > 1:  # channels of opposite polarity cancel
+            raise SyncError(f"{name}: its {n} channels mixed are silent ({level}); channels "
+                            f"of opposite polarity cancel: pick one with --channel (0-{n - 1})"
+                            f", or check the microphone, or {BY_HAND}")
         raise SyncError(f"{name}: the audio is silent ({level}); "
                         f"check the microphone and the channel, or {BY_HAND}")
     if levels.clipped:

@@ -104,8 +104,14 @@ def test_bad_audio_gives_one_line_reasons_and_manual_path_works(
     noise = tmp_path / "noise.wav"
     rng = np.random.default_rng(0)
     sf.write(str(noise), (0.05 * rng.standard_normal(16000 * 5)).astype(np.float32), 16000)
+    # a stereo file whose channels are each other's negative: mixed, they cancel
+    opposite = tmp_path / "opposite.wav"
+    clap = (0.05 * rng.standard_normal(16000 * 5)).astype(np.float32)
+    sf.write(str(opposite), np.stack([clap, -clap], axis=1), 16000)
     cases = [(tmp_path / "missing.ogg", "not found"), (silent, "silent (every sample is zero)"),
-             (noise, "no clap found")]
+             (noise, "no clap found"),
+             (opposite, "its 2 channels mixed are silent (peak -96 dBFS); channels of "
+                        "opposite polarity cancel: pick one with --channel (0-1)")]
     for path, words in cases:
         assert main(["sync", rec, "--audio", str(path), "--json"]) == 1
         captured = capsys.readouterr()
