@@ -46,3 +46,23 @@ def test_stage_progress_prints_each_stage_and_every_tenth_not_every_step(capsys)
     assert capsys.readouterr().err.splitlines() == [
         "[  2%] indexing", "[ 60%] frames: windows", "[ 70%] frames: windows",
         "[ 80%] frames: windows", "[ 81%] writing cam0/0.png"]
+
+
+def test_a_reader_that_goes_away_ends_the_command_quietly(tiny_synth) -> None:
+    """``speechcal index --json | head``: the pipe closed before the document was written
+    ended in a BrokenPipeError traceback; now exit status 141, as for SIGPIPE, and
+    nothing on stderr."""
+    import os
+    import subprocess
+    import sys
+
+    folder, truth = tiny_synth
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # the reader is gone before anything is written
+    try:
+        done = subprocess.run([sys.executable, "-m", "speechcal_core.cli", "index",
+                               str(folder / truth["recording"]), "--json"],
+                              stdout=write_end, stderr=subprocess.PIPE, text=True, timeout=120)
+    finally:
+        os.close(write_end)
+    assert done.returncode == 141 and done.stderr == ""
