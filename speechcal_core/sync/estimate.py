@@ -36,7 +36,9 @@ class Clap:
 
     @property
     def session_ns(self) -> int:
-        """The clap on the session clock: the cameras' robust mean, or the manual value."""
+        """The clap on the session clock: the cameras' median (three or more), their mean
+        weighted by inverse frame period squared (a faster camera times the clap better:
+        a 30 fps camera counts four times a 15 fps one), or the manual value."""
         if self.session_override_ns is not None:
             return int(self.session_override_ns)
         stamps = np.array([c.clap_ns for c in self.cameras], dtype=np.int64)
@@ -44,8 +46,10 @@ class Clap:
             raise ValueError("a clap needs at least one camera or a manual session time")
         base = int(stamps.min())
         rel = (stamps - base).astype(np.float64)
-        centre = float(np.median(rel)) if rel.size >= 3 else float(np.mean(rel))
-        return base + round(centre)
+        if rel.size >= 3:
+            return base + round(float(np.median(rel)))
+        w = np.array([1.0 / max(c.period_ns or 33_333_333, 1) ** 2 for c in self.cameras])
+        return base + round(float(np.sum(w * rel) / np.sum(w)))
 
     @property
     def edited(self) -> bool:

@@ -87,3 +87,14 @@ def test_fully_manual_sync() -> None:
 def test_model_needs_a_clap() -> None:
     with pytest.raises(ValueError):
         model_from_claps([])
+
+
+def test_two_cameras_count_by_how_finely_they_time_the_clap() -> None:
+    """A 15 fps camera whose clap was timed two frames early pulled the offset half way
+    (65 ms on a synthetic session); a 30 fps camera now counts four times as much."""
+    fast = CameraClap("/cam0", 1_000_000_000, 33_333_333, "v-fit")
+    slow = CameraClap("/cam1", 1_000_000_000 - 120_000_000, 66_666_667, "v-fit")
+    clap = Clap(2.0, (fast, slow))
+    assert clap.session_ns == pytest.approx(1_000_000_000 - 24_000_000, abs=1_000)
+    same_rate = Clap(2.0, (fast, CameraClap("/cam1", 880_000_000, 33_333_333, "v-fit")))
+    assert same_rate.session_ns == 940_000_000  # equal periods: the plain mean
