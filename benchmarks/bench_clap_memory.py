@@ -19,16 +19,15 @@ from __future__ import annotations
 import argparse
 import gc
 import json
-import shutil
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+from bench_data import session_folder
 
 from speechcal_core.sources import open_recording
 from speechcal_core.sources.depth import stream_depth
@@ -130,13 +129,8 @@ def main() -> int:
         print(json.dumps(child(args.child, args.recording, args.stream)))
         return 0
 
-    tmp = Path(tempfile.mkdtemp(prefix="speechcal-bench-")) if not args.data else None
-    folder = Path(args.data) if args.data else tmp / "session"
-    try:
-        if (folder / "truth.json").exists():
-            truth = json.loads((folder / "truth.json").read_text())
-        else:
-            truth = make_data(folder, args.seed)
+    with session_folder(args.data, args.keep,
+                        lambda out: make_data(out, args.seed)) as (folder, truth):
         recording = str(folder / truth["recording"])
         stream = args.stream or truth["cameras"][0]["name"]
         runs: dict[str, list[dict]] = {m: [] for m in MODES}
@@ -177,11 +171,6 @@ def main() -> int:
                   f"{len(claps)} candidate(s); every run the same: {same}")
         else:
             print("  no clap found")
-    finally:
-        if tmp is not None and not args.keep:
-            shutil.rmtree(tmp, ignore_errors=True)
-        elif tmp is not None:
-            print(f"data kept in {folder}", file=sys.stderr)
     return 0
 
 

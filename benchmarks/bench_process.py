@@ -13,16 +13,14 @@ recovered intrinsics.
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import shutil
 import statistics
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
+from bench_data import session_folder
 
 from speechcal_core.errors import UsageError
 from speechcal_core.frames.analysis import FrameAnalysis, analyse_frames
@@ -82,13 +80,8 @@ def main() -> int:
     parser.add_argument("--keep", action="store_true", help="keep the temporary folder")
     args = parser.parse_args()
 
-    tmp = Path(tempfile.mkdtemp(prefix="speechcal-bench-")) if not args.data else None
-    folder = Path(args.data) if args.data else tmp / "session"
-    try:
-        if (folder / "truth.json").exists():
-            truth = json.loads((folder / "truth.json").read_text())
-        else:
-            truth = make_data(folder, args.seed)
+    with session_folder(args.data, args.keep,
+                        lambda out: make_data(out, args.seed)) as (folder, truth):
         sync = SyncModel(truth["sync"]["offset_ns"], truth["sync"]["drift"], "truth")
         triggers = [Trigger(t["word"], t["start_s"], t["end_s"], source="truth")
                     for t in truth["triggers"]]
@@ -144,11 +137,6 @@ def main() -> int:
                     line += (f"; {model} rms {fit['rms_px']:.3f} px, "
                              f"max intrinsics error {err.max() * 100:.3f}%")
             print(line)
-    finally:
-        if tmp is not None and not args.keep:
-            shutil.rmtree(tmp, ignore_errors=True)
-        elif tmp is not None:
-            print(f"data kept in {folder}", file=sys.stderr)
     return 0
 
 
