@@ -138,16 +138,17 @@ def review_work(path: Path) -> str:
     offset does not count: ``--offset-ns`` gives one too.)"""
     from speechcal_core.review.summary import SOURCE_MARKS
     from speechcal_core.session.store import SessionFileError, load_session
+    from speechcal_core.text import counted
 
     try:
         session = load_session(path)
     except SessionFileError:
         return ""
-    decided = sum(1 for s in session.sets if s.decision != "undecided")
+    decided = len(session.sets) - session.counts()["undecided"]
     added = sum(1 for s in session.sets if s.trigger.source in SOURCE_MARKS)
-    work = [f"{decided} decision{'' if decided == 1 else 's'}"] if decided else []
+    work = [counted(decided, "decision")] if decided else []
     if added:
-        work.append(f"{added} set{'' if added == 1 else 's'} added")
+        work.append(f"{counted(added, 'set')} added")
     return ", ".join(work)
 
 

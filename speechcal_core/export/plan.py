@@ -13,9 +13,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from speechcal_core.export.errors import ExportError
+from speechcal_core.frames.nearest import stamped_index
 
 if TYPE_CHECKING:
     from speechcal_core.session.model import FrameChoice, FrameSet
@@ -97,13 +96,9 @@ _OWN_RECORDING = ("point the session at its own recording (speechcal review RECO
 
 def resolve_index(source: FrameSource, choice: FrameChoice, where: str) -> int:
     """The frame's index in ``source``, found by its header stamp if the index moved."""
-    stamps = source.stamps(choice.stream)
-    i = choice.index
-    if 0 <= i < stamps.size and int(stamps[i]) == choice.stamp_ns:
-        return i
-    k = int(np.searchsorted(stamps, choice.stamp_ns))
-    if k < stamps.size and int(stamps[k]) == choice.stamp_ns:
-        return k
+    index = stamped_index(source.stamps(choice.stream), choice.stamp_ns, choice.index)
+    if index is not None:
+        return index
     raise ExportError(
         f"{where}: {choice.stream} has no frame stamped {choice.stamp_ns}; the recording "
         f"differs from the one this session was made from: {_OWN_RECORDING}"

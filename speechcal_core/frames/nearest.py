@@ -20,6 +20,15 @@ def nearest_index(stamps: np.ndarray, t_ns: int) -> int:
     return stats.nearest_index(stamps, t_ns) if len(stamps) else -1
 
 
+def stamped_index(stamps: np.ndarray, stamp_ns: int, hint: int = -1) -> int | None:
+    """Index of the frame stamped exactly ``stamp_ns`` in a sorted int64 array (``hint``,
+    its index as last known, is tried first); None when there is no such frame."""
+    if 0 <= hint < stamps.size and int(stamps[hint]) == stamp_ns:
+        return hint
+    k = int(np.searchsorted(stamps, stamp_ns))
+    return k if k < stamps.size and int(stamps[k]) == stamp_ns else None
+
+
 def frame_period_ns(stamps: np.ndarray) -> int:
     """Median stamp spacing (0 with fewer than two stamps)."""
     return int(np.median(np.diff(stamps))) if len(stamps) > 1 else 0

@@ -7,9 +7,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from speechcal_core.errors import SpeechCalError, UsageError
+from speechcal_core.frames.nearest import stamped_index
 from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY
 from speechcal_core.session.model import Session
 from speechcal_core.session.store import (
@@ -244,9 +243,7 @@ def frames_missing(session: Session, source: FrameSource) -> str:
                 continue
             if frame.stream not in streams:
                 return f"it has no camera {frame.stream}"
-            stamps = source.stamps(frame.stream)
-            k = int(np.searchsorted(stamps, frame.stamp_ns))
-            if k >= stamps.size or int(stamps[k]) != frame.stamp_ns:
+            if stamped_index(source.stamps(frame.stream), frame.stamp_ns) is None:
                 return (f"{frame.stream} has no frame stamped {frame.stamp_ns}, set "
                         f"{frame_set.id}'s")
     return ""

@@ -48,7 +48,7 @@ class Clap:
         rel = (stamps - base).astype(np.float64)
         if rel.size >= 3:
             return base + round(float(np.median(rel)))
-        w = np.array([1.0 / max(c.period_ns or 33_333_333, 1) ** 2 for c in self.cameras])
+        w = np.array([timing_weight(c.period_ns) for c in self.cameras])
         return base + round(float(np.sum(w * rel) / np.sum(w)))
 
     @property
@@ -127,12 +127,18 @@ def _pair_drift(first: Clap, last: Clap) -> float:
         if pairs:
             ds = np.array([b - a for a, b, _ in pairs], dtype=np.float64)
             # a faster camera times the clap better: weight by inverse frame period squared
-            w = np.array([1.0 / max(p, 1) ** 2 for _, _, p in pairs])
+            w = np.array([timing_weight(p) for _, _, p in pairs])
             if ds.size >= 3:
                 keep = np.abs(ds - np.median(ds)) <= 3 * _mad(ds) + 2e6
                 ds, w = ds[keep], w[keep]
             return float(np.sum(w * ds) / np.sum(w)) / (da * 1e9) - 1.0
     return (last.session_ns - first.session_ns) / (da * 1e9) - 1.0
+
+
+def timing_weight(period_ns: int | None) -> float:
+    """How much a camera's clap time counts: inverse frame period squared (a 30 fps
+    camera counts four times a 15 fps one; no period known: as 30 fps)."""
+    return 1.0 / max(period_ns or 33_333_333, 1) ** 2
 
 
 def _mad(v: np.ndarray) -> float:
