@@ -18,6 +18,7 @@ from PySide6.QtWidgets import QMessageBox
 
 from app.export_dialog import ExportDialog
 from app.tasks import BackgroundTask, start
+from speechcal_core.export.run import export_target
 from speechcal_core.text import counted
 
 if TYPE_CHECKING:
@@ -25,6 +26,7 @@ if TYPE_CHECKING:
     from speechcal_core.export import ExportResult
     from speechcal_core.session.model import Session
     from speechcal_core.sources.base import FrameSource
+    from speechcal_core.target import TargetSpec
 
 
 class ExportAction(QObject):
@@ -36,8 +38,9 @@ class ExportAction(QObject):
         self.dialog: ExportDialog | None = None
         self.replace_box: QMessageBox | None = None
         self.task: BackgroundTask | None = None
-        #: (format, folder, force, include undecided) of an export waiting for re-scoring
-        self.pending: tuple[str, Path, bool, bool] | None = None
+        #: (format, folder, force, include undecided, board chosen in the dialog) of an
+        #: export waiting for re-scoring
+        self.pending: tuple[str, Path, bool, bool, TargetSpec | None] | None = None
         self.source: FrameSource | None = None  # the recording the running export reads
         self.last_result: ExportResult | None = None
         self.last_error = ""
@@ -58,7 +61,8 @@ class ExportAction(QObject):
         stem = Path(path).name.split(".")[0] if path else "export"
         self.dialog = ExportDialog(w, base, stem, w.model.session.counts(),
                                    waiting=lambda include: len(w.model.export_waits_for(include)),
-                                   refusal=self.refusal)
+                                   refusal=self.refusal,
+                                   board=export_target(w.model.session, None))
         if self.last_format:  # the format of the export before (the folder follows it)
             self.dialog.set_format(self.last_format)
         self.dialog.accepted.connect(self._dialog_accepted)
@@ -66,16 +70,19 @@ class ExportAction(QObject):
 
     def _dialog_accepted(self) -> None:
         assert self.dialog is not None
-        fmt, out, include = self.dialog.choice()
+        fmt, out, include, target = self.dialog.choice()
         self.last_format = fmt
-        self.start(fmt, out, include_undecided=include)
+        self.start(fmt, out, include_undecided=include, target=target)
 
     def start(self, fmt: str, out: Path, *, force: bool = False,
-              include_undecided: bool = False) -> None:
+              include_undecided: bool = False, target: TargetSpec | None = None) -> None:
         """Export to ``out``; an existing folder is replaced only after the operator agrees,
-        and one the export reads (see :meth:`refusal`) is refused before asking."""
+        and one the export reads (see :meth:`refusal`) is refused before asking.
+        ``target``: the board to describe (None: the session's, or the one assumed)."""
         out = Path(out).absolute()
-        why = self.refusal(out)
+        board = (target or export_target(self.window.model.session, None)[0]) \
+            if fmt == "kalibr" and self.window.model is not None else None
+        why = self.refusal(out, board)
         if why:
             self.last_error = why
             self.window.status.end("export", f"Export not written: {why}")
@@ -83,13 +90,15 @@ class ExportAction(QObject):
                 QMessageBox.warning(self.window, "SpeechCal", why)
             return
         if os.path.lexists(out) and not force:  # a dangling link is replaced too
-            self._ask_replace(fmt, out, include_undecided)
+            self._ask_replace(fmt, out, include_undecided, target)
             return
-        self._run(fmt, out, force, include_undecided)
+        self._run(fmt, out, force, include_undecided, target)
 
-    def refusal(self, out: Path) -> str:
+    def refusal(self, out: Path, board: TargetSpec | None = None) -> str:
         """Why the export may never write ``out`` (it is, holds or lies inside the open
-        session's recording, audio or session file: the core's own check), "" if it may."""
+        session's recording, audio or session file, or is an earlier export kept for its
+        edited target.yaml unless ``board``, the one a Kalibr export writes, is that one:
+        the core's own check), "" if it may."""
         from speechcal_core.export.errors import ExportError
         from speechcal_core.export.run import check_output, session_inputs
 
@@ -98,12 +107,13 @@ class ExportAction(QObject):
             return ""
         protected = session_inputs(w.model.session, w.inputs.session_path)
         try:
-            check_output(Path(out), True, protected)  # forced: an existing folder is asked
+            check_output(Path(out), True, protected, board)  # forced: an existing one is asked
         except ExportError as exc:
             return str(exc)
         return ""
 
-    def _ask_replace(self, fmt: str, out: Path, include_undecided: bool) -> None:
+    def _ask_replace(self, fmt: str, out: Path, include_undecided: bool,
+                     target: TargetSpec | None) -> None:
         box = QMessageBox(QMessageBox.Icon.Warning, "SpeechCal",
                           f"{out} already exists.\nReplace it with this export?",
                           QMessageBox.StandardButton.Cancel, self.window)
@@ -112,7 +122,7 @@ class ExportAction(QObject):
 
         def answered(button) -> None:
             if button is replace_button:
-                self._run(fmt, out, True, include_undecided)
+                self._run(fmt, out, True, include_undecided, target)
             else:
                 self.window.status.end("export", f"Export not written: {out} already exists")
 
@@ -121,10 +131,11 @@ class ExportAction(QObject):
         box.open()
 
     # -- running ------------------------------------------------------------------------
-    def _run(self, fmt: str, out: Path, force: bool, include_undecided: bool) -> None:
+    def _run(self, fmt: str, out: Path, force: bool, include_undecided: bool,
+             target: TargetSpec | None) -> None:
         self.last_error = ""
         self.last_result = None
-        self.pending = (fmt, out, force, include_undecided)
+        self.pending = (fmt, out, force, include_undecided, target)
         self._set_enabled(False)
         self._go()
 
@@ -134,7 +145,7 @@ class ExportAction(QObject):
 
         w = self.window
         assert self.pending is not None and w.model is not None and w.inputs is not None
-        fmt, out, force, include_undecided = self.pending
+        fmt, out, force, include_undecided, target = self.pending
         waiting = w.model.export_waits_for(include_undecided)
         if waiting:
             if not w.rescorer.busy():
@@ -153,7 +164,7 @@ class ExportAction(QObject):
         self.source = source
         self.task = BackgroundTask(lambda report: export_frame_sets(
             snapshot, source, fmt, out, force=force, include_undecided=include_undecided,
-            session_path=session_path, progress=report), owner=self)
+            target=target, session_path=session_path, progress=report), owner=self)
         self.task.signals.progress.connect(
             lambda text, f: w.status.report("export", f"exporting: {text}", f))
         self.task.signals.finished.connect(self._finished)

@@ -1,4 +1,4 @@
-"""The export dialog: format, output folder, whether undecided sets go too."""
+"""The export dialog: format, output folder, board, whether undecided sets go too."""
 
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ from PySide6.QtWidgets import (
 )
 
 from app.dialog_fit import fit_height
+from speechcal_core.target import TargetError, TargetSpec
 from speechcal_core.text import counted
 
 #: export format -> what the operator reads in the list
@@ -30,6 +31,13 @@ FORMAT_LABELS = {
     "rosbag1": "ROS1 bag — original topics and messages",
     "rosbag2": "ROS2 bag — original topics and messages",
 }
+#: formats that describe the board (Kalibr's target.yaml, the corner files)
+BOARD_FORMATS = ("kalibr", "folders")
+#: where the board the export describes comes from -> how the dialog says so
+BOARD_ORIGINS = {
+    "session": "the board the session was processed with",
+    "default": "assumed, not measured: if your board differs, choose its target file",
+}
 
 
 class ExportDialog(QDialog):
@@ -38,12 +46,20 @@ class ExportDialog(QDialog):
     def __init__(self, parent: QWidget | None, base_folder: Path, stem: str,
                  counts: dict[str, int],
                  waiting: Callable[[bool], int] | None = None,
-                 refusal: Callable[[Path], str] | None = None) -> None:
+                 refusal: Callable[[Path, TargetSpec | None], str] | None = None,
+                 board: tuple[TargetSpec, str] = (TargetSpec(), "default")) -> None:
         super().__init__(parent)
         #: how many of the sets to export (undecided too or not) wait for re-scoring
         self.waiting = waiting or (lambda _include: 0)
-        #: why a folder may not be exported into whatever the answer ("" if it may)
-        self.refusal = refusal or (lambda _out: "")
+        #: why a folder may not be exported into whatever the answer ("" if it may), for
+        #: a Kalibr export writing this board's target.yaml (None: another format)
+        self.refusal = refusal or (lambda _out, _board: "")
+        #: the board the export describes and where it comes from (BOARD_ORIGINS)
+        self.board, self.board_origin = board
+        #: the target file chosen here (None: the session's board), and why the last one
+        #: chosen could not be read ("" if it could)
+        self.target_file: Path | None = None
+        self.target_problem = ""
         self.setWindowTitle("Export frame sets")
         self.setMinimumWidth(560)
         self.base_folder = base_folder
@@ -63,11 +79,23 @@ class ExportDialog(QDialog):
         undecided = counts.get("undecided", 0)
         self.undecided_box = QCheckBox(f"also the {counted(undecided, 'undecided set')}")
         self.undecided_box.setVisible(undecided > 0)  # "also the 0 undecided sets"
+        self.board_label = QLabel("")
+        self.board_label.setWordWrap(True)
+        self.target_button = QPushButton("Target file…")
+        self.target_button.setToolTip("A Kalibr target yaml describing your board")
+        self.target_button.clicked.connect(self._browse_target)
+        self.board_row = QWidget()
+        board_layout = QHBoxLayout(self.board_row)
+        board_layout.setContentsMargins(0, 0, 0, 0)
+        board_layout.addWidget(self.board_label, 1)
+        board_layout.addWidget(self.target_button)
         self.summary = QLabel("")
         self.summary.setWordWrap(True)  # the notes run longer than the dialog is wide
         form = QFormLayout()
         form.addRow("Format", self.format_box)
         form.addRow("Folder", path_row)
+        form.addRow("Board", self.board_row)
+        self.form = form
         form.addRow("", self.undecided_box)
         self.buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok
                                         | QDialogButtonBox.StandardButton.Cancel)
@@ -96,9 +124,31 @@ class ExportDialog(QDialog):
         self.path_edit.setText(str(folder))
         self._on_edited(str(folder))
 
-    def choice(self) -> tuple[str, Path, bool]:
-        """Format, output folder and whether undecided sets are included."""
-        return self.format, self._output(), self.undecided_box.isChecked()
+    def choice(self) -> tuple[str, Path, bool, TargetSpec | None]:
+        """Format, output folder, whether undecided sets are included, and the board a
+        target file chosen here describes (None: the session's, as ``export`` takes it)."""
+        target = self.board if self.target_file is not None else None
+        return self.format, self._output(), self.undecided_box.isChecked(), target
+
+    def set_target_file(self, path: Path) -> None:
+        """Describe the board of the Kalibr target yaml ``path``; one that cannot be read
+        leaves the board as it was and says why."""
+        try:
+            board = TargetSpec.from_kalibr_yaml(path)
+        except (TargetError, OSError) as exc:
+            named = str(exc) if str(path) in str(exc) else f"{path}: {exc}"
+            self.target_problem = named
+        else:
+            self.board, self.target_file, self.target_problem = board, Path(path), ""
+        self._update()
+
+    def _browse_target(self) -> None:
+        start = self.target_file or self._output()
+        path, _filter = QFileDialog.getOpenFileName(
+            self, "Kalibr target yaml of your board", str(start),
+            "Kalibr target (*.yaml *.yml);;All files (*)")
+        if path:
+            self.set_target_file(Path(path))
 
     def _output(self) -> Path:
         """The output folder as typed (surrounding spaces are not part of it)."""
@@ -124,7 +174,13 @@ class ExportDialog(QDialog):
             n += self.counts.get("undecided", 0)
         text = self.path_edit.text().strip()
         out = self._output()
-        why = self.refusal(out.absolute()) if text else ""
+        describes_board = self.format in BOARD_FORMATS
+        self.form.setRowVisible(self.board_row, describes_board)
+        origin = f"from {self.target_file}" if self.target_file is not None \
+            else BOARD_ORIGINS.get(self.board_origin, self.board_origin)
+        self.board_label.setText(f"{self.board.describe()} ({origin})")
+        board = self.board if self.format == "kalibr" else None
+        why = self.refusal(out.absolute(), board) if text else ""
         why = why.removeprefix(f"{out.absolute()}: ")  # the field above shows the folder
         note = "\nIt exists: you will be asked before it is replaced" if out.exists() else ""
         later = self.waiting(self.undecided_box.isChecked())
@@ -136,11 +192,14 @@ class ExportDialog(QDialog):
         folder = "the folder above" if out.exists() else "a new folder"
         self.summary.setText(f"{n} {sets} will be written to {folder}{note}")
         ok = self.buttons.button(QDialogButtonBox.StandardButton.Ok)
-        ok.setEnabled(n > 0 and bool(text) and not why)
+        ok.setEnabled(n > 0 and bool(text) and not why
+                      and not (self.target_problem and describes_board))
         if n == 0:
             self.summary.setText("No accepted frame sets yet: accept sets (A) first")
         elif why:  # said before any replace question: no answer makes it possible
             self.summary.setText(f"Cannot export there: {why}")
+        if self.target_problem and describes_board:
+            self.summary.setText(f"Cannot use that target file: {self.target_problem}")
         fit_height(self)
 
     def resizeEvent(self, event) -> None:

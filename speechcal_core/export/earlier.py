@@ -51,8 +51,9 @@ def edited_target(out: Path, board: TargetSpec | None = None) -> str:
     wrote = _written_board(out / "manifest.json")
     if wrote is None or not path.is_file():
         return ""
-    keep = (f"and an export never replaces that; to export for that board, copy it out "
-            f"and give it with --target, or move {TARGET_FILE} away")
+    keep = (f"and an export never replaces that; to export for that board, give {path} "
+            "as the target (speechcal export --target, or Target file… in the window's "
+            f"export dialog), or move {TARGET_FILE} away")
     try:
         now = TargetSpec.from_kalibr_yaml(path)
     except TargetError:

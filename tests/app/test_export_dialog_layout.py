@@ -58,7 +58,7 @@ def test_a_long_refusal_grows_the_dialog_and_squashes_no_field(qtbot, tmp_path: 
     long_reason = ("this folder holds files that are not an export (.bashrc, .cache, "
                    ".cargo, …); choose another output folder or empty it") * 2
     dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 3, "undecided": 0},
-                          refusal=lambda out: long_reason if out.name == "data" else "")
+                          refusal=lambda out, _board: long_reason if out.name == "data" else "")
     qtbot.addWidget(dialog)
     dialog.show()
     qtbot.waitExposed(dialog)

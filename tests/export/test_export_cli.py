@@ -110,16 +110,17 @@ def test_force_keeps_an_earlier_export_whose_target_yaml_was_measured_and_edited
     assert ("its target.yaml was changed after the export wrote it: it describes a 6x6 "
             "AprilGrid of 0.0588 m tags, the export wrote a 6x6 AprilGrid of 0.055 m tags")\
         in err
-    assert "copy it out and give it with --target" in err
+    assert f"give {target} as the target (speechcal export --target" in err
     assert target.read_text() == edited
 
-    measured = tmp_path / "measured.yaml"
-    measured.write_text(edited)
+    # the edited file itself is the target: it is read before the folder is replaced
     code, _stdout, _err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out),
-                               "--force", "--target", str(measured))
+                               "--force", "--target", str(target))
     assert code == 0, _err
     assert "tagSize: 0.0588" in target.read_text()
     # that export wrote the measured board: the next --force may replace it again
+    measured = tmp_path / "measured.yaml"
+    measured.write_text(edited)
     assert _run(capsys, str(path), "--format", "kalibr", "--out", str(out), "--force",
                 "--target", str(measured))[0] == 0
 
