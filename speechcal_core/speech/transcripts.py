@@ -98,10 +98,17 @@ def read_transcript(path: str | Path) -> Transcript:
         header = [c.strip().lower() for c in first.split("\t")]
         if header == ["start", "end", "text"]:
             return _from_whisper_tsv(p, text).checked()
-        if any(h in names for h in header for names in CSV_COLUMNS):
+        if any(h in names for h in header for names in CSV_COLUMNS) or _word_first(header):
             return _from_csv(p, text, delimiter="\t").checked()
         return _from_audacity(p, text).checked()
     return _from_csv(p, text).checked()
+
+
+def _word_first(cells: list[str]) -> bool:
+    """Whether a tab-separated row reads word, start, end (a word table without its
+    header) rather than Audacity's start, end, label."""
+    return (len(cells) >= 3 and _number(cells[0]) is None
+            and _number(cells[1]) is not None and _number(cells[2]) is not None)
 
 
 def _from_json(p: Path, data: Any) -> Transcript:

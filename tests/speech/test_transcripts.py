@@ -78,6 +78,18 @@ def test_whisper_tsv_in_milliseconds_and_tab_separated_words_with_a_header(
     assert [(w.word, w.start_s) for w in t.words] == [("capture", 6.885)] and not t.untimed
 
 
+def test_a_tab_separated_word_table_without_a_header_is_not_read_as_audacity_labels(
+        tmp_path: Path) -> None:
+    """Its words were taken for untimed labels and every trigger was lost."""
+    rows = "capture\t6.6\t7.16\ncapture\t9.26\t10.04\n"
+    t = read_transcript(_write(tmp_path, "words.tsv", rows))
+    assert [(w.word, w.start_s, w.end_s) for w in t.words] == [
+        ("capture", 6.6, 7.16), ("capture", 9.26, 10.04)] and not t.untimed
+    labels = "6.6\t7.16\tcapture\n9.26\t10.04\tcapture\n"  # Audacity's order still
+    t = read_transcript(_write(tmp_path, "labels.txt", labels))
+    assert t.format == "audacity" and [w.start_s for w in t.words] == [6.6, 9.26]
+
+
 def test_words_before_the_audio_and_words_listed_twice_are_noted(tmp_path: Path) -> None:
     rows = "capture,-3.0,-2.5\ncapture,1.0,1.5\ncapture,1.0,1.5\nCapture,4.0,4.5\n"
     t = read_transcript(_write(tmp_path, "shifted.csv", rows))
