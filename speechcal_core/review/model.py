@@ -483,10 +483,11 @@ class ReviewModel:
         session's first trigger word and a zero-length word span: ``start_s == end_s`` is
         the playhead mapped to audio time. Every camera shows the frame nearest the
         playhead until it is re-scored like a detected trigger's (:meth:`rescore_request`).
-        Within :data:`ADD_MIN_GAP_NS` of an existing set nothing is added; that set is
-        selected instead. The new set is undecided and becomes the current set.
+        Within :data:`ADD_MIN_GAP_NS` of an existing set, its frames or its word (often
+        half a second before the frames), nothing is added; that set is selected instead.
+        The new set is undecided and becomes the current set.
         """
-        near = self.set_at_playhead(ADD_MIN_GAP_NS)
+        near = self._set_near_playhead(ADD_MIN_GAP_NS)
         if near is not None:
             self.go_to_set(self._index_of(near.id))
             return
@@ -498,6 +499,19 @@ class ReviewModel:
         self._undo.append(("add", new.id))
         self._redo.clear()
         self._insert_set(new, index, None)
+
+    def _set_near_playhead(self, gap_ns: int) -> FrameSet | None:
+        """The set closest to the playhead, by its frames' time or its word's span on the
+        session clock, if within ``gap_ns``."""
+        best, best_d = None, gap_ns + 1
+        for s in self.session.sets:
+            start = int(self.session.sync.to_session(s.trigger.start_s))
+            end = int(self.session.sync.to_session(s.trigger.end_s))
+            to_word = max(start - self.playhead_ns, 0, self.playhead_ns - end)
+            d = min(to_word, abs(set_time_ns(s) - self.playhead_ns))
+            if d < best_d:
+                best, best_d = s, d
+        return best
 
     def _new_set(self, trigger: Trigger, at_ns: int | None = None,
                  set_id: int | None = None) -> FrameSet:

@@ -69,6 +69,24 @@ def test_add_next_to_an_existing_set_selects_it_instead(truth_session_file: Path
     assert saves == [] and model._undo == []
 
 
+def test_add_on_a_sets_word_selects_that_set_though_its_frames_are_later(
+        searched_session_file: Path) -> None:
+    """Best still frames often lie half a second after the word: T on the word's mark
+    on the waveform added a second set for the same word."""
+    model = _model(searched_session_file)
+    sync = model.session.sync
+    apart = [(i, s) for i, s in enumerate(model.session.sets)
+             if abs(set_time_ns(s) - sync.to_session(s.trigger.start_s)) > 300_000_000]
+    assert apart, "no set whose frames lie well away from its word's start"
+    index, far = apart[0]
+    count = len(model.session.sets)
+    model.go_to_set(0 if index else 1)
+    model.set_playhead(int(sync.to_session(far.trigger.start_s)))  # the mark's left edge
+    model.add_set()
+    assert len(model.session.sets) == count and model.current == index
+    assert model._undo == []
+
+
 def test_remove_takes_out_the_current_set_and_saves(truth_session_file: Path) -> None:
     saves: list = []
     model = _model(truth_session_file, saves)
