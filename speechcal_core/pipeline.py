@@ -169,11 +169,20 @@ def process_loaded(
         sync_evidence=evidence,
         calibration=analysis.calibration,
         extra={**analysis.extra, "target": asdict(target),
-               "target_assumed": assumed, **settings,
+               "target_assumed": assumed, **settings, **_audio_file(audio),
                **({"detection_notes": notes} if notes else {})},
     )
     report("done", 1.0)
     return session
+
+
+def _audio_file(audio: str) -> dict:
+    """The session's record of its audio file (``audio.identity``), to tell a moved copy
+    from another take of the same name; nothing for audio soundfile does not read."""
+    from speechcal_core.audio.identity import AUDIO_FILE_KEY, audio_identity
+
+    found = audio_identity(audio)
+    return {AUDIO_FILE_KEY: found} if found is not None else {}
 
 
 def recording_notes(source: FrameSource) -> list[str]:

@@ -145,6 +145,13 @@ def load_for_review(
         source = open_recording(session.recording)
     claps = tuple(float(c["audio_s"]) for c in session.sync_evidence.get("claps") or []
                   if isinstance(c, dict) and isinstance(c.get("audio_s"), (int, float)))
+    if session.audio and sound is None and Path(session.audio).exists():
+        changed = audio_differs(session, session.audio)
+        if changed:
+            note = "; ".join(filter(None, [note, (
+                f"{session.audio} is not the audio this session was made from ({changed}): "
+                "its words and waveform may not line up with the frames; put the session's "
+                "own audio back there")]))
     try:  # a cancel (raised by ``progress``) from here on closes the recording too
         pyramid, note = _waveform(session, sound, note, report)
         report("ready", 1.0)
@@ -228,9 +235,38 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str
                     f"{Path(recording[0]).absolute().parent}")
     if (session.audio and not Path(session.audio).exists()
             and Path(session.audio).name == Path(audio).name):
+        problem = audio_differs(session, audio)
+        if problem:
+            if source is not None:
+                source.close()
+            raise UsageError(
+                f"{audio} is not the audio this session was made from, though its name is "
+                f"the same ({problem}); give the session's own audio, or process this one "
+                "into another session file (--session)")
         said.append(f"its audio is now read from {Path(audio).absolute()}")
         session.audio = str(Path(audio).absolute())
     return "; ".join(said), source
+
+
+def audio_differs(session: Session, audio: str | Path) -> str:
+    """How the audio file ``audio`` differs from the one ``session`` was made from, in
+    words ("" when it matches or cannot be told): its length, rate and channels against
+    the session's record of them, or, for a session without that record, its length
+    against the session's trigger words."""
+    from speechcal_core.audio.identity import (
+        AUDIO_FILE_KEY,
+        audio_identity,
+        identity_difference,
+        words_beyond,
+    )
+
+    found = audio_identity(audio)
+    if found is None:
+        return ""
+    stored = session.extra.get(AUDIO_FILE_KEY)
+    if stored is not None:
+        return identity_difference(stored, found)
+    return words_beyond((s.trigger.end_s for s in session.sets), found["seconds"])
 
 
 def frames_missing(session: Session, source: FrameSource) -> str:

@@ -160,6 +160,60 @@ def test_another_recording_of_the_same_name_is_not_taken_for_the_moved_one(
     assert session_path.read_text() == before
 
 
+def _moved_with_other_audio(tiny_synth, tmp_path: Path, keep_share: float
+                            ) -> tuple[Path, Path, Path]:
+    """A session made from a recording and its audio, then the folder moved with the
+    audio replaced by another take of the same name (its first ``keep_share``): the
+    session file, the moved recording and the other audio."""
+    import soundfile as sf
+
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    session_path = tmp_path / "reviews" / "lab.json"
+    session_path.parent.mkdir()
+    load_for_review(recording=[recording], audio=audio, new_session_path=session_path).close()
+    moved = tmp_path / "archive" / "rec"
+    shutil.move(str(Path(recording).parent), moved)
+    other = moved / Path(audio).name
+    samples, rate = sf.read(other)
+    sf.write(other, samples[: int(len(samples) * keep_share)], rate)
+    return session_path, moved / Path(recording).name, other
+
+
+def test_another_take_of_the_audio_is_not_taken_for_the_moved_one(
+        tiny_synth, tmp_path: Path) -> None:
+    """Every take's audio may be mic.wav: relinking took any file of that name."""
+    from speechcal_core.audio.identity import AUDIO_FILE_KEY
+    from speechcal_core.errors import UsageError
+
+    session_path, recording, other = _moved_with_other_audio(tiny_synth, tmp_path, 0.995)
+    assert load_session(session_path).extra[AUDIO_FILE_KEY]["channels"] == 1
+    before = session_path.read_text()
+    with pytest.raises(UsageError) as refused:
+        load_for_review(recording=[str(recording)], audio=str(other),
+                        new_session_path=session_path)
+    text = str(refused.value)
+    assert text.startswith(f"{other} is not the audio this session was made from, though "
+                           "its name is the same (it lasts ")
+    assert "the session's audio" in text and "give the session's own audio" in text
+    assert session_path.read_text() == before
+
+
+def test_a_session_without_the_audio_record_checks_the_length_against_its_words(
+        tiny_synth, tmp_path: Path) -> None:
+    """Sessions saved before the audio's record was kept: an audio too short for the
+    session's trigger words is another take."""
+    from speechcal_core.audio.identity import AUDIO_FILE_KEY
+    from speechcal_core.errors import UsageError
+
+    session_path, recording, other = _moved_with_other_audio(tiny_synth, tmp_path, 0.5)
+    old = load_session(session_path)
+    del old.extra[AUDIO_FILE_KEY]
+    save_session(old, session_path)
+    with pytest.raises(UsageError, match=r"it lasts [\d.]+ s, but the session's words run to"):
+        load_for_review(recording=[str(recording)], audio=str(other),
+                        new_session_path=session_path)
+
+
 def test_an_existing_session_keeps_its_trigger_words_and_says_so(
         tiny_synth, tmp_path: Path) -> None:
     from speechcal_core.speech.matching import TriggerSpec
@@ -208,3 +262,22 @@ def test_a_new_session_looks_for_the_board_given_and_an_existing_one_says_it_kee
     same = load_for_review(recording=[recording], audio=audio, target=board)
     same.close()
     assert "again" not in same.note
+
+
+def test_a_session_whose_audio_was_replaced_in_place_opens_with_a_note(
+        tiny_synth, tmp_path: Path) -> None:
+    import soundfile as sf
+
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    load_for_review(recording=[recording], audio=audio).close()
+    session_path = default_session_path([recording])
+    inputs = load_for_review(session_path=session_path)
+    inputs.close()
+    assert "not the audio" not in inputs.note
+    samples, rate = sf.read(audio)
+    sf.write(audio, samples[: len(samples) // 2], rate)
+    inputs = load_for_review(session_path=session_path)
+    inputs.close()
+    assert f"{Path(audio).absolute()} is not the audio this session was made from (it lasts " \
+        in inputs.note
+    assert "put the session's own audio back there" in inputs.note
