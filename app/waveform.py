@@ -8,10 +8,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
-from PySide6.QtGui import QFontMetrics
 from PySide6.QtWidgets import QToolButton
 
-from app.style import BACKGROUND, DECISION_COLOURS, DECISION_SYMBOLS, PLAYHEAD_COLOUR
+from app.style import BACKGROUND, PLAYHEAD_COLOUR
+from app.word_marks import Mark, WordMarks
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -29,9 +29,6 @@ WIDEN_MARGIN = 0.05
 #: the narrowest view the wheel zooms in to, seconds (a few ms of samples on each side of
 #: a clap, enough to place it to the millisecond)
 MIN_SPAN_S = 0.02
-#: the least room between two sets' labels, pixels: a label that would come closer to
-#: the one before it is hidden (its coloured marker stays) until zooming in makes room
-LABEL_GAP_PX = 4
 #: an offset edit moves the envelope as drawn; it is drawn anew this long after the last
 REDRAW_AFTER_SHIFT_MS = 150
 
@@ -78,10 +75,8 @@ class WaveformView(pg.PlotWidget):
         for item in (self._upper, self._lower, self._fill):
             self.addItem(item)
         self.setYRange(-1, 1, padding=0.05)
-        self._markers: list[pg.GraphicsObject] = []
-        self._labels: list[tuple[float, pg.TextItem, int]] = []  # x, label, width (px)
-        #: set id -> its mark (the word's extent, the label)
-        self._marks_of: dict[int, tuple[pg.LinearRegionItem, pg.TextItem]] = {}
+        #: every set's word mark (extent and label)
+        self.marks = WordMarks(self)
         self.playhead = pg.InfiniteLine(0, movable=True,
                                         pen=pg.mkPen(PLAYHEAD_COLOUR, width=2))
         self.playhead.setZValue(20)
@@ -129,7 +124,6 @@ class WaveformView(pg.PlotWidget):
         self._drawn_width = 0
         self.getViewBox().sigResized.connect(lambda *_: self._resized())
         self._drawn_sync: SyncModel | None = None  # the sync the envelope was drawn with
-        self._marks_shift_s = 0.0  # how far a clap drag shows the word marks shifted
         self._redraw_timer = QTimer(self)  # the redraw after a run of offset edits
         self._redraw_timer.setSingleShot(True)
         self._redraw_timer.setInterval(REDRAW_AFTER_SHIFT_MS)
@@ -229,16 +223,11 @@ class WaveformView(pg.PlotWidget):
         self._place_envelope(shift_s)
         for line, x in zip(self.later_claps, self._clap_xs()[1:], strict=False):
             line.setValue(x + shift_s)
-        for region, label in self._marks_of.values():
-            for item in (region, label):
-                item.setPos(item.pos().x() - self._marks_shift_s + shift_s, item.pos().y())
-        self._marks_shift_s = shift_s
+        self.marks.set_shift(shift_s)
 
     def mark_extent(self, set_id: int) -> tuple[float, float]:
         """Where a set's word mark is drawn (x, seconds), a clap drag's shift included."""
-        region, _label = self._marks_of[set_id]
-        a, b = region.getRegion()
-        return a + self._marks_shift_s, b + self._marks_shift_s
+        return self.marks.extent(set_id)
 
     def show_all(self, start_ns: int, end_ns: int) -> None:
         """Show the whole session: the frames from ``start_ns`` to ``end_ns`` and every
@@ -321,7 +310,6 @@ class WaveformView(pg.PlotWidget):
         self.whole_button.setVisible(self.zoomed_in())
         self._place_playhead_button()
         self.redraw()
-        self._thin_labels()
 
     def _place_playhead_button(self) -> None:
         """Show, at the side the playhead lies beyond, a button that goes to it."""
@@ -350,8 +338,6 @@ class WaveformView(pg.PlotWidget):
         """Keep the "whole session" button in the top right corner."""
         super().resizeEvent(event)
         self._place_playhead_button()
-        if hasattr(self, "_labels"):  # pyqtgraph resizes in __init__
-            self._thin_labels()
         button = getattr(self, "whole_button", None)  # pyqtgraph resizes in __init__
         if button is not None:
             hint = button.sizeHint()
@@ -383,92 +369,21 @@ class WaveformView(pg.PlotWidget):
         self._lower.setData(xs, mn * self._scale)
 
     def set_sets(self, sets: list[FrameSet]) -> None:
-        """One marker per frame set: the word's extent, coloured, labelled decision + set id.
-
-        Marks are made only for sets new to the view and taken away only for sets gone;
-        the others are kept, moved (an offset edit moves them all). Rebuilding every mark
-        took 60-80 ms for 66 sets on each step of a held ``]``, and 0.3 s for 105 sets on
-        every set added or removed."""
+        """One mark per frame set: the word's extent, coloured, labelled decision + set
+        id, where the sync now places it (an offset edit moves them all)."""
         if self.sync is None:
             sets = []
-        wanted = {s.id for s in sets}
-        for set_id in [i for i in self._marks_of if i not in wanted]:
-            for item in self._marks_of.pop(set_id):
-                self.removeItem(item)
-        for s in sets:
-            if s.id not in self._marks_of:
-                self._marks_of[s.id] = self._new_mark()
-        self._markers = [item for mark in self._marks_of.values() for item in mark]
-        if sets:
-            self._move_marks(sets)
-        else:
-            self._labels, self._sets_x = [], None
-
-    def _new_mark(self) -> tuple[pg.LinearRegionItem, pg.TextItem]:
-        """A set's region and label, added to the plot (placed by :meth:`_move_marks`)."""
-        region = pg.LinearRegionItem(movable=False)
-        region.setZValue(5)
-        # over the playhead and claps, on the plot's own colour: the playhead stands at a
-        # set's time, right through the middle of its label
-        label = pg.TextItem("", anchor=(0.5, 0.0), fill=pg.mkBrush(BACKGROUND))
-        label.setZValue(30)
-        for item in (region, label):
-            # the view's range is the audio's, never the marks' (and bounds recomputed on
-            # every item added made adding them quadratic)
-            self.addItem(item, ignoreBounds=True)
-        return region, label
-
-    def _move_marks(self, sets: list[FrameSet]) -> None:
-        """Put the marks of ``sets`` (the ones shown) where the sync now places them."""
-        assert self.sync is not None
-        labels = []
-        for s in sets:
-            start = self._to_x(int(self.sync.to_session(s.trigger.start_s)))
-            end = self._to_x(int(self.sync.to_session(s.trigger.end_s)))
-            region, label = self._marks_of[s.id]
-            region.setRegion((start, end))
-            region.setPos(self._marks_shift_s, 0.0)  # a clap drag's shift, if one is on
-            label.setPos((start + end) / 2 + self._marks_shift_s, 1.0)
-            self._paint_mark(s)
-            width = QFontMetrics(label.textItem.font()).horizontalAdvance(label.toPlainText())
-            labels.append(((start + end) / 2, label, width))
-        xs = [region.getRegion() for region, _label in self._marks_of.values()]
-        self._sets_x = (min(a for a, _ in xs), max(b for _, b in xs)) if xs else None
-        self._labels = sorted(labels, key=lambda entry: entry[0])
+        words_s = np.array([(s.trigger.start_s, s.trigger.end_s) for s in sets],
+                           dtype=np.float64).reshape(-1, 2)
+        xs = (self.sync.to_session(words_s) - self.origin_ns) / 1e9 if sets else words_s
+        self.marks.set_marks([Mark(s.id, float(a), float(b), s.decision)
+                              for s, (a, b) in zip(sets, xs, strict=True)])
+        self._sets_x = self.marks.x_range()
         self._keep_marks_within_whole()
-        self._thin_labels()
 
     def update_set(self, frame_set: FrameSet) -> None:
-        """Show a set's new decision on its mark (the marks stay: rebuilding all of them
-        on every decision took 100-150 ms for 66 sets)."""
-        if frame_set.id in self._marks_of:
-            self._paint_mark(frame_set)
-
-    def _paint_mark(self, frame_set: FrameSet) -> None:
-        region, label = self._marks_of[frame_set.id]
-        colour = DECISION_COLOURS[frame_set.decision]
-        region.setBrush(pg.mkBrush(colour.red(), colour.green(), colour.blue(), 70))
-        for line in region.lines:
-            line.setPen(pg.mkPen(colour))
-        label.setText(f"{DECISION_SYMBOLS[frame_set.decision]}{frame_set.id}",
-                      color=colour.lighter(140))
-        region.update()
-
-    def _thin_labels(self) -> None:
-        """Show the sets' labels from the left, hiding one that would touch the last shown
-        ("?20?21" when two words lie close in the whole session's view)."""
-        x0, x1 = self.getViewBox().viewRange()[0]
-        width = self.getViewBox().width()
-        if x1 <= x0 or width <= 0:
-            return
-        per_x = width / (x1 - x0)
-        right = -np.inf
-        for x, label, label_width in self._labels:
-            left = (x - x0) * per_x - label_width / 2
-            shown = left >= right + LABEL_GAP_PX
-            label.setVisible(shown)
-            if shown:
-                right = left + label_width
+        """Show a set's new decision on its mark."""
+        self.marks.set_decision(frame_set.id, frame_set.decision)
 
     def set_playhead(self, t_ns: int) -> None:
         self.playhead.setValue(self._to_x(t_ns))
@@ -498,9 +413,7 @@ class WaveformView(pg.PlotWidget):
     def mark_at(self, x: float) -> int | None:
         """The id of the set whose word mark covers ``x`` (the one whose middle is
         nearest, where marks overlap); None off every mark."""
-        hits = [(abs((a + b) / 2 - x), set_id) for set_id in self._marks_of
-                for a, b in [self.mark_extent(set_id)] if a <= x <= b]
-        return min(hits)[1] if hits else None
+        return self.marks.at(x)
 
 
 def playhead_side(x: float, x0: float, x1: float) -> int:

@@ -130,7 +130,7 @@ def test_the_word_marks_and_the_envelope_slide_with_the_clap_handle_while_dragge
     assert moved_s == pytest.approx(shift_s, abs=0.001)
     assert wave.mark_extent(set_id) == pytest.approx((mark[0] + moved_s, mark[1] + moved_s),
                                                      abs=0.001)
-    assert wave.mark_extent(set_id) == pytest.approx(wave._marks_of[set_id][0].getRegion(),
+    assert wave.mark_extent(set_id) == pytest.approx(wave.marks.region(set_id),
                                                      abs=1e-9)
 
 
@@ -215,7 +215,7 @@ def test_a_click_on_a_word_mark_shows_its_set(window, qtbot) -> None:
     wave, model = window.waveform, window.model
     target = model.session.sets[-1]
     assert model.current != len(model.session.sets) - 1
-    a, b = wave._marks_of[target.id][0].getRegion()
+    a, b = wave.marks.region(target.id)
     wave.setXRange(a - 1.0, b + 1.0, padding=0)
     click(qtbot, wave, (a + b) / 2, 0.8)
     assert model.current_set is target

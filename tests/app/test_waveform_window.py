@@ -95,15 +95,16 @@ def test_labels_of_sets_too_close_to_read_are_thinned_until_zoomed_in(window) ->
                                                  start_s=first.trigger.start_s + 0.15,
                                                  end_s=first.trigger.end_s + 0.15))
     wave.set_sets([first, near, *window.model.session.sets[1:]])
-    shown = {label.toPlainText(): label.isVisible() for _, label, _ in wave._labels}
-    assert shown[f"?{first.id}"] and not shown["?99"]
-    x = wave._labels[0][0]
+    shown = {m.text for m in wave.marks.shown_labels()}
+    assert f"?{first.id}" in shown and "?99" not in shown
+    a, b = wave.mark_extent(first.id)
+    x = (a + b) / 2
     wave.setXRange(x - 0.5, x + 0.5, padding=0)
-    assert all(label.isVisible() for x_, label, _ in wave._labels if abs(x_ - x) < 0.5)
+    assert {first.id, 99} <= {m.set_id for m in wave.marks.shown_labels()}
     # labels that never crowd each other all show in the whole view
     wave.set_sets(window.model.session.sets)
     wave.show_whole()
-    assert all(label.isVisible() for _, label, _ in wave._labels)
+    assert len(wave.marks.shown_labels()) == len(window.model.session.sets)
 
 
 def test_a_playhead_out_of_the_zoomed_view_has_a_button_that_goes_to_it(window,
