@@ -136,15 +136,20 @@ class WordMarks:
         right = float("-inf")
         shown = []
         for mark in self._by_middle:
-            label_width = self._label_width(mark)
+            label_width = self.label_width(mark)
             left = (mark.middle + self.shift_s - x0) * per_x - label_width / 2
             if left >= right + LABEL_GAP_PX:
                 shown.append(mark)
                 right = left + label_width
         return shown
 
-    def _label_width(self, mark: Mark) -> float:
+    def label_width(self, mark: Mark) -> float:
+        """A label's width on screen, pixels, its padding included."""
         return self._metrics.horizontalAdvance(mark.text) + 2 * LABEL_PAD_PX[0]
+
+    def label_height(self) -> float:
+        """A label's height on screen, pixels, its padding included."""
+        return self._metrics.height() + 2 * LABEL_PAD_PX[1]
 
     def _changed(self) -> None:
         for item in (self.bands, self.labels):
@@ -214,11 +219,11 @@ class _Layer(pg.GraphicsObject):
         marks = self.marks
         painter.setFont(marks.font)
         pad_x, pad_y = LABEL_PAD_PX
-        height = marks._metrics.height() + 2 * pad_y
+        height = marks.label_height()
         top = to_screen.map(QPointF(0, LABEL_TOP_Y)).y()
         for mark in marks.shown_labels():
             middle = to_screen.map(QPointF(mark.middle + marks.shift_s, 0)).x()
-            width = marks._label_width(mark)
+            width = marks.label_width(mark)
             rect = QRectF(middle - width / 2, top, width, height)
             painter.fillRect(rect, BACKGROUND)
             painter.setPen(DECISION_COLOURS[mark.decision].lighter(140))
