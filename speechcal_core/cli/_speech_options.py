@@ -21,7 +21,8 @@ def add_trigger_options(p: argparse.ArgumentParser) -> None:
                    help="0..1; higher finds more words and more false alarms "
                         f"(default {DEFAULT_SENSITIVITY:g})")
     p.add_argument("--pronounce", action="append", default=[], metavar="WORD=PHONES",
-                   help="ARPAbet pronunciation of a word missing from the dictionary")
+                   help="ARPAbet pronunciation of a word missing from the dictionary, or "
+                        "one more for a word it has (an accent)")
 
 
 def detection_options_given(args: argparse.Namespace) -> bool:

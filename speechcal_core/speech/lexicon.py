@@ -69,13 +69,14 @@ def parse_phones(word: str, phones: str) -> Pron:
 
 
 def pronunciations(word: str, user: dict[str, str] | None = None) -> tuple[Pron, ...]:
-    """The pronunciations of ``word``: the user's if given, else the dictionary's.
+    """The pronunciations of ``word``: the user's first if given, then the dictionary's.
 
     Raises SpeechError naming the word and how to supply a pronunciation.
     """
-    if user and word in user:
-        return (parse_phones(word, user[word]),)
     found = load_dictionary().get(word)
+    if user and word in user:
+        mine = parse_phones(word, user[word])
+        return (mine, *(p for p in found or () if p != mine))
     if not found:
         raise SpeechUsageError(
             f"trigger word {word!r} is not in the pocketsphinx dictionary; give its "

@@ -73,6 +73,18 @@ def test_word_outside_the_dictionary_takes_a_user_pronunciation(tmp_path: Path) 
         detect_triggers(scene.path, ["kaptcha"], pronunciations={"kaptcha": "K A P"})
 
 
+def test_a_word_of_the_dictionary_takes_one_more_pronunciation(tmp_path: Path) -> None:
+    """pocketsphinx refuses to redefine a word, so --pronounce for a word it knows failed
+    with "check the phones". Now the pronunciation is added beside the dictionary's: "cat"
+    said as "capture" is found where "capture" was spoken."""
+    scene = make_scene(tmp_path / "accent.wav", [("capture", "slt/capture_1")])
+    assert detect_triggers(scene.path, ["cat"]).triggers == []
+    result = detect_triggers(scene.path, ["cat"], pronunciations={"cat": "K AE P CH ER"})
+    assert [w.word for w in result.triggers] == ["cat"]
+    same = detect_triggers(scene.path, ["capture"], pronunciations={"capture": "K AE P CH ER"})
+    assert [w.word for w in same.triggers] == ["capture"]
+
+
 def test_real_speech_finds_clubs_in_noise() -> None:
     backend = PocketsphinxBackend()
     spec = TriggerSpec(("clubs",))
