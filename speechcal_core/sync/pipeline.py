@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -11,6 +12,12 @@ import numpy as np
 from speechcal_core.sources.depth import stream_depth
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sync.clap_audio import ClapCandidate, audio_levels, find_audio_claps
+from speechcal_core.sync.clap_choice import (
+    LOW_COVER,
+    choose_opening,
+    closing_after,
+    sound_times,
+)
 from speechcal_core.sync.clap_video import VideoClap, find_video_claps, gray_full, to_gray_small
 from speechcal_core.sync.errors import SyncError
 from speechcal_core.sync.estimate import CameraClap, Clap, SyncResult, build_result
@@ -23,6 +30,7 @@ SEARCH_S = 20.0  # the first clap is looked for in this much video from each str
 NEAR_S = 2.0  # other cameras (and the closing clap) are looked for this close to the expected time
 AGREE_S = 0.3  # camera clocks closer than this count as seeing the same event
 MIN_CLAP_GAP_S = 5.0  # a closing clap lies at least this long after the first
+CLOSING_SHARE = 0.2  # ... and at least this share of the video's length after it
 #: full-resolution frames kept for the clap timing (events near each other share frames):
 #: about 130 gray 1280x720 frames, more than the ~4 s a timing reads at 30 fps
 DETAIL_CACHE_BYTES = 128 << 20
@@ -38,8 +46,8 @@ BY_HAND = ("set the clap by hand (speechcal sync --audio-clap SECONDS prints the
 ONE_CLAP_NOTE_S = 120.0
 TYPICAL_DRIFT = 50e-6
 
-def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list[str]]:
-    """The first clap, the closing clap (or None) and warnings about the audio itself.
+def heard_claps(audio: Audio) -> tuple[list[ClapCandidate], list[str]]:
+    """Every clap heard in the audio, in time order, and warnings about the audio itself.
 
     Raises :class:`SyncError` for silent audio or audio without any clap-like sound.
     """
@@ -60,20 +68,33 @@ def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list
         notes.append(f"{name}: {levels.clipped_fraction * 100:.3f}% of samples clip at full "
                      "scale; clap timing still works, but lower the input gain next time")
     cands = find_audio_claps(audio, max_candidates=20)
-    claps = [c for c in cands if c.is_clap]
+    claps = sorted((c for c in cands if c.is_clap), key=lambda c: c.time_s)
     if not claps:
         best = (f"; the sharpest sound, at {cands[0].time_s:.3f} s, does not look like a "
                 "clap") if cands else ""
         raise SyncError(f"{name}: no clap found in the audio{best}; clap once, sharply, "
                         f"where camera and microphone both catch it, or {BY_HAND}")
-    half = audio.duration_s / 2
-    early = [c for c in claps if c.time_s <= half] or claps
-    first = max(early, key=lambda c: c.score)
-    late = [c for c in claps if c.time_s >= first.time_s + max(MIN_CLAP_GAP_S, 0.4 * half)]
-    last = max(late, key=lambda c: c.score) if late else None
+    return claps, notes
+
+
+def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list[str]]:
+    """The first clap, the closing clap (or None) and warnings, from the audio alone.
+
+    Without the cameras to pair them with, the first clap is the clearest one in the first
+    half of the span the heard claps cover. Raises :class:`SyncError` as :func:`heard_claps`.
+    """
+    claps, notes = heard_claps(audio)
+    middle = (claps[0].time_s + claps[-1].time_s) / 2
+    first = max((c for c in claps if c.time_s <= middle), key=lambda c: c.score)
+    last = closing_after(claps, first, MIN_CLAP_GAP_S)
+    return first, last, notes + _clipped_note(audio, first, last)
+
+
+def _clipped_note(audio: Audio, first: ClapCandidate,
+                  last: ClapCandidate | None) -> list[str]:
     if any(c.clipped for c in (first, last) if c is not None):
-        notes.append(f"{name}: the clap clips; its onset is still used")
-    return first, last, notes
+        return [f"{audio.path or 'audio'}: the clap clips; its onset is still used"]
+    return []
 
 
 def video_clap(source: FrameSource, stream: str, t0_ns: int, t1_ns: int) -> VideoClap | None:
@@ -141,8 +162,9 @@ def video_claps(source: FrameSource, t0: dict[str, int], t1: dict[str, int],
 
     Every camera proposes its clap-like events; the moment most cameras share (within
     ``AGREE_S``; ties go to the clearer events) is the clap, and each camera contributes
-    its event nearest to it. A camera that saw nothing there contributes its best event.
-    ``which`` names the clap in the progress messages ("clap", "closing clap").
+    its event nearest to it. A camera that saw nothing there contributes nothing: its
+    best event elsewhere (another sound's motion, frames after the clap) would pull the
+    clap's session time off. ``which`` names the clap in the progress messages.
     """
     proposals: dict[str, list[VideoClap]] = {}
     for name in t0:
@@ -164,7 +186,8 @@ def video_claps(source: FrameSource, t0: dict[str, int], t1: dict[str, int],
     out = []
     for found in proposals.values():
         near = [c for c in found if abs(c.clap_ns - anchor.clap_ns) <= agree]
-        out.append(min(near, key=lambda c: abs(c.clap_ns - anchor.clap_ns)) if near else found[0])
+        if near:
+            out.append(min(near, key=lambda c: abs(c.clap_ns - anchor.clap_ns)))
     return out
 
 
@@ -181,12 +204,9 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
     if not infos:
         raise SyncError("the recording has no image streams to find the clap in")
     notes: list[str] = []
+    heard: list[ClapCandidate] = []
     if audio_clap_s is None:
-        first, last, notes = audio_claps(audio)
-        a1, a2 = first.time_s, (last.time_s if last else None)
-        audio_source = "auto"
-    else:
-        a1, a2, audio_source = float(audio_clap_s), None, "manual"
+        heard, notes = heard_claps(audio)
     t0 = {s.name: s.first_ns for s in infos}
     t1 = {s.name: min(s.last_ns, s.first_ns + int(search_s * 1e9)) for s in infos}
     cams1 = video_claps(source, t0, t1, progress)
@@ -198,14 +218,22 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
                         f"({', '.join(t0)}); {mixed[0] if mixed else ''}make the clap "
                         "visible to the cameras, search longer (--search-s), or set it by "
                         "hand (--video-clap-ns)")
-    missing = [n for n in t0 if n not in {c.stream for c in cams1}]
-    if missing:
-        notes.append(f"no clap seen by {', '.join(missing)}")
+    if audio_clap_s is None:
+        pairing = _pair_heard_with_seen(source, audio, heard, cams1, infos, search_s, progress)
+        cams1, notes = pairing.cameras, notes + pairing.notes
+        a1, audio_source = pairing.first.time_s, "auto"
+        last = pairing.last
+        a2 = last.time_s if last else None
+        notes += _clipped_note(audio, pairing.first, last)
+    else:
+        a1, a2, audio_source = float(audio_clap_s), None, "manual"
+    notes += _unseen_notes(cams1, infos)
     claps = [Clap(a1, tuple(_camera(c) for c in cams1), audio_source, "auto")]
-    if a2 is None and audio.duration_s - a1 >= ONE_CLAP_NOTE_S:
-        shift_ms = (audio.duration_s - a1) * TYPICAL_DRIFT * 1e3
+    beyond_s = max(audio.duration_s - a1, a1)  # from the clap to the far end of the audio
+    if a2 is None and beyond_s >= ONE_CLAP_NOTE_S:
+        shift_ms = beyond_s * TYPICAL_DRIFT * 1e3
         notes.append(f"one clap: drift not measured (taken as 0); a typical "
-                     f"{TYPICAL_DRIFT * 1e6:.0f} ppm would put the last words "
+                     f"{TYPICAL_DRIFT * 1e6:.0f} ppm would put the words farthest from it "
                      f"{shift_ms:.0f} ms off: clap again at the end of a long recording")
     if a2 is not None:
         second = _closing_clap(source, claps[0], a2, infos, progress)
@@ -224,6 +252,80 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
                                         "to 0"], extra=result.extra)
         return keep
     return result
+
+
+@dataclass(frozen=True)
+class _Pairing:
+    """The heard clap matched with the cameras' clap, the closing clap to try, and notes."""
+
+    first: ClapCandidate
+    cameras: list[VideoClap]
+    last: ClapCandidate | None
+    notes: list[str]
+
+
+def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCandidate],
+                          seen: list[VideoClap], infos: list, search_s: float,
+                          progress: Progress | None) -> _Pairing:
+    """Which heard clap the cameras' first clap is (:mod:`clap_choice`).
+
+    When no heard clap lays most of the audio's sound over the video, the microphone may
+    have started after the opening clap: the heard clap is then matched with a clap at
+    the end of the video, if the cameras saw one there and that lays the sound over them.
+    """
+    span = (min(s.first_ns for s in infos), max(s.last_ns for s in infos))
+    seen_ns = int(np.median([c.clap_ns for c in seen]))
+    sound = sound_times(audio)
+    choice = choose_opening(heard, sound, seen_ns, span)
+    video_s = (span[1] - span[0]) / 1e9
+    min_gap_s = max(MIN_CLAP_GAP_S, CLOSING_SHARE * video_s)
+    if choice.share >= LOW_COVER or sound.times_s.size == 0:
+        return _Pairing(choice.clap, seen, closing_after(heard, choice.clap, min_gap_s), [])
+    t0 = {s.name: max(s.first_ns, s.last_ns - int(search_s * 1e9)) for s in infos}
+    t1 = {s.name: s.last_ns for s in infos}
+    at_end = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
+              if c.clap_ns - seen_ns >= MIN_CLAP_GAP_S * 1e9]
+    name = audio.path.name if audio.path else "the audio"
+    if at_end:
+        end_ns = int(np.median([c.clap_ns for c in at_end]))
+        alt = choose_opening(heard, sound, end_ns, span)
+        if alt.share >= LOW_COVER and alt.share >= 2 * choice.share:
+            into_s = (end_ns - span[0]) / 1e9
+            return _Pairing(alt.clap, at_end, None, [
+                f"{name}'s clap at {alt.clap.time_s:.3f} s is the cameras' closing "
+                f"clap ({into_s:.1f} s into the recording): the microphone started after "
+                "the opening clap; drift not measured (taken as 0)"])
+    outside = 100 * (1 - choice.share)
+    return _Pairing(choice.clap, seen, closing_after(heard, choice.clap, min_gap_s), [
+        f"with {name}'s clap at {choice.clap.time_s:.3f} s as the cameras' clap, "
+        f"{outside:.0f}% of its sound falls outside the recording: if the microphone started "
+        "after the opening clap, or the clap heard is another sound, check the offset in "
+        f"the review window or {BY_HAND}"])
+
+
+def _unseen_notes(seen: list[VideoClap], infos: list) -> list[str]:
+    """Why a camera is not in the clap: it started after it, or saw nothing like it."""
+    clap_ns = int(np.median([c.clap_ns for c in seen]))
+    agree = int(AGREE_S * 1e9)
+    late, blind = [], []
+    for s in infos:
+        if s.name in {c.stream for c in seen}:
+            continue
+        if s.first_ns > clap_ns + agree:
+            late.append(f"{s.name} (first frame {(s.first_ns - clap_ns) / 1e9:.1f} s after)")
+        elif s.last_ns < clap_ns - agree:
+            late.append(f"{s.name} (last frame {(clap_ns - s.last_ns) / 1e9:.1f} s before)")
+        else:
+            blind.append(s.name)
+    notes = []
+    if late:
+        notes.append(f"the clap is not in {', '.join(late)}: the other cameras set the sync "
+                     "alone")
+    if blind:
+        notes.append(f"no clap seen by {', '.join(blind)} where the other cameras saw it: "
+                     "it was out of view, or that camera's clock is off (check it in the "
+                     "review)")
+    return notes
 
 
 def _closing_clap(source: FrameSource, first: Clap, a2: float, infos: list,

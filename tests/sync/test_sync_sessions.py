@@ -175,3 +175,42 @@ def test_one_clap_in_a_long_recording_notes_the_unmeasured_drift(
     assert main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
                  "--transcript", str(words), "-o", str(tmp_path / "s.json")]) == 0
     assert "note: one clap: drift not measured" in capsys.readouterr().err
+
+
+def _audio_variant(out: Path, path: Path, *, lead_s: float = 0.0, trail_s: float = 0.0,
+                   cut_s: float = 0.0) -> Path:
+    """The session's audio with silence before or after it, or its first ``cut_s`` gone."""
+    data, rate = sf.read(str(out / "audio.ogg"), dtype="float32")
+    pad = [np.zeros(int(s * rate), np.float32) for s in (lead_s, trail_s)]
+    sf.write(str(path), np.concatenate([pad[0], data[int(cut_s * rate):], pad[1]]), rate)
+    return path
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("lead_s", "trail_s", "cut_s", "claps_heard"),
+                         [(60.0, 0.0, 0.0, 2), (0.0, 60.0, 0.0, 2), (0.0, 0.0, 5.0, 1)])
+def test_the_heard_clap_is_paired_with_the_cameras_whatever_the_microphone_did(
+        session_root: Path, tmp_path: Path, lead_s: float, trail_s: float, cut_s: float,
+        claps_heard: int) -> None:
+    """The closing clap of this session is the loudest sound. A minute of silence before
+    or after the speech (the microphone ran long) made it the first clap, and so did a
+    microphone started after the opening clap: offsets of 37 to 97 s, silently. Now the
+    pairing that lays the audio's sound over the video wins, and a closing clap heard
+    alone is matched with the cameras' closing clap, with a note."""
+    out, truth = make_session(session_root, seed=3, claps=2, duration=40.0, drift_ppm=40.0)
+    audio = _audio_variant(out, tmp_path / "variant.wav", lead_s=lead_s, trail_s=trail_s,
+                           cut_s=cut_s)
+    r = _sync(out, truth, audio)
+    shift_s = lead_s - cut_s  # truth audio seconds -> this file's seconds
+    heard = truth["claps"][-claps_heard:]
+    assert [round(c.audio_s - shift_s, 2) for c in r.claps] == [
+        round(c["audio_s"], 2) for c in heard]
+    # the model maps the truth clap (in this file's seconds) onto its session time
+    for want in heard:
+        got_ns = r.model.to_session(want["audio_s"] + shift_s)
+        assert abs(got_ns - want["session_ns"]) <= 5e6
+    if cut_s:
+        assert any("is the cameras' closing clap" in w and "microphone started after the "
+                   "opening clap" in w for w in r.warnings)
+    else:
+        assert not r.warnings

@@ -1,0 +1,91 @@
+"""Which heard clap is the cameras' clap: the one that lays the audio's sound over the video.
+
+Loudness alone cannot tell the opening clap from the closing one when the microphone ran
+long before or after the cameras, or started after the opening clap. Matching a heard
+clap with the cameras' clap fixes the offset, and with it where every sound of the audio
+falls on the camera clock. The right pairing puts the sound the operator made (speech,
+claps) over the video; a wrong one moves it before or after the recording.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from speechcal_core.audio.loader import Audio
+from speechcal_core.sync.clap_audio import ClapCandidate
+
+BLOCK_S = 0.1  # level blocks
+ACTIVE_DB = 6.0  # a block this far above the audio's quiet level holds sound
+QUIET_PERCENTILE = 10.0  # the quiet level: this percentile of the non-silent blocks
+DIGITAL_SILENCE_DB = -100.0  # blocks below this are padding, not room noise
+#: heard claps whose pairing lays this much less of the sound over the video than the
+#: best pairing are other sounds; among the rest the clearest clap wins
+COVER_SLACK = 0.1
+#: below this share of the sound over the video, the pairing is doubted
+LOW_COVER = 0.5
+
+
+@dataclass(frozen=True)
+class SoundTimes:
+    """Audio seconds of the blocks that hold sound above the room's quiet level."""
+
+    times_s: np.ndarray
+
+    def share_over(self, audio_s: float, video_ns: int, span_ns: tuple[int, int]) -> float:
+        """Share of the sound that falls within ``span_ns`` (camera clock) when the audio
+        moment ``audio_s`` is the camera moment ``video_ns`` (no drift)."""
+        if self.times_s.size == 0:
+            return 0.0
+        at_ns = video_ns + (self.times_s - audio_s) * 1e9
+        inside = (at_ns >= span_ns[0]) & (at_ns <= span_ns[1])
+        return float(np.count_nonzero(inside)) / self.times_s.size
+
+
+def sound_times(audio: Audio) -> SoundTimes:
+    """Blocks of ``audio`` that stand out of its quiet level (digital silence never does)."""
+    hop = max(1, round(audio.rate * BLOCK_S))
+    n = audio.samples.size // hop
+    if n == 0:
+        return SoundTimes(np.zeros(0))
+    blocks = audio.samples[: n * hop].reshape(n, hop)
+    power = np.einsum("ij,ij->i", blocks, blocks, dtype=np.float64) / hop
+    level = 10.0 * np.log10(power + 1e-20)
+    live = level > DIGITAL_SILENCE_DB
+    if not np.any(live):
+        return SoundTimes(np.zeros(0))
+    quiet = float(np.percentile(level[live], QUIET_PERCENTILE))
+    active = np.flatnonzero(live & (level > quiet + ACTIVE_DB))
+    return SoundTimes((active + 0.5) * BLOCK_S)
+
+
+@dataclass(frozen=True)
+class OpeningChoice:
+    """The heard clap taken for the cameras' clap and the share of sound it lays over them."""
+
+    clap: ClapCandidate
+    share: float
+
+
+def choose_opening(claps: Sequence[ClapCandidate], sound: SoundTimes, video_ns: int,
+                   span_ns: tuple[int, int]) -> OpeningChoice:
+    """The heard clap to pair with the cameras' clap at ``video_ns``.
+
+    Each heard clap is tried as the cameras' clap; the pairings that lay nearly the most
+    sound over the video ``span_ns`` stay, and of those the clearest clap wins (a knock
+    just before the clap moves the sound only a little). ``claps`` must not be empty.
+    """
+    shares = [sound.share_over(c.time_s, video_ns, span_ns) for c in claps]
+    best = max(shares)
+    kept = [(c, s) for c, s in zip(claps, shares, strict=True) if s >= best - COVER_SLACK]
+    clap, share = max(kept, key=lambda cs: (cs[0].score, -cs[0].time_s))
+    return OpeningChoice(clap, share)
+
+
+def closing_after(claps: Sequence[ClapCandidate], first: ClapCandidate,
+                  min_gap_s: float) -> ClapCandidate | None:
+    """The clearest heard clap at least ``min_gap_s`` after ``first``: the closing clap."""
+    late = [c for c in claps if c.time_s >= first.time_s + min_gap_s]
+    return max(late, key=lambda c: c.score) if late else None

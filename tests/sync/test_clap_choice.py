@@ -1,0 +1,61 @@
+"""Pairing a heard clap with the cameras' clap by where it lays the audio's sound."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from speechcal_core.audio.loader import Audio
+from speechcal_core.sync.clap_audio import ClapCandidate
+from speechcal_core.sync.clap_choice import (
+    SoundTimes,
+    choose_opening,
+    closing_after,
+    sound_times,
+)
+
+S = 1_000_000_000
+
+
+def _clap(t: float, score: float = 0.9) -> ClapCandidate:
+    return ClapCandidate(time_s=t, score=score, jump_db=30.0, peak_dbfs=-6.0, rise_ms=1.0,
+                         decay_ms=40.0, flatness=0.5, centroid_hz=3000.0, sustain_db=-25.0,
+                         clipped=False)
+
+
+def test_sound_times_skip_digital_silence_and_room_noise() -> None:
+    rate = 8000
+    rng = np.random.default_rng(0)
+    room = 0.001 * rng.standard_normal(20 * rate)
+    room[5 * rate:7 * rate] += 0.1 * np.sin(np.arange(2 * rate) * 0.3)  # 2 s of "speech"
+    x = np.concatenate([np.zeros(10 * rate), room]).astype(np.float32)
+    times = sound_times(Audio(x, rate)).times_s
+    assert times.min() >= 15.0 and times.max() <= 17.0
+    assert 1.8 <= times.size * 0.1 <= 2.1
+    assert sound_times(Audio(np.zeros(rate, np.float32), rate)).times_s.size == 0
+
+
+def test_the_loud_closing_clap_loses_to_the_one_that_lays_the_speech_over_the_video() -> None:
+    """Speech from 3 to 38 s of audio; claps heard at 2 s and (louder) at 39 s; the video
+    runs 0-40 s with its first clap at 1.5 s."""
+    sound = SoundTimes(np.arange(3.0, 38.0, 0.1))
+    claps = [_clap(2.0, 0.7), _clap(39.0, 0.95)]
+    choice = choose_opening(claps, sound, int(1.5 * S), (0, 40 * S))
+    assert choice.clap.time_s == 2.0 and choice.share > 0.95
+    assert closing_after(claps, choice.clap, 5.0) == claps[1]
+    assert closing_after(claps, claps[1], 5.0) is None
+
+
+def test_a_knock_just_before_the_clap_loses_to_the_clearer_clap() -> None:
+    """Both pairings lay nearly all the sound over the video; the clap score decides."""
+    sound = SoundTimes(np.arange(3.0, 38.0, 0.1))
+    claps = [_clap(1.0, 0.65), _clap(2.0, 0.9)]
+    assert choose_opening(claps, sound, int(1.5 * S), (0, 40 * S)).clap.time_s == 2.0
+
+
+def test_a_closing_clap_heard_alone_lays_little_sound_over_the_video() -> None:
+    """The microphone started after the opening clap: paired with the cameras' first clap,
+    the only heard clap throws the speech before the video; with their last, it fits."""
+    sound = SoundTimes(np.arange(0.5, 33.0, 0.1))
+    claps = [_clap(34.0)]
+    assert choose_opening(claps, sound, int(1.5 * S), (0, 40 * S)).share < 0.1
+    assert choose_opening(claps, sound, int(38.5 * S), (0, 40 * S)).share > 0.95
