@@ -69,12 +69,13 @@ def choose_common_time(
     """The common time (a frame stamp in the window) whose worst camera quality is highest.
 
     Each camera contributes its frame nearest the candidate time if it lies within half a
-    frame period (otherwise that camera scores 0). Only one stretch where every camera is
-    still competes: the one around the trigger, else the first after it, else the last
-    before it. Near-ties go to a time at least ``MARGIN_NS`` inside the stretch (or the
-    deepest), then to the smallest skew between the cameras' nearest frames (from
-    ``full_stamps``, every frame of each camera, when the scan skipped some), then to the
-    time nearest the trigger.
+    frame period; a camera with no frame there is left out (its position is -1), and
+    times where more cameras have frames win over times with fewer. Only one stretch
+    where every camera is still competes: the one around the trigger, else the first
+    after it, else the last before it. Near-ties go to a time at least ``MARGIN_NS``
+    inside the stretch (or the deepest), then to the smallest skew between the cameras'
+    nearest frames (from ``full_stamps``, every frame of each camera, when the scan
+    skipped some), then to the time nearest the trigger.
     """
     cands = np.unique(np.concatenate([w.stamps[w.inside] for w in windows] or [np.zeros(0)]))
     if cands.size == 0:
@@ -86,21 +87,25 @@ def choose_common_time(
     n = cands.size
     worst = np.full(n, np.inf)
     all_still = np.ones(n, bool)
+    present = np.zeros(n, np.int64)  # how many cameras have a frame at each time
     pos = np.full((len(windows), n), -1, np.int64)
     for c, (w, s) in enumerate(zip(windows, scores, strict=True)):
-        if w.stamps.size == 0:
-            worst[:] = 0.0
-            all_still[:] = False
+        if w.stamps.size == 0:  # no frames near the word (started late, dropped): left out
             continue
         j = nearest_indices(w.stamps, cands)
         # a skipped frame between two read ones may be the one nearest (refined later)
         tol = (w.period_ns // 2 + 1 if w.stride == 1 else w.period_ns) if w.period_ns else np.inf
         ok = np.abs(w.stamps[j] - cands) <= tol
-        q = np.where(ok, s.quality[j], 0.0)
-        worst = np.minimum(worst, q)
-        all_still &= ok & s.still[j]
+        worst = np.where(ok, np.minimum(worst, s.quality[j]), worst)
+        all_still &= ~ok | s.still[j]
+        present += ok
         pos[c] = np.where(ok, j, -1)
-    runs = _runs(all_still)
+    # a camera missing at a time (a gap in its frames) leaves that time to the others only
+    # where no time has it: times with the most cameras come first
+    worst = np.where(present > 0, worst, 0.0)
+    all_still &= present > 0
+    most = present == present.max()
+    runs = _runs(all_still & most) or _runs(all_still)
     # the operator holds still when (or just after) saying the word: prefer the still
     # stretch around the trigger, then the first one after it, then the last one before
     at = [r for r in runs if cands[r[0]] <= t_trigger_ns <= cands[r[1]]]
@@ -119,10 +124,13 @@ def choose_common_time(
         pool = np.arange(a, b + 1)
     else:
         stretch, pool = "none", np.arange(n)
+    pool = pool[present[pool] == present[pool].max()]
     best = float(worst[pool].max())
     good = pool[worst[pool] >= best * TIE_FRACTION] if best > 0 else pool
     depth = _still_depth_ns(cands, all_still)
-    skew = _skew(cands, full_stamps or [w.stamps for w in windows if w.stamps.size])
+    seen = [c for c, w in enumerate(windows) if w.stamps.size]  # cameras left out skew nothing
+    skew = _skew(cands, [full_stamps[c] for c in seen] if full_stamps is not None
+                 else [windows[c].stamps for c in seen])
     key = [(-min(depth[k], MARGIN_NS), skew[k], abs(int(cands[k]) - t_trigger_ns))
            for k in good]
     k = int(good[min(range(len(good)), key=key.__getitem__)])

@@ -82,3 +82,32 @@ def test_a_tiny_noise_floor_does_not_turn_still_frames_into_moving_ones() -> Non
     np.testing.assert_allclose(score.motion_ratio, np.array(a.motion) / MIN_NOISE_FLOOR)
     # lossless frames without noise: a floor of zero no longer makes every frame move
     assert list(score_camera(a, 0.0).still) == [True, True, True, True, False]
+
+
+def test_a_camera_without_frames_near_the_word_is_left_out_not_a_reason_to_move() -> None:
+    """A camera that started late (no frames in the window) used to zero every time's
+    score: the others got moving frames. Now it is left out and the others hold still."""
+    a = _window([0, 33, 67, 100, 133, 167, 200, 233], [1] * 8, [9, 9, 9, 1, 1, 1, 1, 1], 33)
+    late = _window([], [], [], 33)
+    wins = [a, late]
+    choice = choose_common_time(wins, [score_camera(w, 1.0) for w in wins], 150 * MS,
+                                [a.stamps, np.array([9_000 * MS])])
+    assert choice is not None and choice.still and choice.positions[1] == -1
+    assert a.stamps[choice.positions[0]] >= 100 * MS
+
+
+def test_a_gap_in_one_camera_gives_way_to_times_where_every_camera_has_a_frame() -> None:
+    """Camera b dropped its frames from 90 to 190 ms; both are still from 100 ms on. The
+    set takes a time where b has a frame too; with b gone for the whole hold, the others'
+    still frames are taken and b is left out."""
+    a = _window([0, 33, 67, 100, 133, 167, 200, 233, 267], [1] * 9,
+                [9, 9, 9, 1, 1, 1, 1, 1, 1], 33)
+    b = _window([10, 43, 77, 210, 243], [1] * 5, [9, 9, 9, 1, 1], 33)
+    choice = choose_common_time([a, b], [score_camera(w, 1.0) for w in (a, b)], 120 * MS)
+    assert choice is not None and choice.still and min(choice.positions) >= 0
+    assert b.stamps[choice.positions[1]] >= 210 * MS
+    gone = _window([10, 43, 77], [1] * 3, [9, 9, 9], 33)  # stopped before the hold
+    choice = choose_common_time([a, gone], [score_camera(w, 1.0) for w in (a, gone)],
+                                120 * MS)
+    assert choice is not None and choice.still and choice.positions[1] == -1
+    assert a.stamps[choice.positions[0]] >= 100 * MS
