@@ -187,8 +187,10 @@ def _audio_file(audio: str) -> dict:
 
 def recording_notes(source: FrameSource) -> list[str]:
     """What indexing found wrong with each stream's stamps ("... of one file fall among
-    another's": two recordings given as one), as ``speechcal index`` prints it."""
-    return [f"{s.name}: {s.stamp_problems}" for s in source.streams if s.stamp_problems]
+    another's": two recordings given as one) and with the files (a truncated bag read in
+    part, a part of a split bag given alone), as ``speechcal index`` prints it."""
+    return [*(f"{s.name}: {s.stamp_problems}" for s in source.streams if s.stamp_problems),
+            *getattr(source, "notes", [])]
 
 
 def _check_offset(offset_ns: int, audio_s: float, span: tuple[int, int] | None) -> None:

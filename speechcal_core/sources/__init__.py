@@ -99,6 +99,7 @@ def open_recording(
 
             bags = BagSource(files, use_cache=use_cache)
             files = []
+            bags.notes.extend(split_part_notes(items))
             sources.insert(0, bags)
         if len(sources) == 1:
             return sources[0]
@@ -111,6 +112,24 @@ def open_recording(
         for src in sources:
             src.close()
         raise
+
+
+def split_part_notes(paths: Sequence[Path]) -> list[str]:
+    """A note for each ROS2 bag folder of which some storage files were given, not all:
+    a split bag's part opened alone holds only part of the recording."""
+    given = {p.resolve() for p in paths if p.is_file()}
+    notes = []
+    for folder in dict.fromkeys(p.parent for p in given):
+        if not (folder / "metadata.yaml").is_file():
+            continue
+        parts = sorted(p.resolve() for p in folder.iterdir() if p.suffix in (".db3", ".mcap"))
+        mine = [k + 1 for k, p in enumerate(parts) if p in given]
+        if len(parts) > 1 and len(mine) < len(parts):
+            which = ", ".join(str(k) for k in mine)
+            notes.append(f"{folder}: part{'s' * (len(mine) > 1)} {which} of the {len(parts)} "
+                         "files of this split ROS2 bag given, so only part of the recording "
+                         f"is read; give the folder {folder} for all of it")
+    return notes
 
 
 def _distinct(paths: list[Path]) -> list[Path]:

@@ -95,6 +95,16 @@ def test_ros2_folder_with_several_storage_files_is_one_recording(make_bag) -> No
     db3.rename(first / "split_1.db3")
     with open_recording([first]) as src:
         assert list(src.stamps("/cam0/image_raw")) == regular(20)
+        assert src.notes == []
+    # one part alone opens, but says that it is part of a larger recording
+    with open_recording([first / "split_1.db3"]) as src:
+        assert list(src.stamps("/cam0/image_raw")) == regular(20)[10:]
+        (note,) = src.notes
+        assert note == (f"{first}: part 2 of the 2 files of this split ROS2 bag given, so "
+                        f"only part of the recording is read; give the folder {first} for "
+                        "all of it")
+    with open_recording(sorted(first.glob("*.db3"))) as src:
+        assert src.notes == []
 
 
 @pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4", "ros1-bz2"])
