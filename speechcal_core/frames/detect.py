@@ -141,7 +141,7 @@ class TargetDetector:
                 break
             if best is not None:  # look closer around what was found
                 lo, hi = best[0].min(axis=0), best[0].max(axis=0)
-                pad = (hi - lo) * 0.4 + 16
+                pad = np.maximum((hi - lo) * 0.4 + 16, self._unseen_reach(best, hi - lo))
                 x0, y0 = (int(v) for v in np.maximum(lo - pad, 0))
                 x1, y1 = (int(v) for v in np.minimum(hi + pad, (w, h)))
         if best is None:
@@ -156,6 +156,15 @@ class TargetDetector:
             points, ids = fill_missing_tags(gray, points, ids, self.object_points,
                                             self.target.pitch, self._dictionary, win)
         return Detection(points, ids.astype(np.int32))
+
+    def _unseen_reach(self, found: _Found, seen: np.ndarray) -> np.ndarray:
+        """How far (x, y pixels) the rest of an AprilGrid may reach beyond the part found:
+        one tag found on a small image says the board spans about six tags around it."""
+        points = found[0]
+        assert isinstance(self.target, TargetSpec)
+        side = float(np.median(np.linalg.norm(points[1::4] - points[0::4], axis=1)))
+        extent = side * (1 + self.target.spacing) * max(self.target.rows, self.target.cols)
+        return np.maximum(1.2 * (extent - seen), 0.0)
 
     def _detect_kind(self, small: np.ndarray) -> _Found | None:
         if isinstance(self.target, CharucoSpec):

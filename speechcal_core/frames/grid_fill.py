@@ -34,6 +34,8 @@ SAMPLES_PER_CELL = 3
 MIN_CONTRAST = 20.0
 #: a refined corner may move at most this fraction of the refinement window
 MAX_SHIFT = 1.0
+#: a tag that does not read after refinement is refined again in this share of the window
+NARROW = 0.6
 _SUBPIX = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 30, 0.01)
 
 
@@ -64,7 +66,6 @@ def fill_missing_tags(gray: np.ndarray, points: np.ndarray, ids: np.ndarray,
     turn = _board_turn(gray, board, found, codes)
     if turn is None:
         return points, ids
-    h, w = gray.shape[:2]
     tried: set[tuple[int, frozenset[int]]] = set()
     grew = True
     while grew:
@@ -73,28 +74,55 @@ def fill_missing_tags(gray: np.ndarray, points: np.ndarray, ids: np.ndarray,
             if tag in found:
                 continue
             near = [int(t) for t in around[tag] if t in found]
-            key = (tag, frozenset(near))
-            if len(near) < MIN_NEIGHBOURS or key in tried:
+            if len(near) < MIN_NEIGHBOURS:
                 continue
-            tried.add(key)
-            corners = _predict(board, found, near, tag)
-            if corners is None or not _inside(corners, w, h, window):
-                continue
-            refined = cv2.cornerSubPix(gray, corners.reshape(-1, 1, 2).astype(np.float32),
-                                       (round(window), round(window)), (-1, -1),
-                                       _SUBPIX).reshape(4, 2).astype(np.float64)
-            if np.linalg.norm(refined - corners, axis=1).max() > MAX_SHIFT * window:
-                continue
-            bits = _read_bits(gray, board[tag], refined)
-            if bits is not None and np.sum(bits != codes[tag, turn]) <= MAX_BIT_ERRORS:
-                found[tag] = refined
-                grew = True
+            # all neighbours together, else each alone: one slightly off corner among
+            # them can tilt the joint map, while a single tag maps its own patch
+            for group in [near, *([t] for t in near if len(near) > 1)]:
+                key = (tag, frozenset(group))
+                if key in tried:
+                    continue
+                tried.add(key)
+                # a small tag's refinement may lock onto its corner squares: then a
+                # narrower window, still inside the gap, is tried
+                for win in (window, max(1.0, NARROW * window)):
+                    refined = _place(gray, board, found, group, tag, win)
+                    if refined is not None and _reads_as(gray, board[tag], refined,
+                                                         codes[tag, turn]):
+                        found[tag] = refined
+                        grew = True
+                        break
+                if tag in found:
+                    break
     added = sorted(set(found) - set((ids // 4).tolist()))
     if not added:
         return points, ids
     new_ids = (np.asarray(added)[:, None] * 4 + np.arange(4)[None, :]).ravel()
     return (np.concatenate([points, *(found[t] for t in added)]),
             np.concatenate([ids, new_ids.astype(ids.dtype)]))
+
+
+def _place(gray: np.ndarray, board: np.ndarray, found: dict[int, np.ndarray],
+           near: list[int], tag: int, window: float) -> np.ndarray | None:
+    """The tag's corners predicted from ``near`` and refined on the image; None when the
+    prediction leaves the image or the refinement moves a corner too far."""
+    corners = _predict(board, found, near, tag)
+    h, w = gray.shape[:2]
+    if corners is None or not _inside(corners, w, h, window):
+        return None
+    refined = cv2.cornerSubPix(gray, corners.reshape(-1, 1, 2).astype(np.float32),
+                               (round(window), round(window)), (-1, -1),
+                               _SUBPIX).reshape(4, 2).astype(np.float64)
+    if np.linalg.norm(refined - corners, axis=1).max() > MAX_SHIFT * window:
+        return None
+    return refined
+
+
+def _reads_as(gray: np.ndarray, board_corners: np.ndarray, corners: np.ndarray,
+              code: np.ndarray) -> bool:
+    """Whether the tag at ``corners`` carries ``code`` (up to MAX_BIT_ERRORS bits)."""
+    bits = _read_bits(gray, board_corners, corners)
+    return bits is not None and int(np.sum(bits != code)) <= MAX_BIT_ERRORS
 
 
 def _predict(board: np.ndarray, found: dict[int, np.ndarray], near: list[int],
