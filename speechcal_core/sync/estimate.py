@@ -22,6 +22,7 @@ class CameraClap:
     period_ns: int = 0
     method: str = "auto"  # "v-fit", "peak" or "manual"
     frame_index: int = -1
+    score: float = 0.0  # how clearly the camera saw it (clap_video's score); 0: unknown
 
 
 @dataclass(frozen=True)
@@ -38,7 +39,10 @@ class Clap:
     def session_ns(self) -> int:
         """The clap on the session clock: the cameras' median (three or more), their mean
         weighted by inverse frame period squared (a faster camera times the clap better:
-        a 30 fps camera counts four times a 15 fps one), or the manual value."""
+        a 30 fps camera counts four times a 15 fps one), or the manual value.
+
+        Two cameras more than a frame apart cannot both have timed it well: the one that
+        saw it more clearly is taken alone (a mean would be off by half the gap)."""
         if self.session_override_ns is not None:
             return int(self.session_override_ns)
         stamps = np.array([c.clap_ns for c in self.cameras], dtype=np.int64)
@@ -48,8 +52,26 @@ class Clap:
         rel = (stamps - base).astype(np.float64)
         if rel.size >= 3:
             return base + round(float(np.median(rel)))
+        clearer = self._clearer_of_two()
+        if clearer is not None:
+            return int(clearer.clap_ns)
         w = np.array([timing_weight(c.period_ns) for c in self.cameras])
         return base + round(float(np.sum(w * rel) / np.sum(w)))
+
+    def _clearer_of_two(self) -> CameraClap | None:
+        """Of two cameras more than a frame period apart, the one set by hand, else the
+        clearer one (None: they agree, or neither stands out)."""
+        if len(self.cameras) != 2:
+            return None
+        a, b = self.cameras
+        frame = max(a.period_ns or 33_333_333, b.period_ns or 33_333_333)
+
+        def rank(c: CameraClap) -> tuple[bool, float]:
+            return c.method == "manual", c.score
+
+        if abs(a.clap_ns - b.clap_ns) <= frame or rank(a) == rank(b):
+            return None
+        return max((a, b), key=rank)
 
     @property
     def edited(self) -> bool:

@@ -63,6 +63,23 @@ def test_camera_off_at_one_clap_only_may_be_a_missed_clap() -> None:
     assert any("/c" in w and "not seen clearly" in w for w in r.warnings)
 
 
+def test_two_cameras_a_few_frames_apart_take_the_clearer_not_their_mean() -> None:
+    """A 30 fps camera timed the clap 3 frames early, a 15 fps one saw it clearly: the
+    mean weighted by frame rate put the clap 77 ms off. Two cameras more than a frame
+    apart cannot both be right, so the clearer one (or one set by hand) is taken."""
+    fast = CameraClap("/a", 3_000_000_000 - 91_000_000, PERIOD, "v-fit", score=3.5)
+    slow = CameraClap("/b", 3_000_000_000, 2 * PERIOD, "v-fit", score=10.2)
+    r = build_result([Clap(1.0, (fast, slow))])
+    assert r.claps[0].session_ns == 3_000_000_000
+    assert [w.split(":")[0] for w in r.warnings] == ["/a"]
+    # within a frame of each other they are averaged, the faster camera counting more
+    near = CameraClap("/a", 3_000_000_000 - 20_000_000, PERIOD, "v-fit", score=3.5)
+    assert Clap(1.0, (near, slow)).session_ns == 3_000_000_000 - 16_000_000
+    # the operator's hand beats the clearer camera
+    by_hand = set_video_clap(r, 0, 3_200_000_000, camera="/a")
+    assert by_hand.claps[0].session_ns == 3_200_000_000
+
+
 def test_manual_edits_are_marked_and_move_the_offset() -> None:
     r = build_result([_clap(1.0, 3_000_000_000, {"/a": 0, "/b": 0})])
     r2 = nudge_audio(r, 0, +1)
