@@ -48,7 +48,9 @@ def run(args: argparse.Namespace) -> int:
         elif args.audio_clap is not None and args.video_clap_ns is not None:
             result = manual_sync([(args.audio_clap, args.video_clap_ns)])
         elif args.video_clap_ns is not None:
-            result = sync_with_video_clap(audio, args.video_clap_ns)
+            span = (min(s.first_ns for s in source.streams),
+                    max(s.last_ns for s in source.streams))
+            result = sync_with_video_clap(audio, args.video_clap_ns, span)
         else:
             result = sync_recording(source, audio, search_s=args.search_s,
                                     audio_clap_s=args.audio_clap, progress=progress)

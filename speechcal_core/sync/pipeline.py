@@ -346,7 +346,24 @@ def _camera(c: VideoClap) -> CameraClap:
     return CameraClap(c.stream, c.clap_ns, c.period_ns, c.method, c.frame_index, c.score)
 
 
-def sync_with_video_clap(audio: Audio, session_ns: int) -> SyncResult:
-    """Audio clap found automatically, its session time set by hand."""
-    first, _last, notes = audio_claps(audio)
+def sync_with_video_clap(audio: Audio, session_ns: int,
+                         span_ns: tuple[int, int] | None = None) -> SyncResult:
+    """Audio clap found automatically, its session time set by hand.
+
+    With the recording's header-stamp ``span_ns``, the heard clap is the one that lays the
+    audio's sound over it (:func:`clap_choice.choose_opening`); without, the clearest in
+    the first half of the heard claps' span."""
+    if span_ns is None:
+        first, _last, notes = audio_claps(audio)
+    else:
+        heard, notes = heard_claps(audio)
+        choice = choose_opening(heard, sound_times(audio), int(session_ns), span_ns)
+        first = choice.clap
+        if choice.share < LOW_COVER:
+            name = audio.path.name if audio.path else "the audio"
+            notes.append(f"with {name}'s clap at {first.time_s:.3f} s on the clap set by "
+                         f"hand, {100 * (1 - choice.share):.0f}% of its sound falls outside "
+                         "the recording: check both, or give the audio's clap too "
+                         "(--audio-clap)")
+        notes += _clipped_note(audio, first, None)
     return build_result([Clap(first.time_s, (), "auto", "manual", int(session_ns))], notes)

@@ -214,3 +214,24 @@ def test_the_heard_clap_is_paired_with_the_cameras_whatever_the_microphone_did(
                    "opening clap" in w for w in r.warnings)
     else:
         assert not r.warnings
+
+
+@pytest.mark.slow
+def test_a_clap_set_by_hand_in_the_video_is_paired_the_same_way(
+        session_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """--video-clap-ns with the audio's clap found automatically: a minute of silence
+    before the speech no longer makes the closing clap the heard one, and an audio whose
+    only clap is the closing one, set against the opening clap, gets a note."""
+    out, truth = make_session(session_root, seed=3, claps=2, duration=40.0, drift_ppm=40.0)
+    rec, first = str(out / truth["recording"]), truth["claps"][0]
+    lead = _audio_variant(out, tmp_path / "lead.wav", lead_s=60.0)
+    assert main(["sync", rec, "--audio", str(lead), "--video-clap-ns",
+                 str(first["session_ns"]), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert abs(doc["claps"][0]["audio_s"] - (first["audio_s"] + 60.0)) < 0.01
+    late = _audio_variant(out, tmp_path / "late.wav", cut_s=5.0)
+    assert main(["sync", rec, "--audio", str(late), "--video-clap-ns",
+                 str(first["session_ns"]), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert any("late.wav's clap at" in w and "falls outside the recording" in w
+               for w in doc["warnings"])
