@@ -412,6 +412,9 @@ class ReviewWindow(QMainWindow):
         self.waveform.audio_unreadable.connect(lambda text: self.status.end("waveform", text))
         if inputs.pyramid is not None:
             self.waveform.set_audio(inputs.pyramid, model.session.sync)
+        else:  # the marks still show where the words were heard
+            self.waveform.set_sync(model.session.sync)
+            self.waveform.show_message(f"no waveform: {inputs.no_waveform}")
         self.waveform.set_claps(inputs.claps_audio_s)
         self.waveform.clap_moved.connect(model.nudge_offset)
         self.waveform.clap_dragging.connect(model.preview_offset)
@@ -571,6 +574,7 @@ class ReviewWindow(QMainWindow):
         self.model.connect("playhead", lambda _t: self._refresh_playhead())
         self.model.connect("playhead", self._on_playhead_moved)
         self.model.connect("current_set", self.table.select_row)
+        self.model.connect("current_set", lambda _row: self._on_current_set())
         self.model.connect("decision", self._on_decision)
         self.model.connect("sets", self.rescorer.schedule)
         self.model.connect("sync", self.rescorer.schedule)
@@ -620,6 +624,13 @@ class ReviewWindow(QMainWindow):
             self.status.say(f"set #{removing.id} removed · Ctrl+Z puts it back")
         elif step:  # also replaces a message the step made untrue ("set #3 removed")
             self.status.say(f"{done}: {step}")
+
+    def _on_current_set(self) -> None:
+        """The waveform marks the new current set and, zoomed in, takes it into view."""
+        current = self.model.current_set if self.model is not None else None
+        self.waveform.marks.set_current(current.id if current is not None else None)
+        if current is not None:
+            self.waveform.bring_into_view(current.id)
 
     def _refresh_playhead(self) -> None:
         model = self.model

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
-from PySide6.QtWidgets import QToolButton
+from PySide6.QtWidgets import QLabel, QToolButton
 
 from app.style import BACKGROUND, PLAYHEAD_COLOUR
 from app.word_marks import Mark, WordMarks
@@ -118,6 +118,14 @@ class WaveformView(pg.PlotWidget):
         self.playhead_button.setCursor(Qt.CursorShape.ArrowCursor)
         self.playhead_button.clicked.connect(self.show_playhead)
         self.playhead_button.hide()
+        #: why no envelope shows (no audio, or it could not be read); hidden otherwise
+        self.message = QLabel(self)
+        self.message.setWordWrap(True)
+        self.message.setAlignment(Qt.AlignmentFlag.AlignCenter)
+        self.message.setStyleSheet("QLabel { color: rgb(235, 190, 110); background: rgba(40,"
+                                   " 42, 48, 200); padding: 4px 10px; border-radius: 3px; }")
+        self.message.setAttribute(Qt.WidgetAttribute.WA_TransparentForMouseEvents)
+        self.message.hide()
         self.getViewBox().sigXRangeChanged.connect(lambda *_: self._range_changed())
         # the envelope has a column per pixel: drawn before the layout settles (600 px of
         # a 1400 px view) it looked blocky until the next zoom
@@ -140,9 +148,24 @@ class WaveformView(pg.PlotWidget):
         """Show this audio on the session clock given by ``sync``."""
         self.pyramid, self.sync = pyramid, sync
         self._told_unreadable = False
+        self.show_message("")
         peak = max(1e-6, float(np.max(np.abs(pyramid.levels[-1][1:]))) if pyramid.levels else 1)
         self._scale = 1.0 / peak
         self.redraw()
+
+    def show_message(self, text: str) -> None:
+        """Say over the waveform why it is empty ("" hides the message)."""
+        self.message.setText(text)
+        self.message.setVisible(bool(text))
+        self._place_message()
+
+    def _place_message(self) -> None:
+        if self.message.isHidden():  # (isVisible is False too while the window opens)
+            return
+        width = min(self.width() - 24, max(300, self.message.sizeHint().width()))
+        height = self.message.heightForWidth(width)
+        self.message.setGeometry((self.width() - width) // 2,
+                                 max(4, (self.height() - height) // 2), width, height)
 
     def set_sync(self, sync: SyncModel) -> None:
         """Show the audio on the clock of ``sync``. An offset edit (same drift) moves the
@@ -256,6 +279,21 @@ class WaveformView(pg.PlotWidget):
         start = min(max(x - span / 2, w0), w1 - span)
         self.setXRange(start, start + span, padding=0)
 
+    def bring_into_view(self, set_id: int) -> None:
+        """Zoomed in, centre the view (its width kept) on a set's word mark that is not
+        wholly in it: changing set (J/K, the list) takes the view along."""
+        if not self.zoomed_in():
+            return
+        try:
+            a, b = self.marks.extent(set_id)
+        except KeyError:
+            return
+        x0, x1 = self.getViewBox().viewRange()[0]
+        if x0 <= a and b <= x1:
+            return
+        half = (x1 - x0) / 2
+        self.setXRange((a + b) / 2 - half, (a + b) / 2 + half, padding=0)
+
     def zoomed_in(self) -> bool:
         """Whether the view shows less than the whole (by more than a rounding error)."""
         if self.whole is None:
@@ -338,6 +376,8 @@ class WaveformView(pg.PlotWidget):
         """Keep the "whole session" button in the top right corner."""
         super().resizeEvent(event)
         self._place_playhead_button()
+        if getattr(self, "message", None) is not None:  # pyqtgraph resizes in __init__
+            self._place_message()
         button = getattr(self, "whole_button", None)  # pyqtgraph resizes in __init__
         if button is not None:
             hint = button.sizeHint()

@@ -54,8 +54,12 @@ class WordMarks:
         self._marks: dict[int, Mark] = {}
         self._by_middle: list[Mark] = []
         self.shift_s = 0.0
+        self.current: int | None = None  # the set under the playhead: its label always shows
         self.font = QFont()
         self._metrics = QFontMetrics(self.font)
+        self.current_font = QFont(self.font)
+        self.current_font.setBold(True)
+        self._current_metrics = QFontMetrics(self.current_font)
         self.bands = _Layer(self, labels=False)
         self.bands.setZValue(5)
         # over the playhead and claps, on the plot's own colour: the playhead stands at a
@@ -85,6 +89,12 @@ class WordMarks:
         if mark is not None and mark.decision != decision:
             mark.decision = decision
             self.bands.update()
+            self.labels.update()
+
+    def set_current(self, set_id: int | None) -> None:
+        """The set under the playhead: its label is drawn bold and never thinned out."""
+        if set_id != self.current:
+            self.current = set_id
             self.labels.update()
 
     def set_shift(self, shift_s: float) -> None:
@@ -126,26 +136,39 @@ class WordMarks:
     def shown_labels(self) -> list[Mark]:
         """The marks whose labels show in the view as it is now, from the left: one that
         would touch the last shown is left out ("?20?21" when two words lie close in the
-        whole session's view)."""
+        whole session's view), and so is one that would touch the current set's label,
+        which always shows."""
         box = self.plot.getViewBox()
         (x0, x1), _y = box.viewRange()
         width = box.width()
         if x1 <= x0 or width <= 0:
             return []
         per_x = width / (x1 - x0)
+
+        def span(mark: Mark) -> tuple[float, float]:
+            left = (mark.middle + self.shift_s - x0) * per_x - self.label_width(mark) / 2
+            return left, left + self.label_width(mark)
+
+        current = self._marks.get(self.current) if self.current is not None else None
+        kept = span(current) if current is not None else None
         right = float("-inf")
         shown = []
         for mark in self._by_middle:
-            label_width = self.label_width(mark)
-            left = (mark.middle + self.shift_s - x0) * per_x - label_width / 2
-            if left >= right + LABEL_GAP_PX:
+            left, end = span(mark)
+            if mark is current:
                 shown.append(mark)
-                right = left + label_width
+                right = max(right, end)
+            elif left >= right + LABEL_GAP_PX and (
+                    kept is None or end + LABEL_GAP_PX <= kept[0]
+                    or left >= kept[1] + LABEL_GAP_PX):
+                shown.append(mark)
+                right = end
         return shown
 
     def label_width(self, mark: Mark) -> float:
-        """A label's width on screen, pixels, its padding included."""
-        return self._metrics.horizontalAdvance(mark.text) + 2 * LABEL_PAD_PX[0]
+        """A label's width on screen, pixels, its padding included (bold when current)."""
+        metrics = self._current_metrics if mark.set_id == self.current else self._metrics
+        return metrics.horizontalAdvance(mark.text) + 2 * LABEL_PAD_PX[0]
 
     def label_height(self) -> float:
         """A label's height on screen, pixels, its padding included."""
@@ -217,7 +240,6 @@ class _Layer(pg.GraphicsObject):
 
     def _paint_labels(self, painter: QPainter, to_screen) -> None:
         marks = self.marks
-        painter.setFont(marks.font)
         pad_x, pad_y = LABEL_PAD_PX
         height = marks.label_height()
         top = to_screen.map(QPointF(0, LABEL_TOP_Y)).y()
@@ -226,5 +248,6 @@ class _Layer(pg.GraphicsObject):
             width = marks.label_width(mark)
             rect = QRectF(middle - width / 2, top, width, height)
             painter.fillRect(rect, BACKGROUND)
+            painter.setFont(marks.current_font if mark.set_id == marks.current else marks.font)
             painter.setPen(DECISION_COLOURS[mark.decision].lighter(140))
             painter.drawText(rect.adjusted(pad_x, pad_y, -pad_x, -pad_y), 0, mark.text)

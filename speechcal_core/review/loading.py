@@ -43,6 +43,16 @@ class ReviewInputs:
     #: differs at the next save was changed by someone else meanwhile
     session_stamp: tuple[int, int, int] | None = None
 
+    @property
+    def no_waveform(self) -> str:
+        """Why the waveform is empty ("" when it shows): the window says it there."""
+        if self.pyramid is not None:
+            return ""
+        if not self.session.audio:
+            return "this session has no audio file"
+        _before, _sep, why = self.note.partition("audio not shown: ")
+        return why or f"{self.session.audio} could not be read"
+
     def close(self) -> None:
         self.source.close()
 

@@ -141,3 +141,65 @@ def test_an_offset_edit_moves_the_envelope_then_draws_it_anew(window, qtbot) -> 
     xs = np.array(wave._upper.getData()[0])
     assert not np.array_equal(xs, before)  # columns for the new offset
     assert wave._drawn_sync == window.model.session.sync  # drawn with the sync in force
+
+
+def test_the_current_sets_label_shows_even_where_labels_crowd(window) -> None:
+    """Thinning dropped the label of the set under the playhead when another word lay
+    close before it; the current set's label now always shows (bold), and the crowding
+    neighbour's gives way."""
+    from dataclasses import replace
+
+    wave = window.waveform
+    first = window.model.session.sets[0]
+    near = replace(first, id=99, trigger=replace(first.trigger,
+                                                 start_s=first.trigger.start_s + 0.15,
+                                                 end_s=first.trigger.end_s + 0.15))
+    wave.set_sets([first, near, *window.model.session.sets[1:]])
+    wave.marks.set_current(99)
+    shown = {m.set_id for m in wave.marks.shown_labels()}
+    assert 99 in shown and first.id not in shown
+    wave.marks.set_current(None)
+    assert first.id in {m.set_id for m in wave.marks.shown_labels()}
+
+
+def test_changing_set_takes_a_zoomed_in_view_along(window, qtbot) -> None:
+    """Zoomed in on one set, K left the view on it: the next set was off screen."""
+    wave = window.waveform
+    model = window.model
+    model.go_to_set(0)
+    a, b = wave.mark_extent(model.session.sets[0].id)
+    wave.setXRange(a - 0.5, b + 0.5, padding=0)
+    width = (b + 0.5) - (a - 0.5)
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    current = model.current_set
+    assert current is not None and current.id == model.session.sets[1].id
+    assert wave.marks.current == current.id
+    x0, x1 = wave.getViewBox().viewRange()[0]
+    a, b = wave.mark_extent(current.id)
+    assert x0 <= a and b <= x1 and x1 - x0 == pytest.approx(width, rel=0.01)
+    # the whole view stays as it is
+    wave.show_whole()
+    whole = wave.getViewBox().viewRange()[0]
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    assert wave.getViewBox().viewRange()[0] == pytest.approx(whole)
+
+
+def test_without_its_audio_file_the_waveform_says_why_and_keeps_the_marks(
+        open_window, tiny_synth, tmp_path: Path) -> None:
+    """A session whose audio file is gone showed an empty pane, without its word marks
+    or clap: the sets' words are in the session, so they still show, and the pane says
+    why there is no waveform."""
+    folder, truth = tiny_synth
+    copy = tmp_path / "session"
+    shutil.copytree(folder, copy)
+    session = truth_session(copy, truth)
+    session.sync_evidence = {"claps": truth["claps"]}
+    save_session(session, tmp_path / "review.json")
+    audio = Path(session.audio)
+    audio.rename(tmp_path / "elsewhere.ogg")
+    window = open_window(tmp_path / "review.json")
+    wave = window.waveform
+    assert wave.message.isVisible()
+    assert wave.message.text().startswith("no waveform: ") and audio.name in wave.message.text()
+    assert len(wave.marks) == len(window.model.session.sets) > 0
+    assert wave.clap.isVisible()
