@@ -34,7 +34,7 @@ from app.frame_grid import NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
 from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver, free_name_beside
-from app.set_table import SetTable, clock_text
+from app.set_table import MISSING, SetTable, clock_text
 from app.similar_action import SimilarAction
 from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
@@ -649,8 +649,8 @@ class ReviewWindow(QMainWindow):
             widget = self.grid.tiles[tile.stream]
             decision = current.decision if current else None
             if tile.index < 0:
-                widget.show_message("no frame near the playhead"
-                                    if tile.stamp_ns else "no frames in this stream")
+                widget.show_message(self._no_frame_text(tile.stream, tile.chosen,
+                                                        bool(tile.stamp_ns)))
                 widget.set_state(decision, "no frame")
                 continue
             widget.set_state(decision, flag_words(tile.flags))
@@ -665,6 +665,18 @@ class ReviewWindow(QMainWindow):
                            current.trigger.source if current else "",
                            acting.id if acting is not None else None)
         self._update_info_line()
+
+    def _no_frame_text(self, stream: str, in_set: bool, has_frames: bool) -> str:
+        """What a tile without a frame says: no frame chosen for the set (and how far the
+        camera's nearest frame lies), none near the playhead, or none at all."""
+        if not has_frames:
+            return "no frames in this stream"
+        if not in_set:
+            return "no frame near the playhead"
+        away = self.model.nearest_frame_offset_ns(stream) if self.model else None
+        if away is None:
+            return "no frame for this set"
+        return f"no frame for this set: this camera's nearest is {away / 1e9:+.2f} s away"
 
     def _update_info_line(self) -> None:
         """The line under the grid: the set under the playhead (its place in the list,
@@ -681,8 +693,10 @@ class ReviewWindow(QMainWindow):
             idx = model.session.sets.index(current) + 1  # the list's # column is the id
             said = clock_text((current.t_ns - start_ns) / 1e9)
             # the skew before the time said: at 1024 px the line shows about this much
+            framed = sum(f.index >= 0 for f in current.frames)
+            skew = f"{current.skew_ns / 1e6:.1f} ms" if framed > 1 else MISSING
             set_text = (f"set #{current.id} ({idx}/{len(model.session.sets)}) · skew "
-                        f"{current.skew_ns / 1e6:.1f} ms · said at {said} · ")
+                        f"{skew} · said at {said} · ")
         self.info_line.set_full_text(
             set_text + f"t = {rel:.3f} s from start ({model.playhead_ns / 1e9:.3f} s)")
 

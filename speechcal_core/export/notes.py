@@ -64,8 +64,8 @@ def assumed_board_note(session: Session, spec: TargetSpec, target_from: str,
            if assumed is None and stored is not None else "the session names no board")
     return (f"{subject} the {spec.describe()} process assumes without --target ({why}): "
             "if your board differs, export again with its Kalibr target yaml (speechcal "
-            "export --target TARGET.yaml); a wrong tag size scales everything a "
-            "calibration measures")
+            "export --target TARGET.yaml, or Target file… in the window's export dialog); "
+            "a wrong tag size scales everything a calibration measures")
 
 
 def approx_sync_note(sets: Sequence[FrameSet]) -> str:

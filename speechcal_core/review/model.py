@@ -209,6 +209,15 @@ class ReviewModel:
                                  near.stamp_ns - self.playhead_ns))
         return out
 
+    def nearest_frame_offset_ns(self, stream: str) -> int | None:
+        """How far the camera's frame nearest the playhead lies from it (None: no frames)."""
+        stamps = self._stamps.get(stream)
+        if stamps is None or len(stamps) == 0:
+            return None
+        i = int(np.searchsorted(stamps, self.playhead_ns))
+        near = [int(stamps[j]) for j in (i - 1, i) if 0 <= j < len(stamps)]
+        return min((t - self.playhead_ns for t in near), key=abs)
+
     def corners(self, set_id: int, stream: str) -> tuple[tuple[float, float], ...]:
         """Target corners found in a set's chosen frame of ``stream`` (empty if none)."""
         details = self.session.extra.get("frame_details")

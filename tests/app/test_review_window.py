@@ -103,6 +103,29 @@ def test_tile_without_a_frame_near_the_playhead_says_so(qtbot, window) -> None:
         assert tile.image is None and "no frame near the playhead" in tile.message
 
 
+def test_a_camera_without_a_frame_in_the_set_says_so_and_how_far_its_nearest_is(
+        qtbot, window) -> None:
+    """At a set whose camera got no frame, the tile said "no frame near the playhead"
+    and the line under the grid a skew of 0.0 ms from the one frame left."""
+    from dataclasses import replace
+
+    from speechcal_core.session.model import FrameChoice
+
+    model = window.model
+    first = model.session.sets[0]
+    keep, *gone = first.frames
+    frames = (keep, *(FrameChoice(f.stream, -1, first.t_ns, flags=("no-frame",))
+                      for f in gone))
+    model.session.sets[0] = replace(first, frames=frames)
+    model.go_to_set(0)
+    window._refresh_playhead()
+    for f in gone:
+        message = window.grid.tiles[f.stream].message
+        assert message.startswith("no frame for this set: this camera's nearest is ")
+        assert message.endswith(" s away")
+    assert "· skew – ·" in window.info_line.full_text
+
+
 def test_double_click_enlarges_a_camera_and_escape_returns(qtbot, window) -> None:
     name = window.model.streams[1]
     qtbot.mouseDClick(window.grid.tiles[name], Qt.MouseButton.LeftButton)

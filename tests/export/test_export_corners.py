@@ -318,6 +318,7 @@ def test_corners_on_an_assumed_board_are_noted(processed, tmp_path: Path) -> Non
         "corners.json and corners.vnl place the corners on the 6x6 AprilGrid of 0.055 m tags "
         "process assumes without --target (the session was processed without --target): if "
         "your board differs, export again with its Kalibr target yaml (speechcal export "
-        "--target TARGET.yaml); a wrong tag size scales everything a calibration measures"]
+        "--target TARGET.yaml, or Target file… in the window's export dialog); a wrong tag "
+        "size scales everything a calibration measures"]
     given = export_session_file(path, "folders", tmp_path / "given", target=TargetSpec()).notes
     assert not any(n.startswith("corners.json and corners.vnl") for n in given)
