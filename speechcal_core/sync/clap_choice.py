@@ -13,13 +13,18 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.ndimage import percentile_filter
 
 from speechcal_core.audio.loader import Audio
 from speechcal_core.sync.clap_audio import ClapCandidate
 
 BLOCK_S = 0.1  # level blocks
-ACTIVE_DB = 6.0  # a block this far above the audio's quiet level holds sound
-QUIET_PERCENTILE = 10.0  # the quiet level: this percentile of the non-silent blocks
+ACTIVE_DB = 6.0  # a block this far above the quiet level around it holds sound
+#: the quiet level around a block: this percentile of the blocks within QUIET_SPAN_S
+#: (steady noise of any level, a fan or traffic after the cameras stopped, is its own
+#: quiet level: only what rises out of it, speech and claps, counts)
+QUIET_PERCENTILE = 10.0
+QUIET_SPAN_S = 4.0
 DIGITAL_SILENCE_DB = -100.0  # blocks below this are padding, not room noise
 #: heard claps whose pairing lays this much less of the sound over the video than the
 #: best pairing are other sounds; among the rest the clearest clap wins
@@ -56,7 +61,10 @@ def sound_times(audio: Audio) -> SoundTimes:
     live = level > DIGITAL_SILENCE_DB
     if not np.any(live):
         return SoundTimes(np.zeros(0))
-    quiet = float(np.percentile(level[live], QUIET_PERCENTILE))
+    span = max(3, round(QUIET_SPAN_S / BLOCK_S) | 1)
+    # padding takes the quietest live level, so the start of the sound after it counts
+    filled = np.where(live, level, float(np.min(level[live])))
+    quiet = percentile_filter(filled, QUIET_PERCENTILE, size=span, mode="nearest")
     active = np.flatnonzero(live & (level > quiet + ACTIVE_DB))
     return SoundTimes((active + 0.5) * BLOCK_S)
 
@@ -74,14 +82,23 @@ def choose_opening(claps: Sequence[ClapCandidate], sound: SoundTimes, video_ns: 
     """The heard clap to pair with the cameras' clap at ``video_ns``.
 
     Each heard clap is tried as the cameras' clap; the pairings that lay nearly the most
-    sound over the video ``span_ns`` stay, and of those the clearest clap wins (a knock
-    just before the clap moves the sound only a little). ``claps`` must not be empty.
+    sound over the video ``span_ns`` stay, and of those the clearest clap wins, the
+    louder of equally clear ones (a knock just before the clap moves the sound only a
+    little, and clap-likeness tops out at 1). ``claps`` must not be empty.
     """
+    return candidates(claps, sound, video_ns, span_ns)[0]
+
+
+def candidates(claps: Sequence[ClapCandidate], sound: SoundTimes, video_ns: int,
+               span_ns: tuple[int, int]) -> list[OpeningChoice]:
+    """The heard claps that may be the cameras' clap at ``video_ns``, best first (see
+    :func:`choose_opening`)."""
     shares = [sound.share_over(c.time_s, video_ns, span_ns) for c in claps]
     best = max(shares)
-    kept = [(c, s) for c, s in zip(claps, shares, strict=True) if s >= best - COVER_SLACK]
-    clap, share = max(kept, key=lambda cs: (cs[0].score, -cs[0].time_s))
-    return OpeningChoice(clap, share)
+    kept = [OpeningChoice(c, s) for c, s in zip(claps, shares, strict=True)
+            if s >= best - COVER_SLACK]
+    return sorted(kept, key=lambda o: (-round(o.clap.score, 2), -o.clap.peak_dbfs,
+                                       o.clap.time_s))
 
 
 def closing_after(claps: Sequence[ClapCandidate], first: ClapCandidate,

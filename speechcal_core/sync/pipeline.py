@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -14,13 +14,20 @@ from speechcal_core.sources.errors import SourceError
 from speechcal_core.sync.clap_audio import ClapCandidate, audio_levels, find_audio_claps
 from speechcal_core.sync.clap_choice import (
     LOW_COVER,
+    candidates,
     choose_opening,
     closing_after,
     sound_times,
 )
 from speechcal_core.sync.clap_video import VideoClap, find_video_claps, gray_full, to_gray_small
 from speechcal_core.sync.errors import SyncError
-from speechcal_core.sync.estimate import CameraClap, Clap, SyncResult, build_result
+from speechcal_core.sync.estimate import (
+    MAX_DRIFT,
+    CameraClap,
+    Clap,
+    SyncResult,
+    build_result,
+)
 
 if TYPE_CHECKING:
     from speechcal_core.audio.loader import Audio
@@ -31,6 +38,8 @@ NEAR_S = 2.0  # other cameras (and the closing clap) are looked for this close t
 AGREE_S = 0.3  # camera clocks closer than this count as seeing the same event
 MIN_CLAP_GAP_S = 5.0  # a closing clap lies at least this long after the first
 CLOSING_SHARE = 0.2  # ... and at least this share of the video's length after it
+CLOSING_TRIES = 3  # heard claps tried as the closing one in the video, clearest first
+GAP_SLACK_S = 0.05  # two clap gaps (audio, video) match this closely beyond the drift
 #: full-resolution frames kept for the clap timing (events near each other share frames):
 #: about 130 gray 1280x720 frames, more than the ~4 s a timing reads at 30 fps
 DETAIL_CACHE_BYTES = 128 << 20
@@ -87,12 +96,11 @@ def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list
     middle = (claps[0].time_s + claps[-1].time_s) / 2
     first = max((c for c in claps if c.time_s <= middle), key=lambda c: c.score)
     last = closing_after(claps, first, MIN_CLAP_GAP_S)
-    return first, last, notes + _clipped_note(audio, first, last)
+    return first, last, notes + _clipped_note(audio, [c for c in (first, last) if c])
 
 
-def _clipped_note(audio: Audio, first: ClapCandidate,
-                  last: ClapCandidate | None) -> list[str]:
-    if any(c.clipped for c in (first, last) if c is not None):
+def _clipped_note(audio: Audio, used: list[ClapCandidate]) -> list[str]:
+    if any(c.clipped for c in used):
         return [f"{audio.path or 'audio'}: the clap clips; its onset is still used"]
     return []
 
@@ -218,30 +226,27 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
                         f"({', '.join(t0)}); {mixed[0] if mixed else ''}make the clap "
                         "visible to the cameras, search longer (--search-s), or set it by "
                         "hand (--video-clap-ns)")
+    pairing = None
     if audio_clap_s is None:
         pairing = _pair_heard_with_seen(source, audio, heard, cams1, infos, search_s, progress)
         cams1, notes = pairing.cameras, notes + pairing.notes
         a1, audio_source = pairing.first.time_s, "auto"
-        last = pairing.last
-        a2 = last.time_s if last else None
-        notes += _clipped_note(audio, pairing.first, last)
     else:
-        a1, a2, audio_source = float(audio_clap_s), None, "manual"
+        a1, audio_source = float(audio_clap_s), "manual"
     notes += _unseen_notes(cams1, infos)
     claps = [Clap(a1, tuple(_camera(c) for c in cams1), audio_source, "auto")]
-    beyond_s = max(audio.duration_s - a1, a1)  # from the clap to the far end of the audio
-    if a2 is None and beyond_s >= ONE_CLAP_NOTE_S:
-        shift_ms = beyond_s * TYPICAL_DRIFT * 1e3
-        notes.append(f"one clap: drift not measured (taken as 0); a typical "
-                     f"{TYPICAL_DRIFT * 1e6:.0f} ppm would put the words farthest from it "
-                     f"{shift_ms:.0f} ms off: clap again at the end of a long recording")
-    if a2 is not None:
-        second = _closing_clap(source, claps[0], a2, infos, progress)
-        if second is not None:
-            claps.append(second)
-        else:
-            notes.append(f"a second clap at {a2:.3f} s of audio was not seen by the cameras; "
-                         "drift set to 0")
+    if pairing is not None and pairing.late:
+        claps, more = _closing_from_video(source, claps[0], heard, pairing, infos, progress)
+        notes += more
+    else:
+        beyond_s = max(audio.duration_s - a1, a1)  # from the clap to the audio's far end
+        if beyond_s >= ONE_CLAP_NOTE_S:
+            shift_ms = beyond_s * TYPICAL_DRIFT * 1e3
+            notes.append(f"one clap: drift not measured (taken as 0); a typical "
+                         f"{TYPICAL_DRIFT * 1e6:.0f} ppm would put the words farthest from "
+                         f"it {shift_ms:.0f} ms off: clap again at the end of a long "
+                         "recording")
+    notes += _clipped_note(audio, [c for c in heard if c.time_s in {k.audio_s for k in claps}])
     result = build_result(claps, notes, extra={
         "audio": {"path": str(audio.path) if audio.path else None, "rate": audio.rate,
                   "duration_s": round(audio.duration_s, 6)},
@@ -260,8 +265,12 @@ class _Pairing:
 
     first: ClapCandidate
     cameras: list[VideoClap]
-    last: ClapCandidate | None
+    #: heard claps that may be the closing one, clearest first (none: one clap only)
+    late: list[ClapCandidate]
     notes: list[str]
+    #: how far apart the heard claps that could be the first one lie (seconds): the
+    #: closing clap is looked for that much wider in the video
+    doubt_s: float = 0.0
 
 
 def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCandidate],
@@ -276,11 +285,18 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
     span = (min(s.first_ns for s in infos), max(s.last_ns for s in infos))
     seen_ns = int(np.median([c.clap_ns for c in seen]))
     sound = sound_times(audio)
-    choice = choose_opening(heard, sound, seen_ns, span)
+    options = candidates(heard, sound, seen_ns, span)
+    choice = options[0]
     video_s = (span[1] - span[0]) / 1e9
     min_gap_s = max(MIN_CLAP_GAP_S, CLOSING_SHARE * video_s)
+    doubt_s = max(o.clap.time_s for o in options) - min(o.clap.time_s for o in options)
+
+    def later(first: ClapCandidate) -> list[ClapCandidate]:
+        return sorted((c for c in heard if c.time_s >= first.time_s + min_gap_s),
+                      key=lambda c: (-round(c.score, 2), -c.peak_dbfs))[:CLOSING_TRIES]
+
     if choice.share >= LOW_COVER or sound.times_s.size == 0:
-        return _Pairing(choice.clap, seen, closing_after(heard, choice.clap, min_gap_s), [])
+        return _Pairing(choice.clap, seen, later(choice.clap), [], doubt_s)
     t0 = {s.name: max(s.first_ns, s.last_ns - int(search_s * 1e9)) for s in infos}
     t1 = {s.name: s.last_ns for s in infos}
     at_end = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
@@ -288,19 +304,65 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
     name = audio.path.name if audio.path else "the audio"
     if at_end:
         end_ns = int(np.median([c.clap_ns for c in at_end]))
+        both = _pair_for_gap(heard, (end_ns - seen_ns) / 1e9)
+        if both is not None:  # both claps heard, as far apart as the cameras saw them
+            return _Pairing(both[0], seen, [both[1]], [])
         alt = choose_opening(heard, sound, end_ns, span)
         if alt.share >= LOW_COVER and alt.share >= 2 * choice.share:
             into_s = (end_ns - span[0]) / 1e9
-            return _Pairing(alt.clap, at_end, None, [
+            return _Pairing(alt.clap, at_end, [], [
                 f"{name}'s clap at {alt.clap.time_s:.3f} s is the cameras' closing "
                 f"clap ({into_s:.1f} s into the recording): the microphone started after "
                 "the opening clap; drift not measured (taken as 0)"])
     outside = 100 * (1 - choice.share)
-    return _Pairing(choice.clap, seen, closing_after(heard, choice.clap, min_gap_s), [
+    return _Pairing(choice.clap, seen, later(choice.clap), [
         f"with {name}'s clap at {choice.clap.time_s:.3f} s as the cameras' clap, "
         f"{outside:.0f}% of its sound falls outside the recording: if the microphone started "
         "after the opening clap, or the clap heard is another sound, check the offset in "
-        f"the review window or {BY_HAND}"])
+        f"the review window or {BY_HAND}"], doubt_s)
+
+
+def _pair_for_gap(heard: list[ClapCandidate], gap_s: float
+                  ) -> tuple[ClapCandidate, ClapCandidate] | None:
+    """Two heard claps as far apart as the cameras saw theirs (``gap_s``, drift and
+    timing allowed for), the clearest such pair; None if none."""
+    tolerance = MAX_DRIFT * gap_s + GAP_SLACK_S
+    pairs = [(a, b) for a in heard for b in heard
+             if b.time_s > a.time_s and abs((b.time_s - a.time_s) - gap_s) <= tolerance]
+    if not pairs:
+        return None
+    return max(pairs, key=lambda ab: (round(ab[0].score, 2) + round(ab[1].score, 2),
+                                      ab[0].peak_dbfs + ab[1].peak_dbfs))
+
+
+def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandidate],
+                        pairing: _Pairing, infos: list, progress: Progress | None
+                        ) -> tuple[list[Clap], list[str]]:
+    """The claps (the first, and the closing one when the cameras saw it) and notes.
+
+    Each heard clap that may close the recording (clearest first) is looked for in the
+    video where the first clap's offset puts it. Where the cameras saw a clap there, the
+    heard pair as far apart as the cameras' two claps is taken: that may also correct
+    the first clap (a knock or a second clap just after it).
+    """
+    for late in pairing.late:
+        second = _closing_clap(source, first, late.time_s, infos, progress,
+                               extra_s=pairing.doubt_s)
+        if second is None:
+            continue
+        pair = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9)
+        if pair is None:
+            continue
+        opening, closing = pair
+        notes = []
+        if opening.time_s != first.audio_s:
+            notes.append(f"the clap heard at {opening.time_s:.3f} s, not the one at "
+                         f"{first.audio_s:.3f} s, is the cameras' first: it lies as far from "
+                         "the closing clap as the cameras saw")
+        return [replace(first, audio_s=opening.time_s),
+                replace(second, audio_s=closing.time_s)], notes
+    return [first], [f"a second clap at {pairing.late[0].time_s:.3f} s of audio was not seen "
+                     "by the cameras as far from the first as it was heard; drift set to 0"]
 
 
 def _unseen_notes(seen: list[VideoClap], infos: list) -> list[str]:
@@ -329,10 +391,11 @@ def _unseen_notes(seen: list[VideoClap], infos: list) -> list[str]:
 
 
 def _closing_clap(source: FrameSource, first: Clap, a2: float, infos: list,
-                  progress: Progress | None) -> Clap | None:
-    """The second clap in video, looked for where the first clap's offset puts it."""
+                  progress: Progress | None, extra_s: float = 0.0) -> Clap | None:
+    """The second clap in video, looked for where the first clap's offset puts it (and
+    ``extra_s`` further either side)."""
     expected = first.session_ns + round((a2 - first.audio_s) * 1e9)
-    span = int(max(NEAR_S, 3.0) * 1e9)
+    span = int((max(NEAR_S, 3.0) + extra_s) * 1e9)
     t0 = {s.name: max(s.first_ns, expected - span) for s in infos}
     t1 = {s.name: min(s.last_ns, expected + span) for s in infos}
     cams = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
@@ -365,5 +428,5 @@ def sync_with_video_clap(audio: Audio, session_ns: int,
                          f"hand, {100 * (1 - choice.share):.0f}% of its sound falls outside "
                          "the recording: check both, or give the audio's clap too "
                          "(--audio-clap)")
-        notes += _clipped_note(audio, first, None)
+        notes += _clipped_note(audio, [first])
     return build_result([Clap(first.time_s, (), "auto", "manual", int(session_ns))], notes)
