@@ -96,6 +96,11 @@ def choose_common_time(
         # a skipped frame between two read ones may be the one nearest (refined later)
         tol = (w.period_ns // 2 + 1 if w.stride == 1 else w.period_ns) if w.period_ns else np.inf
         ok = np.abs(w.stamps[j] - cands) <= tol
+        if full_stamps is not None and w.stride > 1 and w.period_ns:
+            # ... but not across a gap in its frames: then it has no frame there
+            every = full_stamps[c]
+            near = every[nearest_indices(every, cands)]
+            ok &= np.abs(near - cands) <= w.period_ns // w.stride // 2 + 1
         worst = np.where(ok, np.minimum(worst, s.quality[j]), worst)
         all_still &= ~ok | s.still[j]
         present += ok

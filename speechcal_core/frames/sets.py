@@ -234,7 +234,7 @@ def _pick(
         if p < 0:
             row[s.name] = (-1, t_ns)
         else:
-            j = _refine(stamps[s.name], wins[c], scores[c], p, choice.t_ns)
+            j = _refine(stamps[s.name], wins[c], scores[c], p, choice.t_ns, choice.still)
             row[s.name] = (j, int(stamps[s.name][j]))
     return row
 
@@ -298,15 +298,20 @@ def _frame_choice(stream: str, idx: int, stamp: int, sharp: float | None, ref: f
 
 
 def _refine(stamps: np.ndarray, win: CameraWindow, score: CameraScore, p: int,
-            t_ns: int) -> int:
+            t_ns: int, still_at_t: bool = False) -> int:
     """The frame nearest ``t_ns`` when the scan skipped frames and the span around it is still.
 
-    A skipped frame between two scanned still frames saw the board where they saw it.
+    A skipped frame between two scanned still frames saw the board where they saw it; so
+    did one between a still scanned frame and ``t_ns`` when every camera is still there
+    (``still_at_t``: the next scanned frame may lie across a gap in this camera's frames).
     """
     i = int(win.indices[p])
     j = int(np.argmin(np.abs(stamps[max(0, i - 8):i + 9] - t_ns))) + max(0, i - 8)
     if j == i or not score.still[p]:
         return i
+    if still_at_t and min(stamps[i], t_ns) <= stamps[j] <= max(stamps[i], t_ns) + \
+            win.period_ns // max(win.stride, 1) // 2:
+        return j
     q = p - 1 if j < i else p + 1
     if 0 <= q < win.indices.size and score.still[q] and \
             min(win.indices[q], i) < j < max(win.indices[q], i):

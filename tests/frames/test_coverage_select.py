@@ -111,3 +111,43 @@ def test_a_gap_in_one_camera_gives_way_to_times_where_every_camera_has_a_frame()
                                 120 * MS)
     assert choice is not None and choice.still and choice.positions[1] == -1
     assert a.stamps[choice.positions[0]] >= 100 * MS
+
+
+def test_a_sparse_scan_does_not_hide_a_gap_in_a_cameras_frames() -> None:
+    """Scanning every 4th frame, a camera counted as present anywhere within one scan
+    step (133 ms) of a scanned frame, across a gap in its frames too: its frame 108 ms
+    from the others' flagged the whole set "skew". Its full stamps now decide."""
+    every = np.arange(0, 1000, 33) * MS
+    real = every[(every < 280 * MS) | (every > 390 * MS)]  # a gap from 280 to 390 ms
+    scanned = real[::4]
+    a = CameraWindow("/a", np.arange(scanned.size), scanned, np.ones(scanned.size, bool),
+                     np.ones(scanned.size), np.ones(scanned.size), np.zeros(scanned.size, bool),
+                     True, 4 * 33 * MS, stride=4)
+    # b's sharpest frames lie in a's gap: the worst camera's quality is highest there
+    sharp = [2.0 if 280 * MS < t < 390 * MS else 1.0 for t in every]
+    b = _window(list(every // MS), sharp, [1] * every.size, 33)
+    wins = [a, b]
+    choice = choose_common_time(wins, [score_camera(w, 1.0) for w in wins], 330 * MS,
+                                [real, every])
+    assert choice is not None and choice.positions[0] >= 0
+    nearest_real = real[np.argmin(np.abs(real - choice.t_ns))]
+    assert abs(nearest_real - choice.t_ns) <= 17 * MS
+
+
+def test_a_skipped_frame_next_to_a_gap_is_taken_when_every_camera_is_still() -> None:
+    """Scanning every 4th frame, the frame at the chosen time lies between a scanned still
+    frame and the first one after a gap (which the gap shows as moving): the scanned frame
+    100 ms away was kept. With every camera still at that time, the nearer frame is."""
+    from speechcal_core.frames.sets import _refine
+
+    every = np.arange(0, 1200, 33) * MS
+    real = every[(every < 340 * MS) | (every > 800 * MS)]
+    idx = np.arange(0, real.size, 4)
+    win = CameraWindow("/a", idx, real[idx], np.ones(idx.size, bool), np.ones(idx.size),
+                       np.where(real[idx] > 800 * MS, 9.0, 1.0), np.zeros(idx.size, bool),
+                       True, 4 * 33 * MS, stride=4)
+    score = score_camera(win, 1.0)
+    p = int(np.flatnonzero(real[idx] == 264 * MS)[0])
+    t = 330 * MS
+    assert real[_refine(real, win, score, p, t)] == 264 * MS  # stillness unknown at t
+    assert real[_refine(real, win, score, p, t, still_at_t=True)] == 330 * MS
