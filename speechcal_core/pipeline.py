@@ -154,7 +154,8 @@ def process_loaded(
     moving = moving_words_note(
         word_stillness(analysis.sets, analysis.extra.get("frame_details") or {}), audio,
         transcript)
-    notes = [*notes, *(n for n in (outside, short, moving) if n), *recording_notes(source)]
+    # what is wrong with the recording's files comes first: it may explain the rest
+    notes = [*recording_notes(source), *notes, *(n for n in (outside, short, moving) if n)]
     # what the review's "find trigger words" starts from (a transcript has no settings)
     settings = {} if transcript is not None else {
         SENSITIVITY_KEY: float(sensitivity),

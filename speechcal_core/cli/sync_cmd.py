@@ -41,6 +41,9 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--search-s must be a positive number of seconds, got "
                          f"{args.search_s:g}")
     with open_recording(args.recording) as source:
+        # what is wrong with the files given (a part of a split bag) explains the rest
+        for note in getattr(source, "notes", []):
+            progress(f"note: {note}")
         audio, stamped = load_sync_audio(args.audio, args.recording, channel=args.channel)
         _check_hand_set_clap(args, audio.duration_s, source)
         if stamped is not None and args.audio_clap is None and args.video_clap_ns is None:

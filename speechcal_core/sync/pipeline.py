@@ -233,7 +233,7 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
         a1, audio_source = pairing.first.time_s, "auto"
     else:
         a1, audio_source = float(audio_clap_s), "manual"
-    notes += _unseen_notes(cams1, infos)
+    notes += _unseen_notes(source, cams1, infos)
     claps = [Clap(a1, tuple(_camera(c) for c in cams1), audio_source, "auto")]
     if pairing is not None and pairing.late:
         claps, more = _closing_from_video(source, claps[0], heard, pairing, infos, progress)
@@ -365,8 +365,9 @@ def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandid
                      "by the cameras as far from the first as it was heard; drift set to 0"]
 
 
-def _unseen_notes(seen: list[VideoClap], infos: list) -> list[str]:
-    """Why a camera is not in the clap: it started after it, or saw nothing like it."""
+def _unseen_notes(source: FrameSource, seen: list[VideoClap], infos: list) -> list[str]:
+    """Why a camera is not in the clap: it started after it, its frames around it are
+    missing, or it saw nothing like it."""
     clap_ns = int(np.median([c.clap_ns for c in seen]))
     agree = int(AGREE_S * 1e9)
     late, blind = [], []
@@ -377,6 +378,10 @@ def _unseen_notes(seen: list[VideoClap], infos: list) -> list[str]:
             late.append(f"{s.name} (first frame {(s.first_ns - clap_ns) / 1e9:.1f} s after)")
         elif s.last_ns < clap_ns - agree:
             late.append(f"{s.name} (last frame {(clap_ns - s.last_ns) / 1e9:.1f} s before)")
+        elif (gap := _gap_around(source.stamps(s.name), clap_ns, agree)) is not None:
+            start = min(info.first_ns for info in infos)
+            late.append(f"{s.name} (no frames from {(gap[0] - start) / 1e9:.2f} to "
+                        f"{(gap[1] - start) / 1e9:.2f} s into the recording: dropped)")
         else:
             blind.append(s.name)
     notes = []
@@ -388,6 +393,14 @@ def _unseen_notes(seen: list[VideoClap], infos: list) -> list[str]:
                      "it was out of view, or that camera's clock is off (check it in the "
                      "review)")
     return notes
+
+
+def _gap_around(stamps: np.ndarray, t_ns: int, reach_ns: int) -> tuple[int, int] | None:
+    """The frames either side of ``t_ns`` when none lies within ``reach_ns`` of it."""
+    i = int(np.searchsorted(stamps, t_ns))
+    if 0 < i < len(stamps) and stamps[i] - t_ns > reach_ns and t_ns - stamps[i - 1] > reach_ns:
+        return int(stamps[i - 1]), int(stamps[i])
+    return None
 
 
 def _closing_clap(source: FrameSource, first: Clap, a2: float, infos: list,

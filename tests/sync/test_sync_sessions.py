@@ -281,3 +281,15 @@ def test_other_sounds_do_not_move_the_clap(session_root: Path, tmp_path: Path,
         round(c["audio_s"], 2) for c in truth["claps"]]
     for want in truth["claps"]:
         assert abs(r.model.to_session(want["audio_s"]) - want["session_ns"]) <= 5e6
+
+
+def test_a_camera_whose_frames_around_the_clap_were_dropped_is_told_apart() -> None:
+    """Such a camera was said to have the clap out of view or its clock off; the note now
+    names the gap (frames either side of the clap, none within AGREE_S of it)."""
+    from speechcal_core.sync.pipeline import AGREE_S, _gap_around
+
+    reach = int(AGREE_S * 1e9)
+    stamps = np.array([0, 33, 66, 2_000, 2_033]) * 1_000_000
+    assert _gap_around(stamps, 1_000_000_000, reach) == (66_000_000, 2_000_000_000)
+    assert _gap_around(stamps, 50_000_000, reach) is None  # frames right at the clap
+    assert _gap_around(stamps, 3_000_000_000, reach) is None  # after its last frame
