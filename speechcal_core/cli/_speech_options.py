@@ -5,7 +5,11 @@ from __future__ import annotations
 import argparse
 
 from speechcal_core.errors import UsageError
-from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
+from speechcal_core.speech.matching import (
+    DEFAULT_SENSITIVITY,
+    DEFAULT_TRIGGERS,
+    normalize_word,
+)
 
 
 def add_channel_option(p: argparse.ArgumentParser) -> None:
@@ -42,6 +46,13 @@ def pronunciations(args: argparse.Namespace) -> dict[str, str]:
                 f"--pronounce {item!r}: write WORD=PHONES, e.g. 'kalibr=K AE L IH B ER'"
             )
         out[word.strip()] = phones.strip()
+    triggers = {normalize_word(w) for w in (args.trigger or DEFAULT_TRIGGERS)}
+    unused = [w for w in out if normalize_word(w) not in triggers]
+    if unused:
+        raise UsageError(
+            f"--pronounce {unused[0]}: not one of the trigger words "
+            f"({', '.join(sorted(triggers))}), so it would not be used; give it with "
+            f"--trigger {unused[0]} too, or check its spelling")
     return out
 
 
