@@ -231,6 +231,9 @@ class ReviewWindow(QMainWindow):
         self.cancel_button.hide()
         self.cancel_button.clicked.connect(self.cancel_task)
         self.saved_label = QLabel("")
+        # room for "saved 59 min ago" whatever the status line says (it cut it to "s")
+        self.saved_label.setMinimumWidth(
+            self.saved_label.fontMetrics().horizontalAdvance("saved 59 min ago") + 4)
         bar.addWidget(self.status_text, 1)
         bar.addPermanentWidget(self.progress)
         bar.addPermanentWidget(self.cancel_button)
@@ -790,6 +793,9 @@ class ReviewWindow(QMainWindow):
             button.setChecked(name == model.filter)
         total = len(model.session.sets)
         hint = no_sets_hint(model.session)
+        if not hint and not shown:  # the filter hides every set
+            hint = (f"no {model.filter} sets: “all” (or F, which steps through the "
+                    "filters) shows every set")
         self.no_sets_label.setText(f"{WARNING_SYMBOL} {hint}" if hint else "")
         self.no_sets_label.setVisible(bool(hint))
         if len(shown) == total:
@@ -858,9 +864,13 @@ class ReviewWindow(QMainWindow):
             alerts.insert(0, f"only {stillness.still} of {stillness.judged} words at a still "
                              "board")
             notes.insert(0, MOVING_WORDS_TIP)
-        worst = f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms" if shown and not off \
-            else ""
-        text = f"{audio_start_text(lead)} · drift {sync.drift * 1e6:.1f} ppm · {how}{worst}"
+        # one camera has nothing to differ from; one clap measures no drift
+        worst = f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms" \
+            if shown and not off and len(cams) > 1 else ""
+        claps = session.sync_evidence.get("claps") or []
+        drift = ("drift not measured (one clap)" if len(claps) < 2 and sync.drift == 0
+                 else f"drift {sync.drift * 1e6:.1f} ppm")
+        text = f"{audio_start_text(lead)} · {drift} · {how}{worst}"
         if alerts:
             text = f"{WARNING_SYMBOL} {' · '.join(alerts)} · {text}"
         self.sync_line.setText(text)

@@ -3,6 +3,7 @@ one (the drift's) as a plain mark that moves with the sync."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -33,7 +34,8 @@ def test_a_second_clap_is_marked_and_follows_the_offset(
 def test_sync_line_drops_the_automatic_residuals_once_the_offset_is_edited(
         qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
     session = load_session(truth_session_file)
-    session.sync_evidence["cameras"] = [{"name": "/cam0/image_raw", "residual_ns": 1_400_000}]
+    session.sync_evidence["cameras"] = [{"name": "/cam0/image_raw", "residual_ns": 1_400_000},
+                                        {"name": "/cam1/image_raw", "residual_ns": -300_000}]
     path = tmp_path / "residuals.json"
     save_session(session, path)
     window = open_window(path)
@@ -41,6 +43,20 @@ def test_sync_line_drops_the_automatic_residuals_once_the_offset_is_edited(
     qtbot.keyClick(window, Qt.Key.Key_BracketRight)
     assert "edited" in window.sync_line.text()
     assert "residuals" not in window.sync_line.text()
+
+
+def test_one_clap_or_one_camera_is_not_shown_as_measured(
+        open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    """"drift 0.0 ppm · camera residuals ≤ 0.0 ms" read as measured, where one clap
+    measures no drift and one camera has no other to differ from."""
+    session = load_session(truth_session_file)
+    session.sync_evidence["claps"] = session.sync_evidence["claps"][:1]
+    session.sync = replace(session.sync, drift=0.0)
+    session.sync_evidence["cameras"] = [{"name": "/cam0/image_raw", "residual_ns": 0}]
+    path = tmp_path / "one.json"
+    save_session(session, path)
+    text = open_window(path).sync_line.text()
+    assert "drift not measured (one clap)" in text and "residuals" not in text
 
 
 def test_sync_line_names_a_camera_whose_clap_sits_a_frame_off_in_amber(

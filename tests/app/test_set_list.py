@@ -86,6 +86,17 @@ def test_filter_buttons_and_f_hide_and_show_rows(qtbot, window) -> None:
     assert window.shown_label.text() == ""
 
 
+def test_a_filter_that_hides_every_set_says_so_under_the_empty_list(qtbot, window) -> None:
+    """An empty list under "accepted" before anything was accepted looked broken."""
+    click_filter(qtbot, window, "accepted")
+    assert shown_rows(window) == []
+    assert window.no_sets_label.isVisible()
+    assert window.no_sets_label.text().endswith(
+        "no accepted sets: “all” (or F, which steps through the filters) shows every set")
+    click_filter(qtbot, window, "all")
+    assert not window.no_sets_label.isVisible()
+
+
 def test_choosing_a_row_of_a_filtered_list_goes_to_that_set(qtbot, window) -> None:
     qtbot.keyClick(window, Qt.Key.Key_A)
     click_filter(qtbot, window, "undecided")
