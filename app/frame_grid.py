@@ -22,6 +22,8 @@ from speechcal_core.text import counted
 MARKER_COLOUR = QColor(60, 220, 120)
 #: how a tile's caption begins while it shows the frame nearest a set's time
 NEAREST_CAPTION = "nearest frame"
+DROPPED_CAPTION = "dropped frame"
+DIM_ALPHA = 110  # the dark veil over a frame held over a dropped one
 #: the least room between a tile's title and the caption or warning at its right, pixels
 HEADER_GAP = 12
 #: a tile's least width, pixels: TILE_MIN_WIDTH_PX[1], or less in a grid of more than
@@ -114,6 +116,7 @@ class CameraTile(QWidget):
         self.decision: str | None = None
         self.warning = ""
         self.footnote = ""  # drawn at the tile's foot (an enlarged camera: how to return)
+        self.dimmed = False  # the image is an earlier frame held over a dropped one
         self._corners: tuple[tuple[float, float], ...] = ()
         self._corner_spacing = 0.0
         self._outline = np.zeros((0, 2))
@@ -137,10 +140,20 @@ class CameraTile(QWidget):
 
     def show_image(self, image: QImage, caption: str) -> None:
         self.image, self.message, self.caption = image, "", caption
+        self.dimmed = False
         self.update()
 
     def show_message(self, message: str) -> None:
         self.image, self.message = None, message
+        self.dimmed = False
+        self.update()
+
+    def hold_dimmed(self, caption: str) -> None:
+        """Keep the image shown, dimmed, with ``caption`` (during playback, where the
+        camera dropped a frame: a blank tile flashed at every gap)."""
+        if self.image is None:
+            return
+        self.caption, self.dimmed = caption, True
         self.update()
 
     def set_state(self, decision: str | None, warning: str = "") -> None:
@@ -192,7 +205,9 @@ class CameraTile(QWidget):
             target = QRectF(area.x() + (area.width() - w) / 2, area.y() + (area.height() - h) / 2,
                             w, h)
             p.drawImage(target, self.image)
-            if self._corners:
+            if self.dimmed:
+                p.fillRect(target, QColor(0, 0, 0, DIM_ALPHA))
+            elif self._corners:
                 self._draw_corners(p, target, scale)
         else:
             p.setPen(QColor(200, 200, 200))

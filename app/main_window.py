@@ -30,7 +30,7 @@ from app.checks_action import ChecksAction
 from app.detect_action import DetectAction
 from app.elided_label import ElidedLabel, EllipsisLabel
 from app.export_action import ExportAction
-from app.frame_grid import NEAREST_CAPTION, FrameGrid
+from app.frame_grid import DROPPED_CAPTION, NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
 from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver, free_name_beside
@@ -651,6 +651,11 @@ class ReviewWindow(QMainWindow):
         for tile in model.tiles():
             widget = self.grid.tiles[tile.stream]
             decision = current.decision if current else None
+            if tile.index < 0 and self._playing and not tile.chosen and tile.stamp_ns \
+                    and widget.image is not None:  # a dropped frame: no blank flash
+                widget.hold_dimmed(DROPPED_CAPTION)
+                widget.set_state(decision)
+                continue
             if tile.index < 0:
                 widget.show_message(self._no_frame_text(tile.stream, tile.chosen,
                                                         bool(tile.stamp_ns)))

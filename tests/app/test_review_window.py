@@ -103,6 +103,25 @@ def test_tile_without_a_frame_near_the_playhead_says_so(qtbot, window) -> None:
         assert tile.image is None and "no frame near the playhead" in tile.message
 
 
+def test_during_playback_a_dropped_frame_keeps_the_last_image_dimmed(qtbot, window) -> None:
+    """Playing over a gap in a camera's frames blanked its tile with an amber "no frame"
+    at every gap; while playing, the last image stays, dimmed, captioned as dropped."""
+    tiles = window.grid.tiles.values()
+    qtbot.waitUntil(lambda: all(t.image is not None for t in tiles), timeout=10_000)
+    _start, end = window.model.time_range_ns()
+    window._playing = True
+    try:
+        window.model.playhead_ns = end + 10**9  # no frame near: as in a gap
+        window._refresh_playhead()
+        for tile in tiles:
+            assert tile.image is not None and tile.dimmed
+            assert tile.caption == "dropped frame" and tile.warning == ""
+    finally:
+        window._playing = False
+    window._refresh_playhead()  # stopped: the tile says there is no frame
+    assert all(t.image is None and t.message == "no frame near the playhead" for t in tiles)
+
+
 def test_a_camera_without_a_frame_in_the_set_says_so_and_how_far_its_nearest_is(
         qtbot, window) -> None:
     """At a set whose camera got no frame, the tile said "no frame near the playhead"
