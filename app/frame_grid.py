@@ -216,6 +216,9 @@ class CameraTile(QWidget):
             pen = QPen(DECISION_COLOURS[self.decision], 3)
             p.setPen(pen)
             p.drawRect(QRectF(self.rect()).adjusted(1.5, 1.5, -1.5, -1.5))
+        if self.warning:  # amber inside the decision's colour, as UX.md asks of warnings
+            p.setPen(QPen(WARNING_COLOUR, 2))
+            p.drawRect(QRectF(self.rect()).adjusted(4, 4, -4, -4))
         bold = QFont(self.font())
         bold.setBold(True)
         note = f"{WARNING_SYMBOL} {self.warning}" if self.warning else self.caption
