@@ -405,8 +405,13 @@ class WaveformView(pg.PlotWidget):
             self._lower.setData([], [])
             return
         xs = (np.asarray(self.sync.to_session(t), dtype=np.int64) - self.origin_ns) / 1e9
-        self._upper.setData(xs, mx * self._scale)
-        self._lower.setData(xs, mn * self._scale)
+        scale = self._scale
+        if self.zoomed_in():  # the loudest sound in view fills the height (a clap
+            # elsewhere left speech a flat line); quiet stretches are not blown up to it
+            shown = float(max(np.max(mx), -np.min(mn), 0.0))
+            scale = 1.0 / max(shown, ZOOM_GAIN_FLOOR / self._scale)
+        self._upper.setData(xs, mx * scale)
+        self._lower.setData(xs, mn * scale)
 
     def set_sets(self, sets: list[FrameSet]) -> None:
         """One mark per frame set: the word's extent, coloured, labelled decision + set
@@ -454,6 +459,11 @@ class WaveformView(pg.PlotWidget):
         """The id of the set whose word mark covers ``x`` (the one whose middle is
         nearest, where marks overlap); None off every mark."""
         return self.marks.at(x)
+
+
+#: zoomed in, the envelope is scaled to the loudest sound in view, but never more than
+#: 1 / this times the whole session's scale (a room's quiet stays quiet)
+ZOOM_GAIN_FLOOR = 0.05
 
 
 def playhead_side(x: float, x0: float, x1: float) -> int:

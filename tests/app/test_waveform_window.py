@@ -203,3 +203,15 @@ def test_without_its_audio_file_the_waveform_says_why_and_keeps_the_marks(
     assert wave.message.text().startswith("no waveform: ") and audio.name in wave.message.text()
     assert len(wave.marks) == len(window.model.session.sets) > 0
     assert wave.clap.isVisible()
+
+
+def test_zoomed_in_the_loudest_sound_in_view_fills_the_height(window) -> None:
+    """Scaled to the whole session's loudest sound (a clap), a word zoomed in on was a
+    flat line."""
+    wave = window.waveform
+    a, b = wave.mark_extent(window.model.session.sets[0].id)
+    wave.show_whole()
+    whole = wave._upper.yData[(wave._upper.xData >= a) & (wave._upper.xData <= b)].max()
+    wave.setXRange(a - 0.2, b + 0.2, padding=0)
+    zoomed = max(wave._upper.yData.max(), -wave._lower.yData.min())
+    assert zoomed == pytest.approx(1.0, abs=1e-3) and zoomed > 1.5 * whole
