@@ -410,6 +410,7 @@ class WaveformView(pg.PlotWidget):
             # elsewhere left speech a flat line); quiet stretches are not blown up to it
             shown = float(max(np.max(mx), -np.min(mn), 0.0))
             scale = 1.0 / max(shown, ZOOM_GAIN_FLOOR / self._scale)
+        self.drawn_scale = scale  # envelope height per unit of sample value, as drawn
         self._upper.setData(xs, mx * scale)
         self._lower.setData(xs, mn * scale)
 

@@ -287,7 +287,7 @@ def test_waveform_keeps_no_samples_and_draws_the_file_ones_zoomed_in(window) -> 
     view.setXRange(view._to_x(mid_ns), view._to_x(mid_ns + 5_000_000), padding=0)
     view.redraw()
     xs, ys = view._upper.getData()
-    drawn = ys / view._scale
+    drawn = ys / view.drawn_scale
     first = int(np.floor(float(view.sync.to_audio(view._to_ns(xs[0]))) * loaded.rate + 0.5))
     assert 100 < drawn.size < 1000  # raw samples: 5 ms of audio
     np.testing.assert_allclose(drawn, loaded.samples[first:first + drawn.size], atol=1e-6)
