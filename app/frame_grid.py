@@ -117,6 +117,7 @@ class CameraTile(QWidget):
         self.warning = ""
         self.footnote = ""  # drawn at the tile's foot (an enlarged camera: how to return)
         self.dimmed = False  # the image is an earlier frame held over a dropped one
+        self.key = ""  # the number key that shows this camera alone (1-9, grid order)
         self._corners: tuple[tuple[float, float], ...] = ()
         self._corner_spacing = 0.0
         self._outline = np.zeros((0, 2))
@@ -173,6 +174,8 @@ class CameraTile(QWidget):
                 lines.append(f"{WARNING_SYMBOL} {self.warning}")
             elif self.caption:
                 lines.append(self.caption)
+            if self.key:  # camera names count from 0, the keys from 1
+                lines.append(f"key {self.key} or double-click: this camera alone")
             QToolTip.showText(event.globalPos(), "\n".join(lines), self)
             return True
         return super().event(event)
@@ -280,8 +283,9 @@ class FrameGrid(QWidget):
         for tile in self.tiles.values():
             tile.setParent(None)
         self.tiles = {s: CameraTile(s, self._tile_area) for s in streams}
-        for tile in self.tiles.values():
+        for number, tile in enumerate(self.tiles.values(), start=1):
             tile.double_clicked.connect(self.toggle_enlarged)
+            tile.key = str(number) if number <= 9 else ""
         self._arrange()
 
     def _arrange(self) -> None:

@@ -18,6 +18,8 @@ def test_a_number_shows_that_camera_alone_and_again_all_of_them(qtbot, window) -
     assert all(t.isVisible() for t in grid.tiles.values())
     qtbot.keyClick(window, Qt.Key.Key_9)  # no ninth camera: nothing changes
     assert all(t.isVisible() for t in grid.tiles.values())
+    # camera names count from 0, the keys from 1: each tile's tooltip names its key
+    assert [t.key for t in grid.tiles.values()] == [str(n + 1) for n in range(len(names))]
 
 
 def test_equals_and_minus_zoom_the_waveform_around_the_playhead(qtbot, window) -> None:

@@ -107,6 +107,10 @@ def test_the_tooltip_gives_the_header_in_full(qtbot) -> None:
     QApplication.sendEvent(tile, QHelpEvent(QEvent.Type.ToolTip, pos, tile.mapToGlobal(pos)))
     assert QToolTip.text() == "/cam0/image_raw\n? undecided\n▲ blurred"
     QToolTip.hideText()
+    tile.key = "1"  # in a grid: the key that shows it alone
+    QApplication.sendEvent(tile, QHelpEvent(QEvent.Type.ToolTip, pos, tile.mapToGlobal(pos)))
+    assert QToolTip.text().endswith("\nkey 1 or double-click: this camera alone")
+    QToolTip.hideText()
 
 
 def test_corner_markers_grow_with_the_corners_spacing_on_screen() -> None:
