@@ -84,9 +84,8 @@ def test_dragging_the_playhead_line_moves_the_playhead(window) -> None:
     assert abs(window.model.playhead_ns - (waveform.origin_ns + round(target_x * 1e9))) <= 1
 
 
-def test_labels_of_sets_too_close_to_read_are_thinned_until_zoomed_in(window) -> None:
-    """Two words 0.15 s apart in the whole session's view: their labels would print over
-    each other ("?20?21"), so the second one hides until zooming in makes room."""
+def _with_a_word_close_after_the_first(window):
+    """The waveform marking the sets plus set 99, 0.15 s after the first set's word."""
     from dataclasses import replace
 
     wave = window.waveform
@@ -95,6 +94,13 @@ def test_labels_of_sets_too_close_to_read_are_thinned_until_zoomed_in(window) ->
                                                  start_s=first.trigger.start_s + 0.15,
                                                  end_s=first.trigger.end_s + 0.15))
     wave.set_sets([first, near, *window.model.session.sets[1:]])
+    return wave, first
+
+
+def test_labels_of_sets_too_close_to_read_are_thinned_until_zoomed_in(window) -> None:
+    """Two words 0.15 s apart in the whole session's view: their labels would print over
+    each other ("?20?21"), so the second one hides until zooming in makes room."""
+    wave, first = _with_a_word_close_after_the_first(window)
     shown = {m.text for m in wave.marks.shown_labels()}
     assert f"?{first.id}" in shown and "?99" not in shown
     a, b = wave.mark_extent(first.id)
@@ -147,14 +153,7 @@ def test_the_current_sets_label_shows_even_where_labels_crowd(window) -> None:
     """Thinning dropped the label of the set under the playhead when another word lay
     close before it; the current set's label now always shows (bold), and the crowding
     neighbour's gives way."""
-    from dataclasses import replace
-
-    wave = window.waveform
-    first = window.model.session.sets[0]
-    near = replace(first, id=99, trigger=replace(first.trigger,
-                                                 start_s=first.trigger.start_s + 0.15,
-                                                 end_s=first.trigger.end_s + 0.15))
-    wave.set_sets([first, near, *window.model.session.sets[1:]])
+    wave, first = _with_a_word_close_after_the_first(window)
     wave.marks.set_current(99)
     shown = {m.set_id for m in wave.marks.shown_labels()}
     assert 99 in shown and first.id not in shown
