@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -14,6 +14,7 @@ from speechcal_core.sources.errors import SourceError
 from speechcal_core.sync.clap_audio import ClapCandidate, audio_levels, find_audio_claps
 from speechcal_core.sync.clap_choice import (
     LOW_COVER,
+    OpeningChoice,
     candidates,
     choose_opening,
     closing_after,
@@ -40,6 +41,8 @@ MIN_CLAP_GAP_S = 5.0  # a closing clap lies at least this long after the first
 CLOSING_SHARE = 0.2  # ... and at least this share of the video's length after it
 CLOSING_TRIES = 3  # heard claps tried as the closing one in the video, clearest first
 GAP_SLACK_S = 0.05  # two clap gaps (audio, video) match this closely beyond the drift
+ROW_S = 1.5  # claps this close together are one row (a double clap)
+ROW_MATCH_S = 0.06  # a heard clap and a seen event of a row match this closely
 #: full-resolution frames kept for the clap timing (events near each other share frames):
 #: about 130 gray 1280x720 frames, more than the ~4 s a timing reads at 30 fps
 DETAIL_CACHE_BYTES = 128 << 20
@@ -165,14 +168,16 @@ def _detail_reader(source: FrameSource, stream: str, index: list[int],
 
 
 def video_claps(source: FrameSource, t0: dict[str, int], t1: dict[str, int],
-                progress: Progress | None = None, which: str = "clap") -> list[VideoClap]:
+                progress: Progress | None = None, which: str = "clap",
+                events: list[VideoClap] | None = None) -> list[VideoClap]:
     """Each stream's clap in its window [t0, t1], chosen so that the cameras agree.
 
     Every camera proposes its clap-like events; the moment most cameras share (within
     ``AGREE_S``; ties go to the clearer events) is the clap, and each camera contributes
     its event nearest to it. A camera that saw nothing there contributes nothing: its
     best event elsewhere (another sound's motion, frames after the clap) would pull the
-    clap's session time off. ``which`` names the clap in the progress messages.
+    clap's session time off. ``which`` names the clap in the progress messages; every
+    camera's clap-like events are added to ``events`` when given.
     """
     proposals: dict[str, list[VideoClap]] = {}
     for name in t0:
@@ -184,6 +189,8 @@ def video_claps(source: FrameSource, t0: dict[str, int], t1: dict[str, int],
     if not proposals:
         return []
     every = [c for found in proposals.values() for c in found]
+    if events is not None:
+        events.extend(every)
     agree = int(AGREE_S * 1e9)
 
     def support(c: VideoClap) -> tuple[int, int, float]:
@@ -217,7 +224,8 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
         heard, notes = heard_claps(audio)
     t0 = {s.name: s.first_ns for s in infos}
     t1 = {s.name: min(s.last_ns, s.first_ns + int(search_s * 1e9)) for s in infos}
-    cams1 = video_claps(source, t0, t1, progress)
+    seen_events: list[VideoClap] = []
+    cams1 = video_claps(source, t0, t1, progress, events=seen_events)
     if not cams1:
         # two recordings given as one interleave their frames: that hides any clap
         mixed = [f"{s.name}: {s.stamp_problems}; give one recording's files, or "
@@ -228,7 +236,8 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
                         "hand (--video-clap-ns)")
     pairing = None
     if audio_clap_s is None:
-        pairing = _pair_heard_with_seen(source, audio, heard, cams1, infos, search_s, progress)
+        pairing = _pair_heard_with_seen(source, audio, heard, cams1, infos, search_s, progress,
+                                        seen_events)
         cams1, notes = pairing.cameras, notes + pairing.notes
         a1, audio_source = pairing.first.time_s, "auto"
     else:
@@ -236,7 +245,8 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
     notes += _unseen_notes(source, cams1, infos)
     claps = [Clap(a1, tuple(_camera(c) for c in cams1), audio_source, "auto")]
     if pairing is not None and pairing.late:
-        claps, more = _closing_from_video(source, claps[0], heard, pairing, infos, progress)
+        claps, more = _closing_from_video(source, claps[0], heard, pairing, infos, search_s,
+                                          progress)
         notes += more
     else:
         beyond_s = max(audio.duration_s - a1, a1)  # from the clap to the audio's far end
@@ -246,6 +256,12 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
                          f"{TYPICAL_DRIFT * 1e6:.0f} ppm would put the words farthest from "
                          f"it {shift_ms:.0f} ms off: clap again at the end of a long "
                          "recording")
+    if pairing is not None and pairing.tied and len(claps) == 1:
+        others = ", ".join(f"{c.time_s:.3f} s" for c in pairing.tied)
+        notes.append(f"claps heard at {a1:.3f} s and {others} fit the cameras' clap alike: "
+                     f"{a1:.3f} s was taken; if the cameras saw the other, the offset is "
+                     f"off by their gap: check the clap in the review window, or give "
+                     f"--audio-clap {pairing.tied[0].time_s:.3f}")
     notes += _clipped_note(audio, [c for c in heard if c.time_s in {k.audio_s for k in claps}])
     result = build_result(claps, notes, extra={
         "audio": {"path": str(audio.path) if audio.path else None, "rate": audio.rate,
@@ -271,11 +287,15 @@ class _Pairing:
     #: how far apart the heard claps that could be the first one lie (seconds): the
     #: closing clap is looked for that much wider in the video
     doubt_s: float = 0.0
+    #: heard claps right by the first that fit the cameras' clap as well (a second clap
+    #: the cameras did not see as one): only a closing clap can tell them apart
+    tied: list[ClapCandidate] = field(default_factory=list)
 
 
 def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCandidate],
                           seen: list[VideoClap], infos: list, search_s: float,
-                          progress: Progress | None) -> _Pairing:
+                          progress: Progress | None,
+                          seen_events: list[VideoClap] | None = None) -> _Pairing:
     """Which heard clap the cameras' first clap is (:mod:`clap_choice`).
 
     When no heard clap lays most of the audio's sound over the video, the microphone may
@@ -287,6 +307,10 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
     sound = sound_times(audio)
     options = candidates(heard, sound, seen_ns, span)
     choice = options[0]
+    tied: list[ClapCandidate] = []
+    if seen_events:  # two or three claps in a row: the one in the cameras' place
+        placed, tied = _in_the_same_place(heard, choice.clap, seen_events, seen_ns)
+        choice = OpeningChoice(placed, choice.share)
     video_s = (span[1] - span[0]) / 1e9
     min_gap_s = max(MIN_CLAP_GAP_S, CLOSING_SHARE * video_s)
     doubt_s = max(o.clap.time_s for o in options) - min(o.clap.time_s for o in options)
@@ -296,7 +320,7 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
                       key=lambda c: (-round(c.score, 2), -c.peak_dbfs))[:CLOSING_TRIES]
 
     if choice.share >= LOW_COVER or sound.times_s.size == 0:
-        return _Pairing(choice.clap, seen, later(choice.clap), [], doubt_s)
+        return _Pairing(choice.clap, seen, later(choice.clap), [], doubt_s, tied)
     t0 = {s.name: max(s.first_ns, s.last_ns - int(search_s * 1e9)) for s in infos}
     t1 = {s.name: s.last_ns for s in infos}
     at_end = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
@@ -322,6 +346,34 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
         f"the review window or {BY_HAND}"], doubt_s)
 
 
+def _in_the_same_place(heard: list[ClapCandidate], choice: ClapCandidate,
+                       events: list[VideoClap], seen_ns: int
+                       ) -> tuple[ClapCandidate, list[ClapCandidate]]:
+    """Of claps heard in a row (a double clap), the one that stands among the others as
+    the cameras' clap stands among the clap-like events they saw around it, and the ones
+    that fit as well (the cameras saw one clap where two were heard).
+
+    Each heard clap within ROW_S of ``choice`` is tried in its place: the heard claps'
+    offsets from it should be where the cameras saw events (ROW_MATCH_S), and no event
+    the cameras saw should lack its heard clap. The best fit wins; ``choice`` on a tie.
+    """
+    row = [c for c in heard if abs(c.time_s - choice.time_s) <= ROW_S]
+    if len(row) < 2:
+        return choice, []
+    seen = np.array(sorted({round((e.clap_ns - seen_ns) / 1e9, 3) for e in events
+                            if abs(e.clap_ns - seen_ns) <= ROW_S * 1e9 + 1}))
+
+    def fit(o: ClapCandidate) -> int:
+        offsets = np.array([c.time_s - o.time_s for c in heard
+                            if abs(c.time_s - o.time_s) <= ROW_S])
+        heard_seen = sum(bool(np.any(np.abs(seen - d) <= ROW_MATCH_S)) for d in offsets)
+        seen_heard = sum(bool(np.any(np.abs(offsets - v) <= ROW_MATCH_S)) for v in seen)
+        return heard_seen + seen_heard
+
+    best = max(row, key=lambda o: (fit(o), o is choice))
+    return best, [o for o in row if o is not best and fit(o) == fit(best)]
+
+
 def _pair_for_gap(heard: list[ClapCandidate], gap_s: float
                   ) -> tuple[ClapCandidate, ClapCandidate] | None:
     """Two heard claps as far apart as the cameras saw theirs (``gap_s``, drift and
@@ -336,8 +388,8 @@ def _pair_for_gap(heard: list[ClapCandidate], gap_s: float
 
 
 def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandidate],
-                        pairing: _Pairing, infos: list, progress: Progress | None
-                        ) -> tuple[list[Clap], list[str]]:
+                        pairing: _Pairing, infos: list, search_s: float,
+                        progress: Progress | None) -> tuple[list[Clap], list[str]]:
     """The claps (the first, and the closing one when the cameras saw it) and notes.
 
     Each heard clap that may close the recording (clearest first) is looked for in the
@@ -353,16 +405,36 @@ def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandid
         pair = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9)
         if pair is None:
             continue
-        opening, closing = pair
-        notes = []
-        if opening.time_s != first.audio_s:
-            notes.append(f"the clap heard at {opening.time_s:.3f} s, not the one at "
-                         f"{first.audio_s:.3f} s, is the cameras' first: it lies as far from "
-                         "the closing clap as the cameras saw")
-        return [replace(first, audio_s=opening.time_s),
-                replace(second, audio_s=closing.time_s)], notes
-    return [first], [f"a second clap at {pairing.late[0].time_s:.3f} s of audio was not seen "
-                     "by the cameras as far from the first as it was heard; drift set to 0"]
+        return _with_pair(first, second, pair)
+    # none of them where the first clap puts it: the cameras' own closing clap, if they
+    # saw one at the end, may still match a heard pair (a false start: a clap before the
+    # cameras ran was taken for the first)
+    t0 = {s.name: max(s.first_ns, s.last_ns - int(search_s * 1e9)) for s in infos}
+    t1 = {s.name: s.last_ns for s in infos}
+    at_end = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
+              if c.clap_ns - first.session_ns >= MIN_CLAP_GAP_S * 1e9]
+    if at_end:
+        second = Clap(0.0, tuple(_camera(c) for c in at_end), first.audio_source, "auto")
+        pair = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9)
+        if pair is not None:
+            return _with_pair(first, second, pair)
+    late = pairing.late[0].time_s
+    return [first], [f"the cameras saw no clap where the one heard at {late:.3f} s would put "
+                     "a closing clap, so the drift is taken as 0; if it is the clap the "
+                     f"cameras saw at the start (the one at {first.audio_s:.3f} s came before "
+                     f"they ran), give --audio-clap {late:.3f}"]
+
+
+def _with_pair(first: Clap, second: Clap, pair: tuple[ClapCandidate, ClapCandidate]
+               ) -> tuple[list[Clap], list[str]]:
+    """The two claps timed in audio by the heard ``pair``, with a note when its first is
+    not the clap taken before."""
+    opening, closing = pair
+    notes = [] if opening.time_s == first.audio_s else [
+        f"the clap heard at {opening.time_s:.3f} s, not the one at {first.audio_s:.3f} s, "
+        "is the cameras' first: it lies as far from the closing clap as the cameras saw"]
+    return [replace(first, audio_s=opening.time_s),
+            replace(second, audio_s=closing.time_s)], notes
 
 
 def _unseen_notes(source: FrameSource, seen: list[VideoClap], infos: list) -> list[str]:

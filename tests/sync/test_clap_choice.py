@@ -12,6 +12,7 @@ from speechcal_core.sync.clap_choice import (
     closing_after,
     sound_times,
 )
+from speechcal_core.sync.clap_video import VideoClap
 
 S = 1_000_000_000
 
@@ -59,3 +60,24 @@ def test_a_closing_clap_heard_alone_lays_little_sound_over_the_video() -> None:
     claps = [_clap(34.0)]
     assert choose_opening(claps, sound, int(1.5 * S), (0, 40 * S)).share < 0.1
     assert choose_opening(claps, sound, int(38.5 * S), (0, 40 * S)).share > 0.95
+
+
+def _seen(offset_s: float, stream: str = "/cam0") -> VideoClap:
+    return VideoClap(stream, int(10 * S + offset_s * S), 0, 5.0, "v-fit", (0, 0, 8, 8),
+                     33_333_333)
+
+
+def test_a_double_clap_pairs_clap_for_clap_with_what_the_cameras_saw() -> None:
+    """Two claps 0.45 s apart, the second louder: loudness took the second while the
+    cameras' clap was the first of their two. Each heard clap is tried in the cameras'
+    clap's place; the one whose neighbours fall on the cameras' other events wins."""
+    from speechcal_core.sync.pipeline import _in_the_same_place
+
+    heard = [_clap(2.42, 0.9), _clap(2.87, 0.9)]
+    both = [_seen(0.0), _seen(0.45), _seen(0.0, "/cam1"), _seen(0.45, "/cam1")]
+    assert _in_the_same_place(heard, heard[1], both, 10 * S) == (heard[0], [])
+    # the cameras saw the second as theirs: the second stays
+    assert _in_the_same_place(heard, heard[1], [_seen(-0.45), _seen(0.0)], 10 * S) == (
+        heard[1], [])
+    # they saw one clap where two were heard: a tie, named for a note
+    assert _in_the_same_place(heard, heard[1], [_seen(0.0)], 10 * S) == (heard[1], [heard[0]])

@@ -293,3 +293,23 @@ def test_a_camera_whose_frames_around_the_clap_were_dropped_is_told_apart() -> N
     assert _gap_around(stamps, 1_000_000_000, reach) == (66_000_000, 2_000_000_000)
     assert _gap_around(stamps, 50_000_000, reach) is None  # frames right at the clap
     assert _gap_around(stamps, 3_000_000_000, reach) is None  # after its last frame
+
+
+@pytest.mark.slow
+def test_a_false_start_clap_before_the_cameras_ran_gives_way_to_the_pair_they_saw(
+        session_root: Path, tmp_path: Path) -> None:
+    """Half a minute of talk, a clap before the cameras ran, then the session with its two
+    claps: the talk laid over the video made the false start the first clap (22 s off,
+    noted only as a drift problem). The cameras' own closing clap, looked for at the
+    video's end, now picks the heard pair as far apart as theirs."""
+    out, truth = make_session(session_root, seed=3, claps=2, duration=40.0, drift_ppm=40.0)
+    data, rate = sf.read(str(out / "audio.ogg"), dtype="float32")
+    talk = data[5 * rate:35 * rate].copy()  # the session's own speech, before it
+    clap_s = truth["claps"][0]["audio_s"]
+    a = int(clap_s * rate) - rate // 50
+    talk[10 * rate:10 * rate + int(0.3 * rate)] += data[a:a + int(0.3 * rate)]
+    path = tmp_path / "false_start.wav"
+    sf.write(str(path), np.concatenate([talk, data]), rate)
+    r = _sync(out, truth, path)
+    assert [round(c.audio_s - 30.0, 2) for c in r.claps] == [
+        round(c["audio_s"], 2) for c in truth["claps"]]
