@@ -256,10 +256,11 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
                          f"{TYPICAL_DRIFT * 1e6:.0f} ppm would put the words farthest from "
                          f"it {shift_ms:.0f} ms off: clap again at the end of a long "
                          "recording")
-    if pairing is not None and pairing.tied and len(claps) == 1:
+    if pairing is not None and pairing.tied:  # (a pair at both ends can tie too)
+        taken = claps[0].audio_s
         others = ", ".join(f"{c.time_s:.3f} s" for c in pairing.tied)
-        notes.append(f"claps heard at {a1:.3f} s and {others} fit the cameras' clap alike: "
-                     f"{a1:.3f} s was taken; if the cameras saw the other, the offset is "
+        notes.append(f"claps heard at {taken:.3f} s and {others} fit the cameras' clap "
+                     f"alike: {taken:.3f} s was taken; if the cameras saw the other, the offset is "
                      f"off by their gap: check the clap in the review window, or give "
                      f"--audio-clap {pairing.tied[0].time_s:.3f}")
     notes += _clipped_note(audio, [c for c in heard if c.time_s in {k.audio_s for k in claps}])
@@ -290,6 +291,9 @@ class _Pairing:
     #: heard claps right by the first that fit the cameras' clap as well (a second clap
     #: the cameras did not see as one): only a closing clap can tell them apart
     tied: list[ClapCandidate] = field(default_factory=list)
+    #: every clap-like event the cameras saw around their first clap, and its time
+    events: list[VideoClap] = field(default_factory=list)
+    seen_ns: int = 0
 
 
 def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCandidate],
@@ -320,8 +324,9 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
                       key=lambda c: (-round(c.score, 2), -c.peak_dbfs))[:CLOSING_TRIES]
 
     if choice.share >= LOW_COVER or sound.times_s.size == 0:
-        return _Pairing(choice.clap, seen, later(choice.clap), [], doubt_s, tied)
-    t0 = {s.name: max(s.first_ns, s.last_ns - int(search_s * 1e9)) for s in infos}
+        return _Pairing(choice.clap, seen, later(choice.clap), [], doubt_s, tied,
+                        list(seen_events or []), seen_ns)
+    t0 = _end_windows(infos, search_s, seen_ns)
     t1 = {s.name: s.last_ns for s in infos}
     at_end = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
               if c.clap_ns - seen_ns >= MIN_CLAP_GAP_S * 1e9]
@@ -374,17 +379,36 @@ def _in_the_same_place(heard: list[ClapCandidate], choice: ClapCandidate,
     return best, [o for o in row if o is not best and fit(o) == fit(best)]
 
 
-def _pair_for_gap(heard: list[ClapCandidate], gap_s: float
+def _end_windows(infos: list, search_s: float, first_ns: int) -> dict[str, int]:
+    """Where each camera's closing-clap search at the video's end starts: ``search_s``
+    before its last frame, but not before MIN_CLAP_GAP_S after the first clap (a short
+    video's end window would hold the first clap too)."""
+    return {s.name: max(s.first_ns, s.last_ns - int(search_s * 1e9),
+                        first_ns + int(MIN_CLAP_GAP_S * 1e9)) for s in infos}
+
+
+def _pair_for_gap(heard: list[ClapCandidate], gap_s: float,
+                  pairing: _Pairing | None = None
                   ) -> tuple[ClapCandidate, ClapCandidate] | None:
     """Two heard claps as far apart as the cameras saw theirs (``gap_s``, drift and
-    timing allowed for), the clearest such pair; None if none."""
+    timing allowed for): the clearest such pair, or where double claps make several,
+    the one whose first clap stands in the cameras' clap's place (``pairing``'s events;
+    pairs as fitting are noted in ``pairing.tied``); None if none."""
     tolerance = MAX_DRIFT * gap_s + GAP_SLACK_S
-    pairs = [(a, b) for a in heard for b in heard
-             if b.time_s > a.time_s and abs((b.time_s - a.time_s) - gap_s) <= tolerance]
+    pairs = sorted(((a, b) for a in heard for b in heard
+                    if b.time_s > a.time_s and abs((b.time_s - a.time_s) - gap_s) <= tolerance),
+                   key=lambda ab: (-(round(ab[0].score, 2) + round(ab[1].score, 2)),
+                                   -(ab[0].peak_dbfs + ab[1].peak_dbfs)))
     if not pairs:
         return None
-    return max(pairs, key=lambda ab: (round(ab[0].score, 2) + round(ab[1].score, 2),
-                                      ab[0].peak_dbfs + ab[1].peak_dbfs))
+    if pairing is not None:
+        pairing.tied.clear()  # the gap tells the claps in a row apart, unless below
+    if len(pairs) == 1 or pairing is None or not pairing.events:
+        return pairs[0]
+    openings = [a for a, _b in pairs]
+    best, tied = _in_the_same_place(heard, openings[0], pairing.events, pairing.seen_ns)
+    pairing.tied[:] = [t for t in tied if t in openings]
+    return next((p for p in pairs if p[0] is best), pairs[0])
 
 
 def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandidate],
@@ -402,20 +426,20 @@ def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandid
                                extra_s=pairing.doubt_s)
         if second is None:
             continue
-        pair = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9)
+        pair = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9, pairing)
         if pair is None:
             continue
         return _with_pair(first, second, pair)
     # none of them where the first clap puts it: the cameras' own closing clap, if they
     # saw one at the end, may still match a heard pair (a false start: a clap before the
     # cameras ran was taken for the first)
-    t0 = {s.name: max(s.first_ns, s.last_ns - int(search_s * 1e9)) for s in infos}
+    t0 = _end_windows(infos, search_s, first.session_ns)
     t1 = {s.name: s.last_ns for s in infos}
     at_end = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
               if c.clap_ns - first.session_ns >= MIN_CLAP_GAP_S * 1e9]
     if at_end:
         second = Clap(0.0, tuple(_camera(c) for c in at_end), first.audio_source, "auto")
-        pair = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9)
+        pair = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9, pairing)
         if pair is not None:
             return _with_pair(first, second, pair)
     late = pairing.late[0].time_s
@@ -481,7 +505,9 @@ def _closing_clap(source: FrameSource, first: Clap, a2: float, infos: list,
     ``extra_s`` further either side)."""
     expected = first.session_ns + round((a2 - first.audio_s) * 1e9)
     span = int((max(NEAR_S, 3.0) + extra_s) * 1e9)
-    t0 = {s.name: max(s.first_ns, expected - span) for s in infos}
+    # never back to the first clap itself (a wide search in a short video reached it)
+    t0 = {s.name: max(s.first_ns, expected - span,
+                      first.session_ns + int(MIN_CLAP_GAP_S * 1e9)) for s in infos}
     t1 = {s.name: min(s.last_ns, expected + span) for s in infos}
     cams = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
             if abs(c.clap_ns - expected) < span]
