@@ -244,6 +244,7 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
         a1, audio_source = float(audio_clap_s), "manual"
     notes += _unseen_notes(source, cams1, infos)
     claps = [Clap(a1, tuple(_camera(c) for c in cams1), audio_source, "auto")]
+    chosen_first, notes_before = claps[0], list(notes)
     if pairing is not None and pairing.late:
         claps, more = _closing_from_video(source, claps[0], heard, pairing, infos, search_s,
                                           progress)
@@ -270,8 +271,10 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
         "video": [c.to_dict() for c in cams1],
     })
     if len(result.claps) == 2 and any("implausible" in w for w in result.warnings):
-        keep = build_result(claps[:1], [*notes, "the second clap did not match; drift set "
-                                        "to 0"], extra=result.extra)
+        # the pair matched only within the slack (a short gap): neither it nor the first
+        # clap it may have moved stands; the first clap chosen before it does
+        keep = build_result([chosen_first], [*notes_before, "the second clap did not match; "
+                                             "drift set to 0"], extra=result.extra)
         return keep
     return result
 
