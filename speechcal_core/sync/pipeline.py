@@ -245,9 +245,10 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
     notes += _unseen_notes(source, cams1, infos)
     claps = [Clap(a1, tuple(_camera(c) for c in cams1), audio_source, "auto")]
     chosen_first, notes_before = claps[0], list(notes)
+    tied = pairing.tied if pairing is not None else []
     if pairing is not None and pairing.late:
-        claps, more = _closing_from_video(source, claps[0], heard, pairing, infos, search_s,
-                                          progress)
+        claps, more, tied = _closing_from_video(source, claps[0], heard, pairing, infos,
+                                                search_s, progress)
         notes += more
     else:
         beyond_s = max(audio.duration_s - a1, a1)  # from the clap to the audio's far end
@@ -257,13 +258,13 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
                          f"{TYPICAL_DRIFT * 1e6:.0f} ppm would put the words farthest from "
                          f"it {shift_ms:.0f} ms off: clap again at the end of a long "
                          "recording")
-    if pairing is not None and pairing.tied:  # (a pair at both ends can tie too)
+    if tied:  # (a pair at both ends can tie too)
         taken = claps[0].audio_s
-        others = ", ".join(f"{c.time_s:.3f} s" for c in pairing.tied)
+        others = ", ".join(f"{c.time_s:.3f} s" for c in tied)
         notes.append(f"claps heard at {taken:.3f} s and {others} fit the cameras' clap "
                      f"alike: {taken:.3f} s was taken; if the cameras saw the other, the offset is "
                      f"off by their gap: check the clap in the review window, or give "
-                     f"--audio-clap {pairing.tied[0].time_s:.3f}")
+                     f"--audio-clap {tied[0].time_s:.3f}")
     notes += _clipped_note(audio, [c for c in heard if c.time_s in {k.audio_s for k in claps}])
     result = build_result(claps, notes, extra={
         "audio": {"path": str(audio.path) if audio.path else None, "rate": audio.rate,
@@ -297,6 +298,8 @@ class _Pairing:
     #: every clap-like event the cameras saw around their first clap, and its time
     events: list[VideoClap] = field(default_factory=list)
     seen_ns: int = 0
+    #: the cameras' claps at the video's end, once looked for (None: not yet)
+    end_claps: list[VideoClap] | None = None
 
 
 def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCandidate],
@@ -329,16 +332,13 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
     if choice.share >= LOW_COVER or sound.times_s.size == 0:
         return _Pairing(choice.clap, seen, later(choice.clap), [], doubt_s, tied,
                         list(seen_events or []), seen_ns)
-    t0 = _end_windows(infos, search_s, seen_ns)
-    t1 = {s.name: s.last_ns for s in infos}
-    at_end = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
-              if c.clap_ns - seen_ns >= MIN_CLAP_GAP_S * 1e9]
+    at_end = _claps_at_end(source, infos, search_s, seen_ns, progress)
     name = audio.path.name if audio.path else "the audio"
     if at_end:
         end_ns = int(np.median([c.clap_ns for c in at_end]))
         both = _pair_for_gap(heard, (end_ns - seen_ns) / 1e9)
         if both is not None:  # both claps heard, as far apart as the cameras saw them
-            return _Pairing(both[0], seen, [both[1]], [])
+            return _Pairing(both[0][0], seen, [both[0][1]], [], end_claps=at_end)
         alt = choose_opening(heard, sound, end_ns, span)
         if alt.share >= LOW_COVER and alt.share >= 2 * choice.share:
             into_s = (end_ns - span[0]) / 1e9
@@ -351,7 +351,7 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
         f"with {name}'s clap at {choice.clap.time_s:.3f} s as the cameras' clap, "
         f"{outside:.0f}% of its sound falls outside the recording: if the microphone started "
         "after the opening clap, or the clap heard is another sound, check the offset in "
-        f"the review window or {BY_HAND}"], doubt_s)
+        f"the review window or {BY_HAND}"], doubt_s, end_claps=at_end)
 
 
 def _in_the_same_place(heard: list[ClapCandidate], choice: ClapCandidate,
@@ -382,21 +382,26 @@ def _in_the_same_place(heard: list[ClapCandidate], choice: ClapCandidate,
     return best, [o for o in row if o is not best and fit(o) == fit(best)]
 
 
-def _end_windows(infos: list, search_s: float, first_ns: int) -> dict[str, int]:
-    """Where each camera's closing-clap search at the video's end starts: ``search_s``
-    before its last frame, but not before MIN_CLAP_GAP_S after the first clap (a short
-    video's end window would hold the first clap too)."""
-    return {s.name: max(s.first_ns, s.last_ns - int(search_s * 1e9),
-                        first_ns + int(MIN_CLAP_GAP_S * 1e9)) for s in infos}
+def _claps_at_end(source: FrameSource, infos: list, search_s: float, first_ns: int,
+                  progress: Progress | None) -> list[VideoClap]:
+    """The cameras' clap in the last ``search_s`` of the video, but not before
+    MIN_CLAP_GAP_S after the first clap at ``first_ns`` (a short video's end would hold
+    the first clap too)."""
+    gap = int(MIN_CLAP_GAP_S * 1e9)
+    t0 = {s.name: max(s.first_ns, s.last_ns - int(search_s * 1e9), first_ns + gap)
+          for s in infos}
+    t1 = {s.name: s.last_ns for s in infos}
+    return [c for c in video_claps(source, t0, t1, progress, which="closing clap")
+            if c.clap_ns - first_ns >= gap]
 
 
 def _pair_for_gap(heard: list[ClapCandidate], gap_s: float,
                   pairing: _Pairing | None = None
-                  ) -> tuple[ClapCandidate, ClapCandidate] | None:
+                  ) -> tuple[tuple[ClapCandidate, ClapCandidate], list[ClapCandidate]] | None:
     """Two heard claps as far apart as the cameras saw theirs (``gap_s``, drift and
     timing allowed for): the clearest such pair, or where double claps make several,
-    the one whose first clap stands in the cameras' clap's place (``pairing``'s events;
-    pairs as fitting are noted in ``pairing.tied``); None if none."""
+    the one whose first clap stands in the cameras' clap's place (``pairing``'s events),
+    with the first claps of the pairs that fit as well; None if none."""
     tolerance = MAX_DRIFT * gap_s + GAP_SLACK_S
     pairs = sorted(((a, b) for a in heard for b in heard
                     if b.time_s > a.time_s and abs((b.time_s - a.time_s) - gap_s) <= tolerance),
@@ -404,20 +409,20 @@ def _pair_for_gap(heard: list[ClapCandidate], gap_s: float,
                                    -(ab[0].peak_dbfs + ab[1].peak_dbfs)))
     if not pairs:
         return None
-    if pairing is not None:
-        pairing.tied.clear()  # the gap tells the claps in a row apart, unless below
     if len(pairs) == 1 or pairing is None or not pairing.events:
-        return pairs[0]
+        return pairs[0], []  # the gap tells claps in a row apart
     openings = [a for a, _b in pairs]
     best, tied = _in_the_same_place(heard, openings[0], pairing.events, pairing.seen_ns)
-    pairing.tied[:] = [t for t in tied if t in openings]
-    return next((p for p in pairs if p[0] is best), pairs[0])
+    return (next((p for p in pairs if p[0] is best), pairs[0]),
+            [t for t in tied if t in openings])
 
 
 def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandidate],
                         pairing: _Pairing, infos: list, search_s: float,
-                        progress: Progress | None) -> tuple[list[Clap], list[str]]:
-    """The claps (the first, and the closing one when the cameras saw it) and notes.
+                        progress: Progress | None
+                        ) -> tuple[list[Clap], list[str], list[ClapCandidate]]:
+    """The claps (the first, and the closing one when the cameras saw it), notes, and the
+    heard claps that fit the cameras' first clap as well as the one taken.
 
     Each heard clap that may close the recording (clearest first) is looked for in the
     video where the first clap's offset puts it. Where the cameras saw a clap there, the
@@ -429,27 +434,24 @@ def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandid
                                extra_s=pairing.doubt_s)
         if second is None:
             continue
-        pair = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9, pairing)
-        if pair is None:
-            continue
-        return _with_pair(first, second, pair)
+        found = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9, pairing)
+        if found is not None:
+            return (*_with_pair(first, second, found[0]), found[1])
     # none of them where the first clap puts it: the cameras' own closing clap, if they
     # saw one at the end, may still match a heard pair (a false start: a clap before the
     # cameras ran was taken for the first)
-    t0 = _end_windows(infos, search_s, first.session_ns)
-    t1 = {s.name: s.last_ns for s in infos}
-    at_end = [c for c in video_claps(source, t0, t1, progress, which="closing clap")
-              if c.clap_ns - first.session_ns >= MIN_CLAP_GAP_S * 1e9]
+    at_end = pairing.end_claps if pairing.end_claps is not None else \
+        _claps_at_end(source, infos, search_s, first.session_ns, progress)
     if at_end:
         second = Clap(0.0, tuple(_camera(c) for c in at_end), first.audio_source, "auto")
-        pair = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9, pairing)
-        if pair is not None:
-            return _with_pair(first, second, pair)
+        found = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9, pairing)
+        if found is not None:
+            return (*_with_pair(first, second, found[0]), found[1])
     late = pairing.late[0].time_s
     return [first], [f"the cameras saw no clap where the one heard at {late:.3f} s would put "
                      "a closing clap, so the drift is taken as 0; if it is the clap the "
                      f"cameras saw at the start (the one at {first.audio_s:.3f} s came before "
-                     f"they ran), give --audio-clap {late:.3f}"]
+                     f"they ran), give --audio-clap {late:.3f}"], pairing.tied
 
 
 def _with_pair(first: Clap, second: Clap, pair: tuple[ClapCandidate, ClapCandidate]
@@ -469,16 +471,17 @@ def _unseen_notes(source: FrameSource, seen: list[VideoClap], infos: list) -> li
     missing, or it saw nothing like it."""
     clap_ns = int(np.median([c.clap_ns for c in seen]))
     agree = int(AGREE_S * 1e9)
+    start = min(info.first_ns for info in infos)
+    seen_by = {c.stream for c in seen}
     late, blind = [], []
     for s in infos:
-        if s.name in {c.stream for c in seen}:
+        if s.name in seen_by:
             continue
         if s.first_ns > clap_ns + agree:
             late.append(f"{s.name} (first frame {(s.first_ns - clap_ns) / 1e9:.1f} s after)")
         elif s.last_ns < clap_ns - agree:
             late.append(f"{s.name} (last frame {(clap_ns - s.last_ns) / 1e9:.1f} s before)")
         elif (gap := _gap_around(source.stamps(s.name), clap_ns, agree)) is not None:
-            start = min(info.first_ns for info in infos)
             late.append(f"{s.name} (no frames from {(gap[0] - start) / 1e9:.2f} to "
                         f"{(gap[1] - start) / 1e9:.2f} s into the recording: dropped)")
         else:
