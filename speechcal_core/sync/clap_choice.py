@@ -97,12 +97,25 @@ def candidates(claps: Sequence[ClapCandidate], sound: SoundTimes, video_ns: int,
     best = max(shares)
     kept = [OpeningChoice(c, s) for c, s in zip(claps, shares, strict=True)
             if s >= best - COVER_SLACK]
-    return sorted(kept, key=lambda o: (-round(o.clap.score, 2), -o.clap.peak_dbfs,
-                                       o.clap.time_s))
+    return sorted(kept, key=lambda o: (clearest_first(o.clap), o.clap.time_s))
+
+
+def clearest_first(clap: ClapCandidate) -> tuple[float, float]:
+    """Sort key putting the clearest claps first, the louder of equally clear ones
+    (clap-likeness tops out at 1, so many real claps tie on it)."""
+    return -round(clap.score, 2), -clap.peak_dbfs
+
+
+def claps_after(claps: Sequence[ClapCandidate], first: ClapCandidate,
+                min_gap_s: float) -> list[ClapCandidate]:
+    """The heard claps at least ``min_gap_s`` after ``first``, clearest first: the
+    candidates for the closing clap."""
+    return sorted((c for c in claps if c.time_s >= first.time_s + min_gap_s),
+                  key=clearest_first)
 
 
 def closing_after(claps: Sequence[ClapCandidate], first: ClapCandidate,
                   min_gap_s: float) -> ClapCandidate | None:
     """The clearest heard clap at least ``min_gap_s`` after ``first``: the closing clap."""
-    late = [c for c in claps if c.time_s >= first.time_s + min_gap_s]
-    return max(late, key=lambda c: c.score) if late else None
+    late = claps_after(claps, first, min_gap_s)
+    return late[0] if late else None

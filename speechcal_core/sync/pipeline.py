@@ -17,6 +17,8 @@ from speechcal_core.sync.clap_choice import (
     OpeningChoice,
     candidates,
     choose_opening,
+    claps_after,
+    clearest_first,
     closing_after,
     sound_times,
 )
@@ -326,8 +328,7 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
     doubt_s = max(o.clap.time_s for o in options) - min(o.clap.time_s for o in options)
 
     def later(first: ClapCandidate) -> list[ClapCandidate]:
-        return sorted((c for c in heard if c.time_s >= first.time_s + min_gap_s),
-                      key=lambda c: (-round(c.score, 2), -c.peak_dbfs))[:CLOSING_TRIES]
+        return claps_after(heard, first, min_gap_s)[:CLOSING_TRIES]
 
     if choice.share >= LOW_COVER or sound.times_s.size == 0:
         return _Pairing(choice.clap, seen, later(choice.clap), [], doubt_s, tied,
@@ -405,8 +406,7 @@ def _pair_for_gap(heard: list[ClapCandidate], gap_s: float,
     tolerance = MAX_DRIFT * gap_s + GAP_SLACK_S
     pairs = sorted(((a, b) for a in heard for b in heard
                     if b.time_s > a.time_s and abs((b.time_s - a.time_s) - gap_s) <= tolerance),
-                   key=lambda ab: (-(round(ab[0].score, 2) + round(ab[1].score, 2)),
-                                   -(ab[0].peak_dbfs + ab[1].peak_dbfs)))
+                   key=_clearest_pair_first)
     if not pairs:
         return None
     if len(pairs) == 1 or pairing is None or not pairing.events:
@@ -415,6 +415,12 @@ def _pair_for_gap(heard: list[ClapCandidate], gap_s: float,
     best, tied = _in_the_same_place(heard, openings[0], pairing.events, pairing.seen_ns)
     return (next((p for p in pairs if p[0] is best), pairs[0]),
             [t for t in tied if t in openings])
+
+
+def _clearest_pair_first(pair: tuple[ClapCandidate, ClapCandidate]) -> tuple[float, float]:
+    """:func:`clap_choice.clearest_first` for two claps together."""
+    (score_a, loud_a), (score_b, loud_b) = map(clearest_first, pair)
+    return score_a + score_b, loud_a + loud_b
 
 
 def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandidate],
