@@ -42,6 +42,8 @@ class ReviewInputs:
     #: the session file as it was read or written here (``file_stamp``): a file that
     #: differs at the next save was changed by someone else meanwhile
     session_stamp: tuple[int, int, int] | None = None
+    #: why the session's audio could not be read for the waveform ("" when it was)
+    audio_problem: str = ""
 
     @property
     def no_waveform(self) -> str:
@@ -50,8 +52,7 @@ class ReviewInputs:
             return ""
         if not self.session.audio:
             return "this session has no audio file"
-        _before, _sep, why = self.note.partition("audio not shown: ")
-        return why or f"{self.session.audio} could not be read"
+        return self.audio_problem or f"{self.session.audio} could not be read"
 
     def close(self) -> None:
         self.source.close()
@@ -163,12 +164,15 @@ def load_for_review(
                 "its words and waveform may not line up with the frames; put the session's "
                 "own audio back there")]))
     try:  # a cancel (raised by ``progress``) from here on closes the recording too
-        pyramid, note = _waveform(session, sound, note, report)
+        pyramid, problem = _waveform(session, sound, report)
+        if problem:
+            note = f"{note}; audio not shown: {problem}" if note else \
+                f"audio not shown: {problem}"
         report("ready", 1.0)
     except BaseException:
         source.close()
         raise
-    return ReviewInputs(session, source, pyramid, path, claps, note, stamp)
+    return ReviewInputs(session, source, pyramid, path, claps, note, stamp, problem)
 
 
 def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
@@ -196,26 +200,26 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
             f"away or give another session file to process anew")
 
 
-def _waveform(session: Session, sound: Audio | None, note: str, report: Progress
+def _waveform(session: Session, sound: Audio | None, report: Progress
               ) -> tuple[EnvelopePyramid | None, str]:
-    """The session audio's envelope for the waveform (None without audio), and ``note``
-    with the reason when the audio cannot be shown."""
+    """The session audio's envelope for the waveform (None without audio), and why the
+    audio cannot be shown ("" when it can, or when the session has none)."""
     from speechcal_core.audio import EnvelopePyramid
     from speechcal_core.audio.file_samples import FileSamples
 
     if not session.audio:
-        return None, note
+        return None, ""
     report("reading audio", 0.92)
     try:
         if sound is None:  # block by block: the samples stay in the file
             return EnvelopePyramid.from_file(session.audio,
-                                             channel=session.audio_channel), note
+                                             channel=session.audio_channel), ""
         # read for processing: the pyramid reads its stretches from the file
         reader = FileSamples(sound.path or session.audio, sound.rate, rate_in=sound.rate,
                              size_in=sound.samples.size, channel=sound.channel)
-        return EnvelopePyramid(sound.samples, sound.rate, source=reader), note
+        return EnvelopePyramid(sound.samples, sound.rate, source=reader), ""
     except SpeechCalError as exc:
-        return None, f"{note}; audio not shown: {exc}" if note else f"audio not shown: {exc}"
+        return None, str(exc)
 
 
 def _follow_moved_files(session: Session, recording: Sequence[str], audio: str

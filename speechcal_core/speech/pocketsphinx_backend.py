@@ -255,8 +255,10 @@ class PocketsphinxBackend:
                 hissing.add(w)
             if decoder.lookup_word(w) is None:
                 _add_word(decoder, w, prons[0])
-            elif w in user and prons[0] not in _known_prons(decoder, w):
-                _add_word(decoder, _free_alternate(decoder, w), prons[0])  # an accent
+            elif w in user:
+                known, free = _alternates(decoder, w)
+                if prons[0] not in known:
+                    _add_word(decoder, free, prons[0])  # an accent
             rivals += [r for r in rival_words(prons, set(spec.words)) if r not in rivals]
             alike = confusable_words(prons, set(spec.words)) \
                 + commoner_words_ending_alike(w, prons, set(spec.words))
@@ -324,23 +326,16 @@ def _spot_grammar(logmath: Any, spec: TriggerSpec, rivals: list[str], confusable
     return fsg
 
 
-def _known_prons(decoder: Any, word: str) -> set[tuple[str, ...]]:
-    """The pronunciations the decoder holds for ``word`` (``word``, ``word(2)``, ...)."""
+def _alternates(decoder: Any, word: str) -> tuple[set[tuple[str, ...]], str]:
+    """The pronunciations the decoder holds for ``word`` (``word``, ``word(2)``, ...) and
+    its first unused alternate entry: pocketsphinx refuses to redefine a word, and the
+    search matches every alternate of a word in its grammar."""
     out, n, entry = set(), 1, word
     while (phones := decoder.lookup_word(entry)) is not None:
         out.add(tuple(phones.split()))
         n += 1
         entry = f"{word}({n})"
-    return out
-
-
-def _free_alternate(decoder: Any, word: str) -> str:
-    """The first unused alternate entry of ``word``: pocketsphinx refuses to redefine a
-    word, and the search matches every alternate of a word in its grammar."""
-    n = 2
-    while decoder.lookup_word(f"{word}({n})") is not None:
-        n += 1
-    return f"{word}({n})"
+    return out, entry
 
 
 def _add_word(decoder: Any, word: str, phones: tuple[str, ...]) -> None:
