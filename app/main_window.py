@@ -11,6 +11,7 @@ from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence, QShortcut
 from PySide6.QtWidgets import (
     QButtonGroup,
+    QCheckBox,
     QFileDialog,
     QHBoxLayout,
     QLabel,
@@ -163,6 +164,8 @@ class ReviewWindow(QMainWindow):
         #: (a dialog; tests put a function here)
         self.ask_unsaved: Callable[[str], str] = self._ask_unsaved
         self.load_error = ""
+        #: the "then next set" box: accept and reject go on to the next set
+        self.advance_after_decision = True
         self._opened_note = ""  # what the status line said when the session opened
         self._pending_tiles: set[str] = set()
         self.undo_button: QPushButton | None = None  # on the review page, once built
@@ -354,6 +357,13 @@ class ReviewWindow(QMainWindow):
             buttons.addWidget(self._action_button(label, action))
         self.undo_button = self._action_button("[U] undo", "undo")
         buttons.addWidget(self.undo_button)
+        self.advance_box = QCheckBox("then next set")
+        self.advance_box.setToolTip(
+            "after A or R, go on to the next set in the list (as the filter shows it); "
+            "off: stay on the decided set")
+        self.advance_box.setChecked(model.advance_after_decision)
+        self.advance_box.toggled.connect(self._set_advance)
+        buttons.addWidget(self.advance_box)
         right_layout.addLayout(buttons)
         edits = QHBoxLayout()
         self.add_button = self._action_button(
@@ -496,6 +506,12 @@ class ReviewWindow(QMainWindow):
             row.addWidget(b)
         return row
 
+    def _set_advance(self, on: bool) -> None:
+        """The "then next set" box: kept for the sessions opened later, too."""
+        self.advance_after_decision = on
+        if self.model is not None:
+            self.model.advance_after_decision = on
+
     def _choose_filter(self, name: str) -> None:
         if self.model is not None:
             self.model.set_filter(name)
@@ -570,6 +586,7 @@ class ReviewWindow(QMainWindow):
         self.detect_action.setEnabled(bool(inputs.session.audio))
         self._update_saved_label()
         self.model = ReviewModel(inputs.session, inputs.source, autosave=self._autosave)
+        self.model.advance_after_decision = self.advance_after_decision
         self.loader = FrameLoader(inputs.source, parent=self)
         self.loader.loaded.connect(self._on_frame)
         self.loader.failed.connect(self._on_frame_failed)

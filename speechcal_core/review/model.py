@@ -155,6 +155,10 @@ class ReviewModel:
         self.current = 0 if session.sets else -1
         #: which sets the list shows and J/K/Home/End step through (one of FILTERS)
         self.filter = "all"
+        #: after accept or reject, go on to the next set the filter shows: an operator
+        #: deciding a session's sets one by one presses A or R, not A then K (the window
+        #: turns it on; off, a decision leaves the current set where it is)
+        self.advance_after_decision = False
         #: what "find more like this" (S) should search for, set by :meth:`find_similar`
         #: for the window to run; with the reason when there is nothing to search
         self.similar_wanted: SimilarRequest | None = None
@@ -396,7 +400,10 @@ class ReviewModel:
 
         With the playhead moved off the current set, the set at the playhead is decided
         when there is one, else the current set; the playhead returns to the decided set,
-        so the grid shows the frames the decision is on.
+        so the grid shows the frames the decision is on. With
+        :attr:`advance_after_decision`, the next set the filter shows after it becomes
+        current (also when the set had that decision already); after the last one the
+        decided set stays current.
         """
         current = self.current_set
         if current is None:
@@ -406,11 +413,14 @@ class ReviewModel:
             if at_playhead is not None:
                 current = at_playhead
             self.go_to_set(self._index_of(current.id))
-        if current.decision == decision:
-            return
-        self._undo.append(("decision", current.id, current.decision))
-        self._redo.clear()
-        self._apply(current.id, decision)
+        if current.decision != decision:
+            self._undo.append(("decision", current.id, current.decision))
+            self._redo.clear()
+            self._apply(current.id, decision)
+        if self.advance_after_decision:
+            ahead = [i for i in self.shown() if i > self.current]
+            if ahead:
+                self.go_to_set(ahead[0])
 
     def undo(self) -> None:
         if self._undo:

@@ -100,8 +100,8 @@ def test_an_accepted_set_given_other_frames_by_an_offset_edit_is_named_as_a_warn
     window = open_window(searched_session_file)
     model = window.model
     model.go_to_set(2)
-    qtbot.keyClick(window, Qt.Key.Key_A)
     third = model.current_set.id
+    qtbot.keyClick(window, Qt.Key.Key_A)
     model.nudge_offset(-600_000_000)  # far enough for other still frames in that set
     qtbot.waitUntil(lambda: model.rescore_ids() == [] and not window.rescorer.busy(),
                     timeout=30_000)

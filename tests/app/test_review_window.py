@@ -41,13 +41,17 @@ def test_keys_accept_reject_undo_and_autosave(qtbot, window, truth_session_file)
     assert load_session(truth_session_file).sets[0].decision == "accepted"
     assert "accepted" in window.table.item(0, column("decision")).text()
     assert window.saved_label.text() == "saved just now"
-    qtbot.keyClick(window, Qt.Key.Key_K)
-    assert window.model.current == 1
+    assert window.model.current == 1  # "then next set": on to the next set
     qtbot.keyClick(window, Qt.Key.Key_R)
     assert load_session(truth_session_file).sets[1].decision == "rejected"
-    qtbot.keyClick(window, Qt.Key.Key_U)
+    assert window.model.current == 2
+    qtbot.keyClick(window, Qt.Key.Key_U)  # back to the set, undecided again
     assert load_session(truth_session_file).sets[1].decision == "undecided"
+    assert window.model.current == 1
     assert window.counts_label.text().startswith("✔ 1 accepted")
+    window.advance_box.setChecked(False)  # deciding stays on the set
+    qtbot.keyClick(window, Qt.Key.Key_R)
+    assert window.model.current == 1 and window.model.session.sets[1].decision == "rejected"
 
 
 

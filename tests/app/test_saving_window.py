@@ -87,8 +87,7 @@ def test_failed_autosave_warns_keeps_decisions_and_clears_after_a_later_save(
     window._update_saved_label()  # the clock's tick keeps the warning
     assert_warned(window)
     unblock_saving(session_in_folder)
-    qtbot.keyClick(window, Qt.Key.Key_K)
-    qtbot.keyClick(window, Qt.Key.Key_R)
+    qtbot.keyClick(window, Qt.Key.Key_R)  # on the next set (A went on to it)
     assert window.saved_label.text() == "saved just now"
     assert window.saved_label.styleSheet() == ""
     saved = load_session(session_in_folder)
@@ -119,8 +118,7 @@ def test_a_file_another_window_saved_meanwhile_is_not_overwritten(
     assert offered == [str(session_in_folder.with_name("review-2.json"))]
     second.activateWindow()
     qtbot.waitUntil(second.isActiveWindow, timeout=5_000)
-    qtbot.keyClick(second, Qt.Key.Key_K)  # the window that wrote it last saves on
-    qtbot.keyClick(second, Qt.Key.Key_A)
+    qtbot.keyClick(second, Qt.Key.Key_A)  # the window that wrote it last saves on
     assert second.saved_label.text() == "saved just now"
     assert [s.decision for s in load_session(session_in_folder).sets[:2]] == [
         "rejected", "accepted"]
@@ -183,7 +181,6 @@ def test_save_as_writes_the_decisions_elsewhere_and_autosaves_there(
     assert load_session(rescued).sets[0].decision == "accepted"
     assert window.saved_label.text() == "saved just now"
     assert window.inputs.session_path == rescued
-    qtbot.keyClick(window, Qt.Key.Key_K)
     qtbot.keyClick(window, Qt.Key.Key_R)
     assert load_session(rescued).sets[1].decision == "rejected"
     assert Path(load_session(rescued).recording[0]).exists()  # paths follow the new folder

@@ -235,3 +235,22 @@ def test_an_empty_session_says_why_and_how_to_get_sets() -> None:
     assert no_sets_hint(session).startswith("No “capture” was found in the audio.")
     session.sets = [frame_set(1)]
     assert no_sets_hint(session) == ""
+
+
+def test_advancing_after_a_decision_goes_to_the_next_set_the_filter_shows() -> None:
+    model = model_over(decided_sets())
+    model.advance_after_decision = True
+    model.set_filter("undecided")
+    model.go_to_set(1)
+    model.accept()  # set 1 leaves the filter; the next undecided set is 3
+    assert model.current == 3 and model.session.sets[1].decision == "accepted"
+    model.reject()  # nothing shown after set 3: it stays current, decided
+    assert model.current == 3 and model.session.sets[3].decision == "rejected"
+    model.undo()
+    model.undo()  # each undo brings its set back into view
+    assert model.current == 1 and model.session.sets[1].decision == "undecided"
+
+    model.set_filter("all")
+    model.go_to_set(0)
+    model.accept()  # already accepted: no undo step, yet the operator moves on
+    assert model.current == 1 and model.undo_label == ""
