@@ -44,9 +44,19 @@ class SoundTimes:
         moment ``audio_s`` is the camera moment ``video_ns`` (no drift)."""
         if self.times_s.size == 0:
             return 0.0
+        before, after = self.shares_outside(audio_s, video_ns, span_ns)
+        return 1.0 - before - after
+
+    def shares_outside(self, audio_s: float, video_ns: int, span_ns: tuple[int, int]
+                       ) -> tuple[float, float]:
+        """Shares of the sound before ``span_ns`` starts and after it ends, paired as in
+        :meth:`share_over` (0, 0 without sound)."""
+        if self.times_s.size == 0:
+            return 0.0, 0.0
         at_ns = video_ns + (self.times_s - audio_s) * 1e9
-        inside = (at_ns >= span_ns[0]) & (at_ns <= span_ns[1])
-        return float(np.count_nonzero(inside)) / self.times_s.size
+        n = self.times_s.size
+        return (float(np.count_nonzero(at_ns < span_ns[0])) / n,
+                float(np.count_nonzero(at_ns > span_ns[1])) / n)
 
 
 def sound_times(audio: Audio) -> SoundTimes:

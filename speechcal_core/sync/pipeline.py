@@ -15,6 +15,7 @@ from speechcal_core.sync.clap_audio import ClapCandidate, audio_levels, find_aud
 from speechcal_core.sync.clap_choice import (
     LOW_COVER,
     OpeningChoice,
+    SoundTimes,
     candidates,
     choose_opening,
     claps_after,
@@ -347,12 +348,23 @@ def _pair_heard_with_seen(source: FrameSource, audio: Audio, heard: list[ClapCan
                 f"{name}'s clap at {alt.clap.time_s:.3f} s is the cameras' closing "
                 f"clap ({into_s:.1f} s into the recording): the microphone started after "
                 "the opening clap; drift not measured (taken as 0)"])
-    outside = 100 * (1 - choice.share)
     return _Pairing(choice.clap, seen, later(choice.clap), [
-        f"with {name}'s clap at {choice.clap.time_s:.3f} s as the cameras' clap, "
-        f"{outside:.0f}% of its sound falls outside the recording: if the microphone started "
-        "after the opening clap, or the clap heard is another sound, check the offset in "
-        f"the review window or {BY_HAND}"], doubt_s, end_claps=at_end)
+        _outside_note(name, choice, sound, seen_ns, span)], doubt_s, end_claps=at_end)
+
+
+def _outside_note(name: str, choice: OpeningChoice, sound: SoundTimes, seen_ns: int,
+                  span: tuple[int, int]) -> str:
+    """Much of the audio's sound falls outside the recording with the clap chosen: where
+    it falls, the harmless reading (the microphone ran longer than the cameras) and the
+    harmful ones."""
+    before, after = sound.shares_outside(choice.clap.time_s, seen_ns, span)
+    return (f"with {name}'s clap at {choice.clap.time_s:.3f} s as the cameras' clap, "
+            f"{100 * (before + after):.0f}% of its sound falls outside the recording "
+            f"({100 * before:.0f}% before the cameras started, {100 * after:.0f}% after "
+            "they stopped). That is right if the microphone ran longer than the cameras "
+            "(talk before or after the recording); if it started after the opening clap, "
+            "or the clap heard is another sound, check the offset in the review window "
+            f"or {BY_HAND}")
 
 
 def _in_the_same_place(heard: list[ClapCandidate], choice: ClapCandidate,

@@ -81,3 +81,13 @@ def test_a_double_clap_pairs_clap_for_clap_with_what_the_cameras_saw() -> None:
         heard[1], [])
     # they saw one clap where two were heard: a tie, named for a note
     assert _in_the_same_place(heard, heard[1], [_seen(0.0)], 10 * S) == (heard[1], [heard[0]])
+
+
+def test_sound_outside_the_video_is_split_into_before_and_after() -> None:
+    """Talk from 0 to 10 s of audio, the clap at 10 s, talk to 30 s: with the video from
+    the clap (at 0 s) to 15 s, a third of the sound comes before it and a sixth after."""
+    sound = SoundTimes(np.arange(0.05, 30.0, 0.1))
+    before, after = sound.shares_outside(10.0, 0, (0, 15 * S))
+    assert (round(before, 2), round(after, 2)) == (0.33, 0.17)
+    assert round(sound.share_over(10.0, 0, (0, 15 * S)), 2) == 0.5
+    assert SoundTimes(np.zeros(0)).shares_outside(1.0, 0, (0, S)) == (0.0, 0.0)

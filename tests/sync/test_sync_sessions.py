@@ -313,3 +313,23 @@ def test_a_false_start_clap_before_the_cameras_ran_gives_way_to_the_pair_they_sa
     r = _sync(out, truth, path)
     assert [round(c.audio_s - 30.0, 2) for c in r.claps] == [
         round(c["audio_s"], 2) for c in truth["claps"]]
+
+
+@pytest.mark.slow
+def test_talk_before_the_cameras_keeps_the_clap_and_says_where_the_sound_fell(
+        session_root: Path, tmp_path: Path) -> None:
+    """A minute of the operator's talk before a one-clap session: the clap is still
+    the one the cameras saw, and the note says the sound outside the recording came
+    before the cameras started, which is right when the microphone simply ran longer
+    (it read "if the microphone started after the opening clap…" alone)."""
+    out, truth = make_session(session_root, seed=3, claps=1, duration=40.0, drift_ppm=40.0)
+    data, rate = sf.read(str(out / "audio.ogg"), dtype="float32")
+    clap_s = truth["claps"][0]["audio_s"]
+    talk = data[int((clap_s + 2.0) * rate):int((clap_s + 32.0) * rate)]  # no clap in it
+    audio = tmp_path / "talk_before.wav"
+    sf.write(str(audio), np.concatenate([talk, talk, data]), rate)
+    r = _sync(out, truth, audio)
+    assert [round(c.audio_s - 60.0, 2) for c in r.claps] == [round(clap_s, 2)]
+    note = next(w for w in r.warnings if "falls outside the recording" in w)
+    assert "% before the cameras started, 0% after they stopped" in note
+    assert "right if the microphone ran longer than the cameras" in note
