@@ -106,6 +106,16 @@ class BagSource(ClosingContext):
 
     # -- building ------------------------------------------------------------------------
 
+    def _refuse_copies(self, topic: str, parts: list[tuple[int, TopicScan]]) -> None:
+        """Two files holding the same stamps of a topic are one recording given twice (a
+        backup beside it, caught by ``*.bag``): its frames would all count double."""
+        for k, (fa, a) in enumerate(parts):
+            for fb, b in parts[k + 1:]:
+                if a.stamps.size and np.array_equal(a.stamps, b.stamps):
+                    raise SourceError(
+                        f"{self._files[fb].path}: holds the same {topic} frames as "
+                        f"{self._files[fa].path} (a copy of it?); give only one of them")
+
     def _merge(self, scans: list[FileScan]) -> dict[str, _Stream]:
         by_topic: dict[str, list[tuple[int, TopicScan]]] = {}
         for fi, scan in enumerate(scans):
@@ -119,6 +129,7 @@ class BagSource(ClosingContext):
             def cat(name: str, parts: list[tuple[int, TopicScan]] = parts) -> np.ndarray:
                 return np.concatenate([getattr(t, name) for _, t in parts])
 
+            self._refuse_copies(topic, parts)
             files = np.concatenate([np.full(len(t.stamps), fi, np.int32) for fi, t in parts])
             st = stamp_stats([t.stamps for _, t in parts])
             o = st.order

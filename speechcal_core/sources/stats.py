@@ -63,7 +63,8 @@ SEAM_STAMPS = 5
 def _interleaved(arrays: Sequence[np.ndarray]) -> int:
     """How many stamps of the files fall inside another file's span beyond a seam's
     few: split bags of one recording follow each other, two recordings overlap."""
-    spans = sorted((int(a.min()), int(a.max()), a) for a in arrays if a.size)
+    spans = sorted(((int(a.min()), int(a.max()), a) for a in arrays if a.size),
+                   key=lambda span: span[:2])  # arrays do not compare
     inside = 0
     for k, (lo, hi, _a) in enumerate(spans):
         for lo2, _hi2, b in spans[k + 1:]:

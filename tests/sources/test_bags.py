@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+import shutil
 import threading
 from pathlib import Path
 
@@ -11,6 +13,7 @@ from source_data import FORMATS, PERIOD, ROS1, ROS2, T0, Cam, pixels, regular
 
 from speechcal_core.sources import FrameSource, open_recording
 from speechcal_core.sources.base import COMPRESSED_MSGTYPE, IMAGE_MSGTYPE
+from speechcal_core.sources.errors import SourceError
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
@@ -67,6 +70,18 @@ def test_a_recording_named_twice_is_read_once(make_bag) -> None:
         with open_recording(paths) as src:
             assert [s.count for s in src.streams] == [20, 20], paths
             assert all(s.stamp_problems == "" for s in src.streams), paths
+
+
+def test_a_copy_of_a_bag_given_beside_it_is_refused_naming_both(make_bag) -> None:
+    """``*.bag`` caught a backup beside the recording: numpy's "truth value of an array
+    is ambiguous" came out as the error; now both files are named."""
+    bag = make_bag("ros1")
+    copy = bag.with_name("recording.orig.bag")
+    shutil.copyfile(bag, copy)
+    with pytest.raises(SourceError, match=(
+            rf"^{re.escape(str(copy))}: holds the same /cam0/image_raw frames as "
+            rf"{re.escape(str(bag))} \(a copy of it\?\); give only one of them$")):
+        open_recording([bag, copy])
 
 
 def test_split_bags_and_two_pcs_merge_by_topic(make_bag) -> None:

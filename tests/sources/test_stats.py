@@ -55,3 +55,10 @@ def test_nearest_index_prefers_the_earlier_frame_on_a_tie(t: int, want: int) -> 
 def test_nearest_on_an_empty_stream_raises() -> None:
     with pytest.raises(IndexError):
         nearest_index(np.zeros(0, np.int64), 5)
+
+
+def test_two_files_with_the_same_span_are_compared_by_their_spans_only() -> None:
+    """Sorting files by span compared the stamp arrays on a tie: a ValueError."""
+    stamps = np.arange(10, dtype=np.int64) * 50 + 10**9
+    assert "10 stamps of one file fall among another's" in stamp_stats(
+        [stamps, stamps.copy()]).problems
