@@ -54,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
                          "recording: RECORDING --audio AUDIO "
                          f"{'--session SESSION.json' if args.session else '--target T.yaml'}")
     elif args.inputs:
-        recording, audio = _recording_and_audio(args.inputs, args.audio)
+        recording, audio = _recording_and_audio(args.inputs, args.audio, args.session)
         args.audio = audio
         if detection_options_given(args):
             triggers = TriggerSpec(tuple(args.trigger or DEFAULT_TRIGGERS), sensitivity(args),
@@ -75,10 +75,14 @@ def run(args: argparse.Namespace) -> int:
                       triggers=triggers, channel=args.channel, target=target)
 
 
-def _recording_and_audio(inputs: list[str], audio: str | None) -> tuple[list[str], str]:
+def _recording_and_audio(inputs: list[str], audio: str | None, session: str | None
+                         ) -> tuple[list[str], str | None]:
     """The recording's paths and the audio file: ``--audio``, or the one input named as
-    audio (``review recording.bag mic.ogg``, as a drop on the window opens them)."""
+    audio (``review recording.bag mic.ogg``, as a drop on the window opens them), or None
+    when the recording's ``session`` file (by default beside it) exists: it knows its
+    audio."""
     from speechcal_core.audio import AUDIO_SUFFIXES
+    from speechcal_core.review.loading import default_session_path
 
     if audio:
         return inputs, audio
@@ -92,4 +96,6 @@ def _recording_and_audio(inputs: list[str], audio: str | None) -> tuple[list[str
                              "and its audio (speechcal review RECORDING --audio AUDIO)")
         raise UsageError(f"{sounds[0]} is an audio file: give the recording too "
                          f"(speechcal review RECORDING --audio {sounds[0]})")
+    if Path(session).exists() if session else default_session_path(inputs).exists():
+        return inputs, None
     raise UsageError("a recording needs its audio: add --audio AUDIO")

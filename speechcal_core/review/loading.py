@@ -96,14 +96,13 @@ def load_for_review(
         stamp = file_stamp(path)  # before reading: a change while reading shows later
         session = load_session(path)
     elif recording:
-        if audio is None:
-            raise UsageError("a recording needs its audio file: pass --audio AUDIO")
         path = Path(new_session_path) if new_session_path else default_session_path(recording)
         if path.exists():
             report(f"reading existing session {path.name}", 0.05)
             stamp = file_stamp(path)
             session = load_session(path)
             note = f"opened the existing {path.name} (review work kept)"
+            audio = audio or session.audio  # the session knows its audio
             moved, source = _follow_moved_files(session, recording, audio)
             if moved:
                 try:
@@ -126,6 +125,8 @@ def load_for_review(
         else:
             from speechcal_core.pipeline import process_loaded
 
+            if audio is None:
+                raise UsageError("a recording needs its audio file: pass --audio AUDIO")
             _check_new_session_path(path)
             report("indexing the recording", 0.02)
             source = open_recording(list(recording))
@@ -222,7 +223,7 @@ def _waveform(session: Session, sound: Audio | None, report: Progress
         return None, str(exc)
 
 
-def _follow_moved_files(session: Session, recording: Sequence[str], audio: str
+def _follow_moved_files(session: Session, recording: Sequence[str], audio: str | None
                         ) -> tuple[str, FrameSource | None]:
     """Point ``session`` at ``recording`` and ``audio`` where its own files are gone and
     the given ones carry the same names (the folder was moved or copied): says what moved
@@ -247,7 +248,7 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str
         session.recording = [str(Path(r).absolute()) for r in recording]
         said.append(f"its recording moved from {Path(old[0]).parent} and is now read from "
                     f"{Path(recording[0]).absolute().parent}")
-    if (session.audio and not Path(session.audio).exists()
+    if (audio and session.audio and not Path(session.audio).exists()
             and Path(session.audio).name == Path(audio).name):
         problem = audio_differs(session, audio)
         if problem:

@@ -24,6 +24,24 @@ def test_a_recording_is_reviewed_with_its_session_kept_where_asked(
     assert not default_session_path([str(recording)]).exists()
 
 
+def test_a_recording_with_its_session_reopens_without_the_audio(
+        tiny_synth: tuple[Path, dict], tmp_path: Path,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """The session knows its audio: ``review RECORDING --session S`` opens S as it is (it
+    asked for --audio before); without a session there the audio is still needed."""
+    folder, truth = tiny_synth
+    recording, audio = folder / truth["recording"], folder / truth["audio"]
+    target = tmp_path / "mine.json"
+    shot = str(tmp_path / "x.png")
+    assert main(["review", str(recording), "--audio", str(audio), "--session", str(target),
+                 "--screenshot", shot]) == 0
+    assert main(["review", str(recording), "--session", str(target), "--screenshot", shot]) == 0
+    assert json.loads(target.read_text())["audio"].endswith(audio.name)
+    assert main(["review", str(recording), "--session", str(tmp_path / "none.json"),
+                 "--screenshot", shot]) == 2
+    assert "a recording needs its audio: add --audio AUDIO" in capsys.readouterr().err
+
+
 def test_session_option_with_a_session_file_is_a_usage_error(
         truth_session_file: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["review", str(truth_session_file), "--session", "x.json"]) == 2

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from speechcal_core.errors import UsageError
 from speechcal_core.review.loading import default_session_path, load_for_review
 from speechcal_core.session.store import SessionFileError, load_session, save_session
 
@@ -281,3 +282,15 @@ def test_a_session_whose_audio_was_replaced_in_place_opens_with_a_note(
     assert f"{Path(audio).absolute()} is not the audio this session was made from (it lasts " \
         in inputs.note
     assert "put the session's own audio back there" in inputs.note
+
+
+def test_an_existing_session_opens_without_the_audio_given(tiny_synth, tmp_path: Path) -> None:
+    """The session knows its audio; a new one cannot do without it."""
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    load_for_review(recording=[recording], audio=audio).close()
+    inputs = load_for_review(recording=[recording])
+    inputs.close()
+    assert "review work kept" in inputs.note and "not " not in inputs.note.split("kept")[-1]
+    assert Path(inputs.session.audio) == Path(audio)
+    with pytest.raises(UsageError, match="a recording needs its audio file: pass --audio"):
+        load_for_review(recording=[recording], new_session_path=tmp_path / "new.json")
