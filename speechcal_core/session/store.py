@@ -161,8 +161,10 @@ def check_recording_present(session: Session, session_path: str | Path) -> None:
 def load_session(path: str | Path) -> Session:
     """Read a session file; older schemas are migrated, newer ones refused."""
     path = Path(path)
+    text = ""
     try:
-        data = json.loads(path.read_text(encoding="utf-8-sig"))  # an editor's BOM is fine
+        text = path.read_text(encoding="utf-8-sig")  # an editor's BOM is fine
+        data = json.loads(text)
     except FileNotFoundError:
         raise SessionFileError(f"{path}: no such session file") from None
     except UnicodeDecodeError:
@@ -176,6 +178,10 @@ def load_session(path: str | Path) -> Session:
     except OSError as exc:
         raise SessionFileError(f"{path}: cannot read the session file ({exc})") from exc
     except json.JSONDecodeError as exc:
+        if not text.lstrip().startswith("{"):  # another kind of file (a YAML, a CSV)
+            raise SessionFileError(
+                f"{path}: not a session file (not JSON); a session file is what 'speechcal "
+                f"process' writes") from None
         raise SessionFileError(f"{path}: not valid JSON (line {exc.lineno}), the file is "
                                f"damaged{_way_back(path)}") from exc
     except RecursionError:

@@ -229,6 +229,8 @@ def test_a_hand_edit_gone_wrong_names_the_set_and_what_is_wrong(tmp_path: Path, 
      "recording again (speechcal process)"),
     (lambda p: p.write_text("[" * 100_000 + "]" * 100_000),
      "not a session file (its JSON nests too deeply)"),
+    (lambda p: p.write_text("target_type: checkerboard\n"),  # -o given a target's name
+     "not a session file (not JSON); a session file is what 'speechcal process' writes"),
     (lambda p: (p.unlink(), p.mkdir()), "a folder, not a session file; give the session's "
                                          ".json file"),
 ])
