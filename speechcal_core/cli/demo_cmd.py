@@ -30,7 +30,10 @@ def run(args: argparse.Namespace) -> int:
     if not (workdir / "truth.json").exists():
         progress(f"making a synthetic demo session in {workdir} …")
     else:
-        progress(f"using the demo session in {workdir} (remove that folder for a new one)")
+        # a --workdir given may hold the user's own work beside a synthetic session
+        fresh = ("remove that folder for a new one" if not args.workdir
+                 else "give --workdir a new or empty folder for a new one")
+        progress(f"using the synthetic session in {workdir} ({fresh})")
     recording, audio = ensure_demo_session(workdir)
     if has_display() or args.screenshot:
         return run_review(recording=[recording], audio=audio, screenshot=args.screenshot)

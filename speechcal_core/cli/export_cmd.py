@@ -23,7 +23,10 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                     "for re-scoring (after an offset edit or an added set) get their best "
                     "still frames first, saved to the session file.")
     p.add_argument("session", metavar="SESSION.json")
-    p.add_argument("--format", required=True, choices=("kalibr", "folders", "rosbag1", "rosbag2"))
+    p.add_argument("--format", required=True, choices=("kalibr", "folders", "rosbag1", "rosbag2"),
+                   help="kalibr: for Kalibr (kalibr_bagcreater makes its bag); folders: for "
+                        "calib.io, mrcal and OpenCV (images per camera with corners.vnl); "
+                        "rosbag1 / rosbag2: a bag for Kalibr or ROS tools")
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder: a new one (an earlier export only with --force)")
     p.add_argument("--force", action="store_true",
