@@ -68,6 +68,23 @@ def fill_meta(t: TopicScan, f: MessageFile) -> None:
             continue
 
 
+def same_frames_notes(stamps: dict[str, np.ndarray]) -> list[str]:
+    """Notes on a topic under another (``image_raw/compressed`` under ``image_raw``) whose
+    header stamps match its own one for one: one camera recorded twice, taken as two
+    cameras. (Hardware-triggered cameras share stamps too, under names of their own.)"""
+    notes = []
+    for a in stamps:
+        for b in stamps:
+            if (b.startswith(a.rstrip("/") + "/") and stamps[a].size
+                    and np.array_equal(stamps[a], stamps[b])):
+                notes.append(
+                    f"{b} has the same header stamps as {a}, frame for frame: one camera "
+                    "recorded twice (raw and compressed?) is taken as two cameras in one "
+                    "place; a calibration of both fails or is meaningless: record only one "
+                    "of them")
+    return notes
+
+
 class BagSource(ClosingContext):
     """Image topics of bag files (ROS1, ROS2 sqlite3, MCAP) keyed by header stamp."""
 
@@ -91,6 +108,7 @@ class BagSource(ClosingContext):
                 scans.append(scan)
                 self.notes.extend(scan.notes)
             self._streams = self._merge(scans)
+            self.notes.extend(same_frames_notes({t: s.stamps for t, s in self._streams.items()}))
         except BaseException:
             self.close()
             raise

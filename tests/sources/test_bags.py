@@ -84,6 +84,22 @@ def test_a_copy_of_a_bag_given_beside_it_is_refused_naming_both(make_bag) -> Non
         open_recording([bag, copy])
 
 
+def test_one_camera_recorded_raw_and_compressed_gets_a_note(make_bag) -> None:
+    """Both topics are taken as cameras (a calibration of the pair fails), so it is said;
+    hardware-triggered cameras share stamps under names of their own and get none."""
+    bag = make_bag("ros1", [Cam("/cam0/image_raw", regular(10), index=0),
+                            Cam("/cam0/image_raw/compressed", regular(10), "jpeg", index=0),
+                            Cam("/cam1/image_raw", regular(10), index=1)])
+    with open_recording([bag]) as src:
+        assert [s.name for s in src.streams] == [
+            "/cam0/image_raw", "/cam0/image_raw/compressed", "/cam1/image_raw"]
+        assert src.notes == [
+            "/cam0/image_raw/compressed has the same header stamps as /cam0/image_raw, frame "
+            "for frame: one camera recorded twice (raw and compressed?) is taken as two "
+            "cameras in one place; a calibration of both fails or is meaningless: record "
+            "only one of them"]
+
+
 def test_split_bags_and_two_pcs_merge_by_topic(make_bag) -> None:
     first = make_bag("ros1", [Cam("/cam0/image_raw", regular(10), index=0)], name="a")
     second = make_bag(
