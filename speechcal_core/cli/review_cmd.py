@@ -96,6 +96,7 @@ def _recording_and_audio(inputs: list[str], audio: str | None, session: str | No
                              "and its audio (speechcal review RECORDING --audio AUDIO)")
         raise UsageError(f"{sounds[0]} is an audio file: give the recording too "
                          f"(speechcal review RECORDING --audio {sounds[0]})")
-    if Path(session).exists() if session else default_session_path(inputs).exists():
+    kept = Path(session) if session else default_session_path(inputs)
+    if kept.exists():
         return inputs, None
     raise UsageError("a recording needs its audio: add --audio AUDIO")
