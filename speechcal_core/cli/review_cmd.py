@@ -82,7 +82,7 @@ def _recording_and_audio(inputs: list[str], audio: str | None, session: str | No
     when the recording's ``session`` file (by default beside it) exists: it knows its
     audio."""
     from speechcal_core.audio import AUDIO_SUFFIXES
-    from speechcal_core.review.loading import default_session_path
+    from speechcal_core.review.loading import session_path_for
 
     if audio:
         return inputs, audio
@@ -96,7 +96,6 @@ def _recording_and_audio(inputs: list[str], audio: str | None, session: str | No
                              "and its audio (speechcal review RECORDING --audio AUDIO)")
         raise UsageError(f"{sounds[0]} is an audio file: give the recording too "
                          f"(speechcal review RECORDING --audio {sounds[0]})")
-    kept = Path(session) if session else default_session_path(inputs)
-    if kept.exists():
+    if session_path_for(inputs, session).exists():
         return inputs, None
     raise UsageError("a recording needs its audio: add --audio AUDIO")

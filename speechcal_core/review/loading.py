@@ -65,6 +65,11 @@ def default_session_path(recording: Sequence[str]) -> Path:
     return first.absolute().parent / f"{stem}.speechcal.json"
 
 
+def session_path_for(recording: Sequence[str], given: str | Path | None = None) -> Path:
+    """The session file of ``recording``: ``given`` (``--session``), else the default."""
+    return Path(given) if given else default_session_path(recording)
+
+
 def load_for_review(
     *,
     session_path: str | Path | None = None,
@@ -96,7 +101,7 @@ def load_for_review(
         stamp = file_stamp(path)  # before reading: a change while reading shows later
         session = load_session(path)
     elif recording:
-        path = Path(new_session_path) if new_session_path else default_session_path(recording)
+        path = session_path_for(recording, new_session_path)
         if path.exists():
             report(f"reading existing session {path.name}", 0.05)
             stamp = file_stamp(path)

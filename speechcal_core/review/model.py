@@ -418,9 +418,7 @@ class ReviewModel:
             self._redo.clear()
             self._apply(current.id, decision)
         if self.advance_after_decision:
-            ahead = [i for i in self.shown() if i > self.current]
-            if ahead:
-                self.go_to_set(ahead[0])
+            self.next_set()
 
     def undo(self) -> None:
         if self._undo:
