@@ -54,13 +54,15 @@ def refine_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
 
 
 def word_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
-                floor_db: float, band_hz: tuple[float, float] = BAND_HZ) -> WordBounds:
+                floor_db: float, band_hz: tuple[float, float] = BAND_HZ,
+                after_s: float = SEARCH_AFTER_S) -> WordBounds:
     """``refine_bounds`` plus whether the word's energy runs on past the offset search;
-    ``band_hz`` is where the energy is measured."""
+    ``band_hz`` is where the energy is measured, ``after_s`` how far after ``end_s`` the
+    offset may lie."""
     a = max(0, int((start_s - SEARCH_BEFORE_S - 0.03) * rate))
-    b = min(samples.size, int((end_s + SEARCH_AFTER_S + 0.03) * rate))
+    b = min(samples.size, int((end_s + after_s + 0.03) * rate))
     # the energy runs on past the bounds search, for what follows the word
-    follow = min(samples.size, int((end_s + SEARCH_AFTER_S + FOLLOW_S[1] + 0.03) * rate))
+    follow = min(samples.size, int((end_s + after_s + FOLLOW_S[1] + 0.03) * rate))
     energy_on = band_energy_db(samples[a:follow], rate, band_hz)
     t_on = a / rate + np.arange(energy_on.size) * HOP_S + 0.0125  # frame centres
     searched = frame_count(b - a, rate)
@@ -80,14 +82,14 @@ def word_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
     while i > 0 and t[i - 1] >= start_s - SEARCH_BEFORE_S and loud[max(0, i - gap):i].any():
         i -= 1
     j = last
-    while j < energy.size - 1 and t[j + 1] <= end_s + SEARCH_AFTER_S and \
+    while j < energy.size - 1 and t[j + 1] <= end_s + after_s and \
             loud[j + 1:j + 1 + gap].any():
         j += 1
     offset = float(t[j] + 0.0125)
     onset = min(float(t[i] - 0.0125), start_s + MAX_ONSET_DELAY_S)
     # the sound lasted as far as the search looked (no pause ended the word), or more
     # speech follows after a pause too short to end a phrase
-    return WordBounds(onset, offset, offset >= end_s + SEARCH_AFTER_S
+    return WordBounds(onset, offset, offset >= end_s + after_s
                       or _speech_follows(energy_on, t_on, offset, threshold))
 
 

@@ -101,6 +101,22 @@ def test_real_speech_finds_clubs_in_noise() -> None:
                      "cards_004.wav": []}
 
 
+#: "clubs" in the real recordings, its bounds marked by hand on their spectrograms: from
+#: the burst of its /k/ to the end of its /z/ (audio seconds)
+CLUBS_MARKED = {"cards_001.wav": (0.49, 0.93), "cards_002.wav": (1.23, 1.71),
+                "cards_003.wav": (0.76, 1.21), "cards_005.wav": (1.69, 2.13)}
+
+
+def test_real_speech_times_clubs_from_its_k_to_the_end_of_its_z() -> None:
+    """The closing "z" has little energy in the speech band, and the closure of the "b"
+    before it looked like the end of the word: t came 18-98 ms early."""
+    for name, (start, end) in CLUBS_MARKED.items():
+        result = detect_triggers(real_speech(name), ["clubs"])
+        assert [w.word for w in result.triggers] == ["clubs"], name
+        assert result.triggers[0].t == pytest.approx((start + end) / 2, abs=0.025), name
+        assert result.triggers[0].end_s == pytest.approx(end, abs=0.04), name
+
+
 def test_silence_noise_and_tones_give_no_triggers(tmp_path: Path) -> None:
     rng = np.random.default_rng(0)
     t = np.arange(4 * RATE) / RATE
