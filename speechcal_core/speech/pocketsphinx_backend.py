@@ -46,7 +46,13 @@ from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
 from speechcal_core.speech.self_similarity import confirm_and_expand
 from speechcal_core.speech.speech_index import Representation
 from speechcal_core.speech.timing import FRICATIVE_BAND_HZ, word_bounds
-from speechcal_core.speech.vad import VoiceActivity, voice_activity
+from speechcal_core.speech.vad import HOP_S as VAD_HOP_S
+from speechcal_core.speech.vad import (
+    VoiceActivity,
+    band_energy_db,
+    noise_floor_db,
+    voice_activity,
+)
 
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio
@@ -194,14 +200,17 @@ class PocketsphinxBackend:
                                                activity.level_db(start, end, PEAK_PERCENTILE)))
             found.extend(decode_span(decoder, x[a:b], start, self._vocab))
         refined, running_on = [], []
+        heard_ends: dict[Word, float] = {}  # the recogniser's end of a word closing in a hiss
         for w in _dedupe(found):
             bounds = word_bounds(x, RATE, w.start_s, w.end_s, activity.floor_at(w.t))
             word = Word(w.word, bounds.start_s, bounds.end_s, w.score, w.source)
+            if w.word in self._hiss_last:
+                heard_ends[word] = w.end_s
             # a trigger whose sound runs on without a pause is the start of something
             # longer ("captured it?"): not reported, and no template for the search below
             (running_on if bounds.runs_on and w.word in spec.words else refined).append(word)
         if not self.expand:
-            return self._hiss_bounds(x, activity, refined)
+            return self._hiss_bounds(x, activity, refined, heard_ends)
         if self.progress is not None:
             self.progress(DECODING_SHARE)
         out = [w for w in refined if w.word not in spec.words]
@@ -228,18 +237,24 @@ class PocketsphinxBackend:
         neighbours = self._rivals | self._confusables
         out = [w for w in out if w.word not in neighbours
                or not any(t.start_s < w.end_s and w.start_s < t.end_s for t in triggers)]
-        return sorted(self._hiss_bounds(x, activity, out), key=lambda w: w.start_s)
+        return sorted(self._hiss_bounds(x, activity, out, heard_ends), key=lambda w: w.start_s)
 
-    def _hiss_bounds(self, x: np.ndarray, activity: VoiceActivity,
-                     words: list[Word]) -> list[Word]:
+    def _hiss_bounds(self, x: np.ndarray, activity: VoiceActivity, words: list[Word],
+                     heard_ends: dict[Word, float]) -> list[Word]:
         """``words``, those of a trigger opening with a fricative started at its hiss and
-        those closing with one ended at its hiss."""
+        those closing with one ended at its hiss; where noise hides that hiss, at the
+        recogniser's end (``heard_ends``), or for words the similarity search found, as
+        far past their speech-band end as the recognised ones' ends lay past theirs."""
+        tails = {word: float(np.median([min(MAX_HISS_AFTER_S, max(0.0, end - w.end_s))
+                                        for w, end in heard_ends.items() if w.word == word]))
+                 for word in self._hiss_last if any(w.word == word for w in heard_ends)}
         out = []
         for w in words:
             if w.word in self._hiss_first:
                 w = _hiss_onset(x, activity, w)
             if w.word in self._hiss_last:
-                w = _hiss_offset(x, activity, w)
+                heard = heard_ends.get(w, w.end_s + tails.get(w.word, 0.0))
+                w = _hiss_offset(x, activity, w, min(heard, w.end_s + MAX_HISS_AFTER_S))
             out.append(w)
         return out
 
@@ -397,6 +412,9 @@ FRICATIVES = frozenset({"S", "SH", "Z", "ZH", "F", "TH", "V", "DH"})
 #: how much later than the speech band's offset a closing fricative may end: a "z" after
 #: a voiced stop lasts up to about 200 ms
 MAX_HISS_AFTER_S = 0.25
+#: a hiss that moves the offset less than this is taken as hidden in noise
+HISS_HEARD_S = 0.05
+FLOOR_AROUND_S = 4.0  # the noise floor of a band is measured this far either side
 
 
 def _hiss_onset(x: np.ndarray, activity: VoiceActivity, word: Word) -> Word:
@@ -413,17 +431,32 @@ def _hiss_onset(x: np.ndarray, activity: VoiceActivity, word: Word) -> Word:
     return Word(word.word, bounds.start_s, word.end_s, word.score, word.source)
 
 
-def _hiss_offset(x: np.ndarray, activity: VoiceActivity, word: Word) -> Word:
+def _hiss_offset(x: np.ndarray, activity: VoiceActivity, word: Word,
+                 hidden_end_s: float) -> Word:
     """``word`` ending where its energy ends in FRICATIVE_BAND_HZ, if that is later (at
     most MAX_HISS_AFTER_S later): the speech band misses most of a closing "z" or "s", and
     a voiced stop before it ("b" of "clubs") looks like the word's end. Real speech
     (``../shared/speech-real``), "clubs" against its bounds marked on the spectrogram:
     |t - truth| 18-98 ms (median 69) -> see ``test_real_speech_times_clubs``."""
-    bounds = word_bounds(x, RATE, word.start_s, word.end_s, activity.floor_at(word.t),
-                         FRICATIVE_BAND_HZ, after_s=MAX_HISS_AFTER_S)
-    if bounds.end_s <= word.end_s:
+    bounds = word_bounds(x, RATE, word.start_s, word.end_s,
+                         _band_floor(x, word.t, FRICATIVE_BAND_HZ), FRICATIVE_BAND_HZ,
+                         after_s=MAX_HISS_AFTER_S)
+    end = bounds.end_s if bounds.end_s >= word.end_s + HISS_HEARD_S else hidden_end_s
+    if end <= word.end_s:
         return word
-    return Word(word.word, word.start_s, bounds.end_s, word.score, word.source)
+    return Word(word.word, word.start_s, end, word.score, word.source)
+
+
+def _band_floor(x: np.ndarray, t_s: float, band_hz: tuple[float, float]) -> float:
+    """The noise floor (dB) in ``band_hz`` at ``t_s``, from the audio around it: the
+    voice activity's floor is the speech band's, and noise with much hiss in it stands
+    higher above that in a wider band (a word's hiss then ran on into the noise)."""
+    a = max(0, int((t_s - FLOOR_AROUND_S) * RATE))
+    b = min(x.size, int((t_s + FLOOR_AROUND_S) * RATE))
+    floor = noise_floor_db(band_energy_db(x[a:b], RATE, band_hz))
+    if floor.size == 0:
+        return -math.inf
+    return float(floor[min(floor.size - 1, max(0, int((t_s - a / RATE) / VAD_HOP_S)))])
 
 
 def _dedupe(words: list[Word]) -> list[Word]:

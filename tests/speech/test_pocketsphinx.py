@@ -117,6 +117,19 @@ def test_real_speech_times_clubs_from_its_k_to_the_end_of_its_z() -> None:
         assert result.triggers[0].end_s == pytest.approx(end, abs=0.04), name
 
 
+def test_the_closing_hiss_of_clubs_ends_where_it_does_in_hissing_noise(tmp_path: Path) -> None:
+    """This scene's noise has more of its energy in the hiss band than in the speech band:
+    measured against the speech band's noise floor, the "z" of "clubs" ran 0.26 s on into
+    the noise."""
+    items = [(n, load_audio(real_speech(n), rate=RATE).samples)
+             for n in ("cards_001.wav", "cards_003.wav")]
+    scene = make_scene(tmp_path / "hiss.wav", items, snr_db=15, seed=1)
+    placed_at = scene.placed[1][1]
+    result = detect_triggers(scene.path, ["clubs"])
+    ends = [w.end_s - placed_at for w in result.triggers if w.start_s > placed_at]
+    assert ends == [pytest.approx(CLUBS_MARKED["cards_003.wav"][1], abs=0.04)]
+
+
 def test_silence_noise_and_tones_give_no_triggers(tmp_path: Path) -> None:
     rng = np.random.default_rng(0)
     t = np.arange(4 * RATE) / RATE
