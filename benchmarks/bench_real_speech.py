@@ -11,7 +11,7 @@ on the spectrogram, from the burst of its /k/ to the end of its /z/ (the same ma
 ``tests/speech/test_pocketsphinx.py``).
 
     python benchmarks/bench_real_speech.py              # 10 scenes per SNR
-    python benchmarks/bench_real_speech.py --scenes 3 --snr 20
+    python benchmarks/bench_real_speech.py --scenes 3 --snr 20 --sensitivity 0.8
 
 Each recording appears once a scene, so the similarity search never meets a copy of the
 same waveform. Prints figures; asserts nothing.
@@ -39,6 +39,7 @@ from bench_triggers import NaiveKeyphrase, row, score  # noqa: E402
 
 from speechcal_core.audio import load_audio  # noqa: E402
 from speechcal_core.speech import TriggerSpec, match_triggers  # noqa: E402
+from speechcal_core.speech.matching import DEFAULT_SENSITIVITY  # noqa: E402
 from speechcal_core.speech.pocketsphinx_backend import PocketsphinxBackend  # noqa: E402
 from speechcal_core.synth.audio import _RoomNoise  # noqa: E402  (the synth's room tone)
 
@@ -81,14 +82,17 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--snr", type=float, nargs="+", default=[20.0, 10.0, 5.0])
     parser.add_argument("--scenes", type=int, default=10, help="scenes (seeds) per SNR")
+    parser.add_argument("--sensitivity", type=float, default=DEFAULT_SENSITIVITY,
+                        help="of our detector (0..1)")
     args = parser.parse_args()
     missing = [n for n in CLUBS_MARKED if not (REAL_SPEECH / n).is_file()]
     if missing:
         sys.exit(f"{REAL_SPEECH}: {', '.join(missing)} not found; the real recordings "
                  f"sit beside the checkout (../shared/speech-real)")
-    print(f"{args.scenes} scenes per SNR, trigger 'clubs'; load average "
+    print(f"{args.scenes} scenes per SNR, trigger 'clubs' at sensitivity "
+          f"{args.sensitivity:g}; load average "
           f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
-    spec = TriggerSpec(("clubs",))
+    spec = TriggerSpec(("clubs",), sensitivity=args.sensitivity)
     detectors = [PocketsphinxBackend(), NaiveKeyphrase()]
     with tempfile.TemporaryDirectory(prefix="bench_real_speech_") as tmp:
         for snr in args.snr:
