@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from speechcal_core.cli._inputs import recording_and_audio
 from speechcal_core.cli._output import StageProgress, emit_json, progress
 from speechcal_core.cli._speech_options import (
     add_channel_option,
@@ -13,6 +14,7 @@ from speechcal_core.cli._speech_options import (
     pronunciations,
     sensitivity,
 )
+from speechcal_core.errors import UsageError
 from speechcal_core.fsutil import OutputExistsError, overlap
 
 if TYPE_CHECKING:
@@ -24,8 +26,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = subparsers.add_parser("process", help="build a session file from recording and audio")
     p.add_argument("recording", metavar="RECORDING", nargs="+",
                    help="ROS1/ROS2 bags, MCAP files, a video or an image folder (a split "
-                        "bag: all its parts)")
-    p.add_argument("--audio", required=True, metavar="AUDIO",
+                        "bag: all its parts); the audio file may be given among them")
+    p.add_argument("--audio", metavar="AUDIO",
                    help="the microphone's audio file (wav, flac, ogg...)")
     add_channel_option(p)
     p.add_argument("--target", metavar="TARGET.yaml", help="Kalibr target yaml")
@@ -52,6 +54,9 @@ def run(args: argparse.Namespace) -> int:
     from speechcal_core.session.store import check_session_target, save_session
     from speechcal_core.target import TargetSpec
 
+    args.recording, args.audio = recording_and_audio(args.recording, args.audio, "process")
+    if args.audio is None:
+        raise UsageError("a recording needs its audio: add --audio AUDIO")
     _refuse_to_write_over_inputs(args)
     if Path(args.output).exists() and not args.force:
         raise OutputExistsError(

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
+from speechcal_core.cli._inputs import recording_and_audio
 from speechcal_core.cli._speech_options import (
     add_channel_option,
     add_trigger_options,
@@ -77,25 +77,12 @@ def run(args: argparse.Namespace) -> int:
 
 def _recording_and_audio(inputs: list[str], audio: str | None, session: str | None
                          ) -> tuple[list[str], str | None]:
-    """The recording's paths and the audio file: ``--audio``, or the one input named as
-    audio (``review recording.bag mic.ogg``, as a drop on the window opens them), or None
+    """The recording's paths and the audio file (``_inputs.recording_and_audio``), or None
     when the recording's ``session`` file (by default beside it) exists: it knows its
     audio."""
-    from speechcal_core.audio import AUDIO_SUFFIXES
     from speechcal_core.review.loading import session_path_for
 
-    if audio:
-        return inputs, audio
-    sounds = [p for p in inputs if p.lower().endswith(AUDIO_SUFFIXES)]
-    others = [p for p in inputs if p not in sounds]
-    if len(sounds) == 1 and others:
-        return others, sounds[0]
-    if sounds and not others:
-        if Path(sounds[0]).is_dir():  # a ROS2 bag folder with an odd name, or a typo
-            raise UsageError(f"{sounds[0]} is a folder, not an audio file: give the recording "
-                             "and its audio (speechcal review RECORDING --audio AUDIO)")
-        raise UsageError(f"{sounds[0]} is an audio file: give the recording too "
-                         f"(speechcal review RECORDING --audio {sounds[0]})")
-    if session_path_for(inputs, session).exists():
-        return inputs, None
-    raise UsageError("a recording needs its audio: add --audio AUDIO")
+    recording, audio = recording_and_audio(inputs, audio, "review")
+    if audio is None and not session_path_for(recording, session).exists():
+        raise UsageError("a recording needs its audio: add --audio AUDIO")
+    return recording, audio

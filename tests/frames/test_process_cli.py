@@ -118,6 +118,19 @@ def test_process_never_writes_the_session_over_its_own_inputs_even_with_force(
     assert not victim.with_name(victim.name + ".bak").exists()
 
 
+def test_process_takes_the_audio_among_the_inputs_as_review_does(synth, capsys) -> None:
+    out, truth = synth
+    recording, audio = out / truth["recording"], out / "audio.ogg"
+    # -o onto the audio shows it was taken as the audio, and stops before any work
+    assert main(["process", str(recording), str(audio), "-o", str(audio), "--force"]) == 1
+    assert f"{audio} is the audio this reads" in capsys.readouterr().err
+    assert main(["process", str(audio), "-o", "s.json"]) == 2
+    assert (f"{audio} is an audio file: give the recording too (speechcal process "
+            f"RECORDING --audio {audio})") in capsys.readouterr().err
+    assert main(["process", str(recording), "-o", "s.json"]) == 2
+    assert "a recording needs its audio: add --audio AUDIO" in capsys.readouterr().err
+
+
 def test_process_output_that_is_a_folder_names_a_file_to_give_before_any_work(
         synth, tmp_path: Path, capsys) -> None:
     out, truth = synth

@@ -1,0 +1,33 @@
+"""The recording and the audio among a command's positional inputs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from speechcal_core.errors import UsageError
+
+
+def recording_and_audio(inputs: list[str], audio: str | None, command: str
+                        ) -> tuple[list[str], str | None]:
+    """The recording's paths and the audio file: ``audio`` (``--audio``), or the one input
+    named as audio (``recording.bag mic.ogg``, as a drop on the window opens them), or
+    None when neither gives one. Audio without a recording is refused, naming ``command``
+    in the advice."""
+    from speechcal_core.audio import AUDIO_SUFFIXES
+
+    if audio:
+        return inputs, audio
+    sounds = [p for p in inputs if p.lower().endswith(AUDIO_SUFFIXES)]
+    others = [p for p in inputs if p not in sounds]
+    if len(sounds) == 1 and others:
+        return others, sounds[0]
+    if len(sounds) > 1:
+        raise UsageError(f"{', '.join(sounds)} are all audio files: give the one of the "
+                         f"microphone (speechcal {command} RECORDING --audio AUDIO)")
+    if sounds:
+        if Path(sounds[0]).is_dir():  # a ROS2 bag folder with an odd name, or a typo
+            raise UsageError(f"{sounds[0]} is a folder, not an audio file: give the recording "
+                             f"and its audio (speechcal {command} RECORDING --audio AUDIO)")
+        raise UsageError(f"{sounds[0]} is an audio file: give the recording too "
+                         f"(speechcal {command} RECORDING --audio {sounds[0]})")
+    return inputs, None
