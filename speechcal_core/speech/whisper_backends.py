@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -27,7 +28,8 @@ def require(backend: str, model_dir: str | Path | None) -> Path:
     if importlib.util.find_spec(package) is None:
         raise SpeechError(
             f"backend {backend!r} needs the Python package {package!r}, which is not "
-            f"installed; run `pip install {backend}` or use --backend pocketsphinx"
+            f"installed in the Python speechcal runs on; run `{sys.executable} -m pip "
+            f"install {backend}` or use --backend pocketsphinx"
         )
     if not model_dir:
         raise SpeechError(

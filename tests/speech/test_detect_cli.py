@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import pytest
@@ -76,7 +77,8 @@ def test_missing_whisper_backend_says_what_to_install(capture_scene, backend: st
                                                       capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["detect", str(capture_scene.path), "--backend", backend, "--json"]) == 1
     err = capsys.readouterr().err
-    assert f"pip install {backend}" in err and "pocketsphinx" in err
+    # the pip of the Python speechcal runs on (the venv's), not whichever is on PATH
+    assert f"{sys.executable} -m pip install {backend}" in err and "pocketsphinx" in err
 
 
 def test_unknown_backend_and_bad_options_are_reported(capture_scene,
