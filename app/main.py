@@ -15,6 +15,7 @@ from speechcal_core.fsutil import folder_write_problem
 
 if TYPE_CHECKING:
     from app.main_window import ReviewWindow
+    from speechcal_core.sources.selection import StreamChoice
     from speechcal_core.speech.matching import TriggerSpec
     from speechcal_core.target import TargetSpec
 
@@ -65,11 +66,13 @@ def run_review(
     triggers: TriggerSpec | None = None,
     channel: int | None = None,
     target: TargetSpec | None = None,
+    streams: StreamChoice | None = None,
 ) -> int:
     """Open the window on the given input; with ``screenshot`` render it to PNG and exit.
     A recording's new session is saved at ``new_session_path`` (default: beside it),
-    detects ``triggers`` in the audio's ``channel`` and looks for the board ``target``
-    (defaults: "capture", all channels, Kalibr's 6x6 AprilGrid)."""
+    detects ``triggers`` in the audio's ``channel``, looks for the board ``target`` and
+    uses the recording's ``streams`` (defaults: "capture", all channels, Kalibr's 6x6
+    AprilGrid, all streams)."""
     if screenshot:
         check_screenshot_path(screenshot)  # before minutes of loading, not after
     if screenshot and not has_display():
@@ -88,7 +91,7 @@ def run_review(
     if session_path or recording:
         window.open(session_path=session_path, recording=list(recording or []) or None,
                     audio=audio, new_session_path=new_session_path, triggers=triggers,
-                    channel=channel, target=target)
+                    channel=channel, target=target, streams=streams)
     window.show()
     try:
         if screenshot:

@@ -58,6 +58,7 @@ from speechcal_core.sync.estimate import clap_off
 from speechcal_core.text import counted
 
 if TYPE_CHECKING:
+    from speechcal_core.sources.selection import StreamChoice
     from speechcal_core.speech.matching import TriggerSpec
     from speechcal_core.target import TargetSpec
 
@@ -448,14 +449,14 @@ class ReviewWindow(QMainWindow):
     def open(self, *, session_path: str | None = None, recording: list[str] | None = None,
              audio: str | None = None, new_session_path: str | None = None,
              triggers: TriggerSpec | None = None, channel: int | None = None,
-             target: TargetSpec | None = None) -> None:
+             target: TargetSpec | None = None, streams: StreamChoice | None = None) -> None:
         """Load a session file, or process a recording + audio (its session saved at
-        ``new_session_path``, by default beside the recording; ``triggers``, ``channel``
-        and ``target`` as for ``load_for_review``), on a worker thread."""
+        ``new_session_path``, by default beside the recording; ``triggers``, ``channel``,
+        ``target`` and ``streams`` as for ``load_for_review``), on a worker thread."""
         self._start(lambda report: load_for_review(
             session_path=session_path, recording=recording, audio=audio,
             new_session_path=new_session_path, triggers=triggers, channel=channel,
-            target=target, progress=report), "opening…")
+            target=target, streams=streams, progress=report), "opening…")
 
     def _start(self, work, text: str) -> None:
         if not self._may_drop_unsaved():

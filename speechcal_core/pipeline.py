@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 from speechcal_core.session.model import (
     PRONUNCIATIONS_KEY,
     SENSITIVITY_KEY,
+    STREAMS_KEY,
     FrameSet,
     Session,
     Trigger,
@@ -27,6 +28,7 @@ if TYPE_CHECKING:
     from speechcal_core.frames.detect import Target
     from speechcal_core.frames.sets import FrameSetOptions
     from speechcal_core.sources.base import FrameSource
+    from speechcal_core.sources.selection import StreamChoice
 
 Progress = Callable[[str, float], None]
 
@@ -74,27 +76,29 @@ def process_recording(
     frame_options: FrameSetOptions | None = None,
     progress: Progress | None = None,
     channel: int | None = None,
+    streams: StreamChoice | None = None,
 ) -> Session:
     """Sync, detect and build frame sets; returns a new, undecided session.
 
     ``target`` defaults to Kalibr's 6x6 AprilGrid (the session's ``"target_assumed"``
     says whether it was); ``frame_options`` sets the search window (or turns the
     best-still-frame search off); ``channel`` the audio file's channel to use (0-based;
-    None mixes them), kept in the session for the review's waveform, sound and search.
+    None mixes them), kept in the session for the review's waveform, sound and search;
+    ``streams`` the recording's streams to use (kept in the session too).
     """
     from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
 
     report = progress or _noop
     report("indexing the recording", 0.02)
-    with open_recording(list(recording)) as source:
+    with open_recording(list(recording), streams=streams) as source:
         report("reading the audio", 0.1)
         sound = load_audio(audio, channel=channel)
         return process_loaded(
             source, sound, recording, audio, trigger_words=trigger_words,
             transcript=transcript, pronunciations=pronunciations, sensitivity=sensitivity,
             offset_ns=offset_ns, target=target,
-            frame_options=frame_options, progress=report,
+            frame_options=frame_options, progress=report, streams=streams,
         )
 
 
@@ -112,9 +116,11 @@ def process_loaded(
     target: Target | None = None,
     frame_options: FrameSetOptions | None = None,
     progress: Progress | None = None,
+    streams: StreamChoice | None = None,
 ) -> Session:
     """:func:`process_recording` on a recording and audio the caller already opened
-    (the review keeps both for display instead of reading them twice)."""
+    (the review keeps both for display instead of reading them twice); ``streams`` is
+    the choice ``source`` was opened with, kept in the session."""
     from speechcal_core.frames.analysis import analyse_frames
     from speechcal_core.frames.word_stillness import moving_words_note, word_stillness
     from speechcal_core.sync.pipeline import sync_recording
@@ -171,6 +177,7 @@ def process_loaded(
         calibration=analysis.calibration,
         extra={**analysis.extra, "target": asdict(target),
                "target_assumed": assumed, **settings, **_audio_file(audio),
+               **({STREAMS_KEY: [s.name for s in source.streams]} if streams else {}),
                **({"detection_notes": notes} if notes else {})},
     )
     report("done", 1.0)

@@ -1,10 +1,29 @@
-"""The recording and the audio among a command's positional inputs."""
+"""The recording, its audio and its streams, from a command's inputs and options."""
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 from speechcal_core.errors import UsageError
+from speechcal_core.sources.selection import StreamChoice
+
+
+def add_stream_options(p: argparse.ArgumentParser) -> None:
+    """``--stream`` and ``--skip-stream``: which of the recording's streams are cameras."""
+    p.add_argument("--stream", action="append", metavar="TOPIC",
+                   help="use only this stream (topic, video or image folder) of the "
+                        "recording; repeat for more (default: all; `speechcal index` lists "
+                        "them)")
+    p.add_argument("--skip-stream", action="append", metavar="TOPIC",
+                   help="leave this stream out (one camera recorded twice, a depth or "
+                        "infrared topic); repeat for more")
+
+
+def stream_choice(args: argparse.Namespace) -> StreamChoice | None:
+    """The streams ``--stream`` and ``--skip-stream`` choose (None: all)."""
+    choice = StreamChoice(tuple(args.stream or ()), tuple(args.skip_stream or ()))
+    return choice or None
 
 
 def recording_and_audio(inputs: list[str], audio: str | None, command: str

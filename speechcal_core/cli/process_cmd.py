@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from speechcal_core.cli._inputs import recording_and_audio
+from speechcal_core.cli._inputs import add_stream_options, recording_and_audio, stream_choice
 from speechcal_core.cli._output import StageProgress, emit_json, progress
 from speechcal_core.cli._speech_options import (
     add_channel_option,
@@ -30,6 +30,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--audio", metavar="AUDIO",
                    help="the microphone's audio file (wav, flac, ogg...)")
     add_channel_option(p)
+    add_stream_options(p)
     p.add_argument("--target", metavar="TARGET.yaml", help="Kalibr target yaml")
     add_trigger_options(p)
     p.add_argument("--transcript", metavar="F",
@@ -79,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
         offset_ns=args.offset_ns,
         channel=args.channel,
         target=target,
+        streams=stream_choice(args),
         progress=report,
     )
     out = Path(args.output)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from speechcal_core.cli._inputs import recording_and_audio
+from speechcal_core.cli._inputs import add_stream_options, recording_and_audio, stream_choice
 from speechcal_core.cli._speech_options import (
     add_channel_option,
     add_trigger_options,
@@ -32,6 +32,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "a new session (default: Kalibr's 6x6 AprilGrid)")
     add_trigger_options(p)  # for a recording processed into a new session
     add_channel_option(p)
+    add_stream_options(p)  # for a recording processed into a new session
     return p
 
 
@@ -45,10 +46,11 @@ def run(args: argparse.Namespace) -> int:
         if args.audio or args.session:
             raise UsageError("--audio and --session go with a recording, not with a session "
                              "file")
-        if detection_options_given(args) or args.target:
-            raise UsageError("--trigger, --sensitivity, --pronounce, --channel and --target go "
-                             "with a recording the review processes, not with a session "
-                             "file: speechcal review RECORDING --audio AUDIO --trigger W")
+        if detection_options_given(args) or args.target or stream_choice(args):
+            raise UsageError("--trigger, --sensitivity, --pronounce, --channel, --target, "
+                             "--stream and --skip-stream go with a recording the review "
+                             "processes, not with a session file: speechcal review "
+                             "RECORDING --audio AUDIO --trigger W")
     elif (args.session or args.target) and not args.inputs:
         raise UsageError(f"{'--session' if args.session else '--target'} goes with a "
                          "recording: RECORDING --audio AUDIO "
@@ -72,7 +74,8 @@ def run(args: argparse.Namespace) -> int:
         )
     return run_review(session_path=session_path, recording=recording, audio=args.audio,
                       new_session_path=args.session, screenshot=args.screenshot,
-                      triggers=triggers, channel=args.channel, target=target)
+                      triggers=triggers, channel=args.channel, target=target,
+                      streams=stream_choice(args))
 
 
 def _recording_and_audio(inputs: list[str], audio: str | None, session: str | None

@@ -283,7 +283,7 @@ def export_session_file(
     check_recording_present(session, session_path)
     report = progress or _noop
     report("opening the recording", 0.0)
-    with open_recording(session.recording) as source:
+    with open_recording(session.recording, streams=session.stream_choice()) as source:
         rescored = _rescore_waiting(session, source, session_path, stamp, include_undecided,
                                     report)
         if rescored:

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.frames.nearest import stamped_index
 from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY
-from speechcal_core.session.model import Session
+from speechcal_core.session.model import STREAMS_KEY, Session
 from speechcal_core.session.store import (
     check_recording_present,
     file_stamp,
@@ -23,6 +23,7 @@ from speechcal_core.target import TargetSpec
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio, EnvelopePyramid
     from speechcal_core.sources.base import FrameSource
+    from speechcal_core.sources.selection import StreamChoice
 
 Progress = Callable[[str, float], None]
 
@@ -80,14 +81,15 @@ def load_for_review(
     channel: int | None = None,
     target: TargetSpec | None = None,
     progress: Progress | None = None,
+    streams: StreamChoice | None = None,
 ) -> ReviewInputs:
     """Open a session file, or process ``recording`` + ``audio`` into a new session.
 
     A new session is saved at ``new_session_path``, by default beside the recording; an
     existing session there is opened instead of being overwritten. A new session detects
     ``triggers`` (default: "capture" at the default sensitivity) in the audio's
-    ``channel`` (0-based; None mixes them) and looks for the board ``target`` (default:
-    Kalibr's 6x6 AprilGrid).
+    ``channel`` (0-based; None mixes them), looks for the board ``target`` (default:
+    Kalibr's 6x6 AprilGrid) and uses the recording's ``streams`` (default: all).
     """
     from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
@@ -126,7 +128,7 @@ def load_for_review(
                          f"with {Path(audio).name}, move {path.name} away or give another "
                          f"session file")
             else:
-                note += _settings_note(session, path, triggers, channel, target)
+                note += _settings_note(session, path, triggers, channel, target, streams)
         else:
             from speechcal_core.pipeline import process_loaded
 
@@ -134,7 +136,7 @@ def load_for_review(
                 raise UsageError("a recording needs its audio file: pass --audio AUDIO")
             _check_new_session_path(path)
             report("indexing the recording", 0.02)
-            source = open_recording(list(recording))
+            source = open_recording(list(recording), streams=streams)
             try:
                 report("reading the audio", 0.1)
                 sound = load_audio(audio, channel=channel)
@@ -143,7 +145,7 @@ def load_for_review(
                                          trigger_words=spec.words,
                                          sensitivity=spec.sensitivity,
                                          pronunciations=spec.pronunciations,
-                                         target=target,
+                                         target=target, streams=streams,
                                          progress=lambda t, f: report(t, 0.9 * f))
                 save_session(session, path)
                 stamp = file_stamp(path)
@@ -159,7 +161,7 @@ def load_for_review(
     if source is None:
         check_recording_present(session, path)
         report("indexing recording", 0.6)
-        source = open_recording(session.recording)
+        source = open_recording(session.recording, streams=session.stream_choice())
     claps = tuple(float(c["audio_s"]) for c in session.sync_evidence.get("claps") or []
                   if isinstance(c, dict) and isinstance(c.get("audio_s"), (int, float)))
     if session.audio and sound is None and Path(session.audio).exists():
@@ -182,9 +184,10 @@ def load_for_review(
 
 
 def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
-                   channel: int | None, target: TargetSpec | None = None) -> str:
-    """Why an existing session does not follow the trigger words, channel or board asked
-    for (its detection and corners are kept with its review work), or ""."""
+                   channel: int | None, target: TargetSpec | None = None,
+                   streams: StreamChoice | None = None) -> str:
+    """Why an existing session does not follow the trigger words, channel, board or
+    streams asked for (its detection and corners are kept with its review work), or ""."""
     words = []
     if triggers is not None and not set(triggers.words) <= set(session.triggers_word):
         words.append(f"trigger word {', '.join(triggers.words)} (it has "
@@ -197,6 +200,10 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
     kept = TargetSpec.from_stored(session.extra.get("target")) or TargetSpec()
     if target is not None and target != kept:
         others.append(f"the board {target.describe()} (it has {kept.describe()})")
+    used = session.extra.get(STREAMS_KEY)
+    if streams and not _same_streams(streams, used):
+        others.append(f"the streams asked for (it uses "
+                      f"{', '.join(used) if used else 'all of the recording'})")
     if words and not others:  # other words can be looked for in the window
         return (f"; not detected again with {words[0]}: Edit ▸ {FIND_WORDS}… "
                 f"({FIND_WORDS_KEY}) adds its sets and keeps the review work")
@@ -204,6 +211,14 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
         return ""
     return (f"; not processed again with {' and '.join(words + others)}: move {path.name} "
             f"away or give another session file to process anew")
+
+
+def _same_streams(choice: StreamChoice, used: list[str] | None) -> bool:
+    """Whether ``choice`` keeps the streams ``used`` (None: all of the recording's)."""
+    if used is None:
+        return False  # a choice of some streams, and the session uses all
+    return (not choice.only or set(choice.only) == set(used)) and \
+        not set(choice.skip) & set(used)
 
 
 def _waveform(session: Session, sound: Audio | None, report: Progress
@@ -242,7 +257,7 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str |
     old = session.recording
     if (not all(Path(p).exists() for p in old) and len(recording) == len(old)
             and sorted(Path(p).name for p in old) == sorted(Path(r).name for r in recording)):
-        source = open_recording(list(recording))
+        source = open_recording(list(recording), streams=session.stream_choice())
         problem = frames_missing(session, source)
         if problem:
             source.close()

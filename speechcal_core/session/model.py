@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from speechcal_core.sources.selection import StreamChoice
 from speechcal_core.sync.model import SyncModel
 
 DECISIONS = ("accepted", "rejected", "undecided")
@@ -101,6 +102,10 @@ class FrameSet:
 #: used, beside ``"trigger_words"``: what the review's "find trigger words" starts from
 SENSITIVITY_KEY = "trigger_sensitivity"
 PRONUNCIATIONS_KEY = "trigger_pronunciations"
+#: key of ``Session.extra`` (top-level in the file): the names of the recording's streams
+#: the session uses, when it was made from some of them (``--stream``, ``--skip-stream``);
+#: absent: all of them
+STREAMS_KEY = "streams"
 
 
 @dataclass
@@ -118,6 +123,11 @@ class Session:
     #: what the sync was found from, as ``speechcal sync`` reports it (claps, cameras)
     sync_evidence: dict[str, Any] = field(default_factory=dict)
     extra: dict[str, Any] = field(default_factory=dict)
+
+    def stream_choice(self) -> StreamChoice | None:
+        """The recording's streams the session uses (None: all of them)."""
+        names = self.extra.get(STREAMS_KEY)
+        return StreamChoice(only=tuple(names)) if names else None
 
     def set_by_id(self, set_id: int) -> FrameSet:
         for s in self.sets:

@@ -10,7 +10,7 @@ from typing import Any
 
 from speechcal_core.errors import SpeechCalError
 from speechcal_core.fsutil import atomic_write_text, folder_write_problem
-from speechcal_core.session.model import FrameSet, Session
+from speechcal_core.session.model import STREAMS_KEY, FrameSet, Session
 from speechcal_core.sync.model import SyncModel
 
 SCHEMA = 1
@@ -203,6 +203,7 @@ def load_session(path: str | Path) -> Session:
     base = path.absolute().parent
     try:
         _check_set_ids(data["sets"] if isinstance(data.get("sets"), list) else [])
+        _check_streams(data.get(STREAMS_KEY))
         known = {"schema", "recording", "audio", "audio_channel", "trigger_words", "sync",
                  "sets", "calibration"}
         return Session(
@@ -240,6 +241,13 @@ def _check_set_ids(sets: list[Any]) -> None:
         if set_id is not None and set_id in seen:
             raise ValueError(f"set id {set_id} appears twice")
         seen.add(set_id)
+
+
+def _check_streams(value: Any) -> None:
+    """ValueError unless ``value`` (the session's streams) is absent or stream names."""
+    if value is not None and not (isinstance(value, list) and value
+                                  and all(isinstance(v, str) and v for v in value)):
+        raise ValueError(f"'{STREAMS_KEY}' is {value!r}, not a list of stream names")
 
 
 def _channel(value: Any) -> int | None:

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 from speechcal_core.sources.base import FrameSource, RawFrame, StreamInfo
 from speechcal_core.sources.errors import BadFrameError, SourceError
+from speechcal_core.sources.selection import StreamChoice
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -18,6 +19,7 @@ __all__ = [
     "FrameSource",
     "RawFrame",
     "SourceError",
+    "StreamChoice",
     "StreamInfo",
     "open_recording",
 ]
@@ -56,6 +58,7 @@ def open_recording(
     use_cache: bool = True,
     scan: bool = False,
     video_start_ns: int | None = None,
+    streams: StreamChoice | None = None,
 ) -> FrameSource:
     """Open a recording (one or several files) as a ``FrameSource``.
 
@@ -68,6 +71,8 @@ def open_recording(
     them. A recovered index is cached too, with its ``notes``.
     ``video_start_ns`` is the header stamp of a video's first frame (default: a
     ``<video>.start_ns`` text file beside it, else an integer file name, else 0).
+    ``streams`` chooses some of its streams (``selection.StreamChoice``; a name the
+    recording lacks is a SourceError).
     """
     if isinstance(paths, (str, Path)):
         paths = [paths]
@@ -101,11 +106,13 @@ def open_recording(
             files = []
             bags.notes.extend(split_part_notes(items))
             sources.insert(0, bags)
+        from speechcal_core.sources.selection import select_streams
+
         if len(sources) == 1:
-            return sources[0]
+            return select_streams(sources[0], streams)
         from speechcal_core.sources.combined import CombinedSource
 
-        return CombinedSource(sources)
+        return select_streams(CombinedSource(sources), streams)
     except BaseException:
         for f in files:
             f.close()

@@ -80,8 +80,8 @@ def same_frames_notes(stamps: dict[str, np.ndarray]) -> list[str]:
                 notes.append(
                     f"{b} has the same header stamps as {a}, frame for frame: one camera "
                     "recorded twice (raw and compressed?) is taken as two cameras in one "
-                    "place; a calibration of both fails or is meaningless: record only one "
-                    "of them")
+                    "place; a calibration of both fails or is meaningless: leave one out "
+                    f"(--skip-stream {b})")
     return notes
 
 

@@ -14,6 +14,7 @@ import pytest
 
 from speechcal_core.cli import main
 from speechcal_core.frames.analysis import analyse_frames
+from speechcal_core.review.loading import load_for_review
 from speechcal_core.session.model import Trigger
 from speechcal_core.sources import open_recording
 from speechcal_core.sync.model import SyncModel
@@ -87,6 +88,34 @@ def test_process_command_writes_the_session_with_progress_on_stderr(synth, tmp_p
                  "-o", str(session_path), "--force"]) == 0
     assert f"the file it replaced is kept as {session_path}.bak" in capsys.readouterr().err
     assert json.loads(session_path.with_name("session.json.bak").read_text()) == doc
+
+
+@pytest.mark.slow
+def test_a_stream_left_out_stays_out_of_the_session_its_review_and_its_export(
+        synth, tmp_path: Path, capsys) -> None:
+    out, truth = synth
+    session_path = tmp_path / "one.json"
+    assert main(["process", str(out / truth["recording"]), str(out / "audio.ogg"),
+                 "--offset-ns", str(truth["sync"]["offset_ns"]),
+                 "--skip-stream", "/cam1/image_raw", "-o", str(session_path)]) == 0
+    doc = json.loads(session_path.read_text())
+    assert doc["streams"] == ["/cam0/image_raw"]
+    assert {f["stream"] for s in doc["sets"] for f in s["frames"]} == {"/cam0/image_raw"}
+    assert set(doc["calibration"]) == {"/cam0/image_raw"}
+    inputs = load_for_review(session_path=session_path)
+    try:
+        assert [s.name for s in inputs.source.streams] == ["/cam0/image_raw"]
+    finally:
+        inputs.close()
+    exported = tmp_path / "folders"
+    assert main(["export", str(session_path), "--format", "folders", "--out", str(exported),
+                 "--include-undecided"]) == 0
+    assert len([p for p in exported.iterdir() if p.is_dir()]) == 1
+    capsys.readouterr()
+    assert main(["process", str(out / truth["recording"]), str(out / "audio.ogg"),
+                 "--stream", "/cam9/image_raw", "-o", str(tmp_path / "none.json")]) == 1
+    assert ("no stream '/cam9/image_raw' in this recording (streams: /cam0/image_raw, "
+            "/cam1/image_raw)") in capsys.readouterr().err
 
 
 def test_process_refuses_an_output_folder_that_does_not_exist_before_any_work(

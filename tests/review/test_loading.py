@@ -265,6 +265,30 @@ def test_a_new_session_looks_for_the_board_given_and_an_existing_one_says_it_kee
     assert "again" not in same.note
 
 
+def test_a_new_session_uses_the_streams_chosen_and_an_existing_one_says_it_keeps_its_own(
+        tiny_synth, tmp_path: Path) -> None:
+    from speechcal_core.sources import StreamChoice
+
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    two = StreamChoice(skip=("/cam2/image_raw",))
+    inputs = load_for_review(recording=[recording], audio=audio, streams=two)
+    inputs.close()
+    assert [s.name for s in inputs.source.streams] == ["/cam0/image_raw", "/cam1/image_raw"]
+    assert inputs.session.extra["streams"] == ["/cam0/image_raw", "/cam1/image_raw"]
+    reopened = load_for_review(session_path=inputs.session_path)
+    reopened.close()
+    assert [s.name for s in reopened.source.streams] == ["/cam0/image_raw", "/cam1/image_raw"]
+    same = load_for_review(recording=[recording], audio=audio, streams=two)
+    same.close()
+    assert "again" not in same.note
+    other = load_for_review(recording=[recording], audio=audio,
+                            streams=StreamChoice(only=("/cam0/image_raw",)))
+    other.close()
+    assert ("not processed again with the streams asked for (it uses /cam0/image_raw, "
+            "/cam1/image_raw)") in other.note
+    assert len(other.source.streams) == 2  # the session's own choice
+
+
 def test_a_session_whose_audio_was_replaced_in_place_opens_with_a_note(
         tiny_synth, tmp_path: Path) -> None:
     import soundfile as sf

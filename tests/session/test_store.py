@@ -129,6 +129,25 @@ def test_the_audio_channel_is_kept_and_a_bad_one_is_named(tmp_path: Path) -> Non
                                                "number from 0"):
         load_session(path)
 
+def test_the_streams_used_are_kept_and_bad_ones_are_named(tmp_path: Path) -> None:
+    from speechcal_core.sources import StreamChoice
+
+    session = _session(tmp_path)
+    path = tmp_path / "session.json"
+    save_session(session, path)
+    assert load_session(path).stream_choice() is None  # all streams
+    session.extra["streams"] = ["/cam0/image_raw"]
+    save_session(session, path)
+    assert load_session(path).stream_choice() == StreamChoice(only=("/cam0/image_raw",))
+    for bad in ("/cam0/image_raw", [], [3]):
+        doc = json.loads(path.read_text())
+        doc["streams"] = bad
+        path.write_text(json.dumps(doc))
+        with pytest.raises(SessionFileError, match=r"'streams' is .*, not a list of stream "
+                                                   r"names"):
+            load_session(path)
+
+
 def test_file_starts_with_schema_and_stores_relative_paths(tmp_path: Path) -> None:
     path = tmp_path / "session.json"
     save_session(_session(tmp_path), path)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from source_data import FORMATS, PERIOD, ROS1, ROS2, T0, Cam, pixels, regular
 
-from speechcal_core.sources import FrameSource, open_recording
+from speechcal_core.sources import FrameSource, StreamChoice, open_recording
 from speechcal_core.sources.base import COMPRESSED_MSGTYPE, IMAGE_MSGTYPE
 from speechcal_core.sources.errors import SourceError
 
@@ -96,8 +96,31 @@ def test_one_camera_recorded_raw_and_compressed_gets_a_note(make_bag) -> None:
         assert src.notes == [
             "/cam0/image_raw/compressed has the same header stamps as /cam0/image_raw, frame "
             "for frame: one camera recorded twice (raw and compressed?) is taken as two "
-            "cameras in one place; a calibration of both fails or is meaningless: record "
-            "only one of them"]
+            "cameras in one place; a calibration of both fails or is meaningless: leave "
+            "one out (--skip-stream /cam0/image_raw/compressed)"]
+
+
+def test_streams_left_out_are_as_if_not_recorded_and_take_their_note_along(make_bag) -> None:
+    bag = make_bag("ros1", [Cam("/cam0/image_raw", regular(10), index=0),
+                            Cam("/cam0/image_raw/compressed", regular(10), "jpeg", index=0),
+                            Cam("/cam1/image_raw", regular(10), index=1)])
+    skip = StreamChoice(skip=("/cam0/image_raw/compressed",))
+    with open_recording([bag], streams=skip) as src:
+        assert [s.name for s in src.streams] == ["/cam0/image_raw", "/cam1/image_raw"]
+        assert src.notes == []
+        assert src.frame("/cam1/image_raw", 3).shape == (12, 16, 3)
+        with pytest.raises(SourceError, match="'/cam0/image_raw/compressed' is left out"):
+            src.stamps("/cam0/image_raw/compressed")
+    with open_recording([bag], streams=StreamChoice(only=("/cam1/image_raw",))) as src:
+        assert [s.name for s in src.streams] == ["/cam1/image_raw"]
+    with pytest.raises(SourceError, match=re.escape(
+            "no stream '/cam9' in this recording (streams: /cam0/image_raw, "
+            "/cam0/image_raw/compressed, /cam1/image_raw); `speechcal index RECORDING` "
+            "lists them")):
+        open_recording([bag], streams=StreamChoice(skip=("/cam9",)))
+    with pytest.raises(SourceError, match="no stream left"):
+        open_recording([bag], streams=StreamChoice(only=("/cam1/image_raw",),
+                                                    skip=("/cam1/image_raw",)))
 
 
 def test_split_bags_and_two_pcs_merge_by_topic(make_bag) -> None:
