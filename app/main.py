@@ -88,6 +88,7 @@ def run_review(
     window = ReviewWindow()
     window.setProperty("headless", bool(screenshot))
     window.demo_button.setVisible(offer_demo)
+    window.on_opened = lambda text: print(f"speechcal review: {text}", file=sys.stderr)
     if session_path or recording:
         window.open(session_path=session_path, recording=list(recording or []) or None,
                     audio=audio, new_session_path=new_session_path, triggers=triggers,

@@ -168,6 +168,9 @@ class ReviewWindow(QMainWindow):
         #: the "then next set" box: accept and reject go on to the next set
         self.advance_after_decision = True
         self._opened_note = ""  # what the status line said when the session opened
+        #: called with what the status line says when a session opens (the command line
+        #: prints it in full: the status line cuts a long note short)
+        self.on_opened: Callable[[str], None] | None = None
         self._pending_tiles: set[str] = set()
         self.undo_button: QPushButton | None = None  # on the review page, once built
         self._playing = False
@@ -619,6 +622,8 @@ class ReviewWindow(QMainWindow):
         n = len(inputs.session.sets)
         self._opened_note = self._opening_text()
         self.status.say(self._opened_note)
+        if self.on_opened is not None:
+            self.on_opened(self._opened_note)
         self.exporter.reset("another session was opened before it could start")
         self._update_sync_line()
         self._update_counts()

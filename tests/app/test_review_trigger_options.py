@@ -36,7 +36,8 @@ def test_trigger_options_with_a_session_file_are_a_usage_error(
         assert "go with a recording the review processes" in capsys.readouterr().err
 
 
-def test_the_review_looks_for_the_board_it_is_given(tmp_path: Path) -> None:
+def test_the_review_looks_for_the_board_it_is_given(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """A checkerboard recording opened with its target.yaml: the new session has its
     corners, with no second processing run."""
     from speechcal_core.synth.options import SynthOptions
@@ -55,6 +56,17 @@ def test_the_review_looks_for_the_board_it_is_given(tmp_path: Path) -> None:
     assert session["target"]["kind"] == "checkerboard" and not session["target_assumed"]
     # the board is found in every set (the AprilGrid assumed without --target: in none)
     assert session["coverage"]["/cam0/image_raw"]["views"] == len(session["sets"]) >= 3
+    # the session is opened again as it is; stderr has the whole note, which the window's
+    # status line cuts short
+    capsys.readouterr()
+    assert main(["review", str(folder / truth["recording"]), "--audio",
+                 str(folder / truth["audio"]), "--skip-stream", "/cam0/image_raw",
+                 "--session", str(session_path), "--screenshot", str(tmp_path / "x.png")]) == 0
+    err = capsys.readouterr().err
+    assert "speechcal review: 1 camera, " in err
+    assert ("not processed again with the streams asked for (it uses all of the recording): "
+            f"move {session_path.name} away or give another session file to process anew"
+            ) in err
 
 
 def test_a_bad_target_file_is_reported_before_anything_opens(
