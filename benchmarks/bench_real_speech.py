@@ -35,7 +35,7 @@ for p in (REPO, HERE):
     if str(p) not in sys.path:
         sys.path.insert(0, str(p))
 
-from bench_triggers import NaiveKeyphrase, row, score  # noqa: E402
+from bench_triggers import NaiveKeyphrase, label, row, score  # noqa: E402
 
 from speechcal_core.audio import load_audio  # noqa: E402
 from speechcal_core.speech import TriggerSpec, match_triggers  # noqa: E402
@@ -80,7 +80,8 @@ def scene(out: Path, snr_db: float, seed: int) -> tuple[Path, list[dict]]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--snr", type=float, nargs="+", default=[20.0, 10.0, 5.0])
+    parser.add_argument("--snr", type=float, nargs="+", default=[20.0, 10.0, 5.0],
+                        help="noise levels, dB of speech above the room noise")
     parser.add_argument("--scenes", type=int, default=10, help="scenes (seeds) per SNR")
     parser.add_argument("--sensitivity", type=float, default=DEFAULT_SENSITIVITY,
                         help="of our detector (0..1)")
@@ -111,7 +112,7 @@ def main() -> None:
                     for k, v in enumerate((tp, nf, nt, err, dt, dc)):
                         acc[k] += v
             for d in detectors:
-                print(row(d.name, snr, *totals[d.name], audio_s), flush=True)
+                print(row(label(d), snr, *totals[d.name], audio_s), flush=True)
 
 
 if __name__ == "__main__":

@@ -79,6 +79,12 @@ class NaiveKeyphrase:
                      self.name) for s in decoder.seg() or []]
 
 
+def label(detector: PocketsphinxBackend | NaiveKeyphrase) -> str:
+    """A detector's name in the printed rows: ours is "speechcal" (the naive spotter runs
+    on pocketsphinx too)."""
+    return "speechcal" if isinstance(detector, PocketsphinxBackend) else detector.name
+
+
 def score(found: list[Word], truth: list[dict]) -> tuple[int, int, int, list[float]]:
     """True positives, detections, truth count and |t - truth| of the true positives."""
     used: set[int] = set()
@@ -107,7 +113,8 @@ def row(name: str, snr: float, tp: int, n_found: int, n_truth: int, errors: list
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--snr", type=float, nargs="+", default=[20.0, 10.0, 5.0])
+    parser.add_argument("--snr", type=float, nargs="+", default=[20.0, 10.0, 5.0],
+                        help="noise levels, dB of speech above the room noise")
     parser.add_argument("--sessions", type=int, default=3, help="sessions (seeds) per SNR")
     parser.add_argument("--first-seed", type=int, default=1,
                         help="seeds first..first+sessions-1 (keep tuning seeds apart)")
@@ -142,7 +149,7 @@ def main() -> None:
                     acc[5] += dc
                 audio_s += audio.duration_s
             for d in detectors:
-                print(row(d.name, snr, *totals[d.name], audio_s), flush=True)
+                print(row(label(d), snr, *totals[d.name], audio_s), flush=True)
         if not args.no_long:
             long_file(Path(tmp), spec)
 

@@ -34,15 +34,19 @@ def recording_and_audio(inputs: list[str], audio: str | None, command: str
     in the advice."""
     from speechcal_core.audio import AUDIO_SUFFIXES
 
-    if audio:
-        return inputs, audio
     sounds = [p for p in inputs if p.lower().endswith(AUDIO_SUFFIXES)]
     others = [p for p in inputs if p not in sounds]
+    if audio:
+        extra = [p for p in sounds if not _same_file(p, audio)]
+        if extra:
+            raise UsageError(f"two audio files given, {extra[0]} and --audio {audio}: "
+                             "give only the microphone's")
+        return others, audio
     if len(sounds) == 1 and others:
         return others, sounds[0]
     if len(sounds) > 1:
-        raise UsageError(f"{', '.join(sounds)} are all audio files: give the one of the "
-                         f"microphone (speechcal {command} RECORDING --audio AUDIO)")
+        raise UsageError(f"{' and '.join(sounds)} are audio files: give only the "
+                         f"microphone's (speechcal {command} RECORDING --audio AUDIO)")
     if sounds:
         if Path(sounds[0]).is_dir():  # a ROS2 bag folder with an odd name, or a typo
             raise UsageError(f"{sounds[0]} is a folder, not an audio file: give the recording "
@@ -50,3 +54,11 @@ def recording_and_audio(inputs: list[str], audio: str | None, command: str
         raise UsageError(f"{sounds[0]} is an audio file: give the recording too "
                          f"(speechcal {command} RECORDING --audio {sounds[0]})")
     return inputs, None
+
+
+def _same_file(a: str, b: str) -> bool:
+    """Whether the paths ``a`` and ``b`` name one file."""
+    try:
+        return Path(a).samefile(b)
+    except OSError:
+        return Path(a).absolute() == Path(b).absolute()

@@ -16,6 +16,7 @@ from speechcal_core.cli._speech_options import (
 )
 from speechcal_core.errors import UsageError
 from speechcal_core.fsutil import OutputExistsError, overlap
+from speechcal_core.session.model import STREAMS_KEY
 
 if TYPE_CHECKING:
     from speechcal_core.session.model import Session
@@ -45,7 +46,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "decisions are lost; the old file is kept as SESSION.json.bak, "
                         "unless that .bak holds review work and the old file none)")
     p.add_argument("--json", action="store_true",
-                   help="print what was written as JSON on stdout (session, sets, sync, notes)")
+                   help="print what was written as JSON on stdout (session, sets, sync, notes, "
+                        "streams: the streams chosen, null for all)")
     return p
 
 
@@ -102,7 +104,8 @@ def run(args: argparse.Namespace) -> int:
     progress(f"{_summary(session)}; wrote {args.output}")
     if args.json:
         emit_json({"session": str(Path(args.output).absolute()), "sets": len(session.sets),
-                   "sync": session.sync.to_dict(), "notes": notes, "replaced": replaced})
+                   "sync": session.sync.to_dict(), "notes": notes, "replaced": replaced,
+                   "streams": session.extra.get(STREAMS_KEY)})
     return 0
 
 

@@ -32,17 +32,28 @@ class StreamChoice:
 def chosen_streams(names: Sequence[str], only: Sequence[str] = (),
                    skip: Sequence[str] = ()) -> list[str]:
     """The stream names of ``names`` kept by ``only`` (all when empty) less ``skip``, in
-    their order. A name in neither list's recording, or nothing left, is a SourceError."""
-    unknown = [n for n in [*only, *skip] if n not in names]
+    their order; a topic given without its leading "/" or with a trailing one is found
+    too. A name the recording lacks, or nothing left, is a SourceError."""
+    unknown = [n for n in [*only, *skip] if stream_named(names, n) is None]
     if unknown:
         raise SourceError(
             f"no stream {', '.join(repr(n) for n in unknown)} in this recording (streams: "
             f"{', '.join(names) or 'none'}); `speechcal index RECORDING` lists them")
-    kept = [n for n in names if (not only or n in only) and n not in skip]
+    wanted = {stream_named(names, n) for n in only}
+    skipped = {stream_named(names, n) for n in skip}
+    kept = [n for n in names if (not only or n in wanted) and n not in skipped]
     if not kept:
-        raise SourceError(f"no stream left: {', '.join(skip or names)} left out of "
-                          f"{', '.join(names)}; keep at least one camera")
+        raise SourceError(f"no stream left of {', '.join(names)}: keep at least one camera")
     return kept
+
+
+def stream_named(names: Sequence[str], given: str) -> str | None:
+    """The name of ``names`` that ``given`` stands for: itself, or the topic it names
+    without its leading "/" or with a trailing one (``cam0/image_raw/``); None if none."""
+    if given in names:
+        return given
+    topic = "/" + given.strip("/")
+    return topic if topic in names else None
 
 
 class SelectedStreams(ClosingContext):

@@ -112,7 +112,7 @@ def test_json_says_what_was_written_and_stdout_holds_nothing_else(
     doc = json.loads(captured.out)
     assert doc == {"session": str(out.absolute()), "sets": len(truth["triggers"]),
                    "sync": {"offset_ns": offset, "drift": 0.0, "source": "manual"},
-                   "notes": [], "replaced": False}
+                   "notes": [], "replaced": False, "streams": None}
     assert f"wrote {out}" in captured.err
 
 

@@ -97,9 +97,10 @@ def test_a_stream_left_out_stays_out_of_the_session_its_review_and_its_export(
     session_path = tmp_path / "one.json"
     assert main(["process", str(out / truth["recording"]), str(out / "audio.ogg"),
                  "--offset-ns", str(truth["sync"]["offset_ns"]),
-                 "--skip-stream", "/cam1/image_raw", "-o", str(session_path)]) == 0
+                 "--skip-stream", "/cam1/image_raw", "-o", str(session_path), "--json"]) == 0
     doc = json.loads(session_path.read_text())
     assert doc["streams"] == ["/cam0/image_raw"]
+    assert json.loads(capsys.readouterr().out)["streams"] == ["/cam0/image_raw"]
     assert {f["stream"] for s in doc["sets"] for f in s["frames"]} == {"/cam0/image_raw"}
     assert set(doc["calibration"]) == {"/cam0/image_raw"}
     inputs = load_for_review(session_path=session_path)
@@ -158,6 +159,11 @@ def test_process_takes_the_audio_among_the_inputs_as_review_does(synth, capsys) 
             f"RECORDING --audio {audio})") in capsys.readouterr().err
     assert main(["process", str(recording), "-o", "s.json"]) == 2
     assert "a recording needs its audio: add --audio AUDIO" in capsys.readouterr().err
+    other = out / "other.wav"
+    assert main(["process", str(recording), str(audio), "--audio", str(other),
+                 "-o", "s.json"]) == 2
+    assert (f"two audio files given, {audio} and --audio {other}: give only the "
+            "microphone's") in capsys.readouterr().err
 
 
 def test_process_output_that_is_a_folder_names_a_file_to_give_before_any_work(
