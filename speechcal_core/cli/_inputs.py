@@ -17,7 +17,8 @@ def add_stream_options(p: argparse.ArgumentParser) -> None:
                         "them)")
     p.add_argument("--skip-stream", action="append", metavar="TOPIC",
                    help="leave this stream out (one camera recorded twice, a depth or "
-                        "infrared topic); repeat for more")
+                        "infrared topic); repeat for more. An existing session leaves it "
+                        "out too, keeping its review work")
 
 
 def stream_choice(args: argparse.Namespace) -> StreamChoice | None:

@@ -32,7 +32,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "a new session (default: Kalibr's 6x6 AprilGrid)")
     add_trigger_options(p)  # for a recording processed into a new session
     add_channel_option(p)
-    add_stream_options(p)  # for a recording processed into a new session
+    add_stream_options(p)  # a new session's streams; an existing one leaves them out
     return p
 
 
@@ -46,11 +46,10 @@ def run(args: argparse.Namespace) -> int:
         if args.audio or args.session:
             raise UsageError("--audio and --session go with a recording, not with a session "
                              "file")
-        if detection_options_given(args) or args.target or stream_choice(args):
-            raise UsageError("--trigger, --sensitivity, --pronounce, --channel, --target, "
-                             "--stream and --skip-stream go with a recording the review "
-                             "processes, not with a session file: speechcal review "
-                             "RECORDING --audio AUDIO --trigger W")
+        if detection_options_given(args) or args.target:
+            raise UsageError("--trigger, --sensitivity, --pronounce, --channel and --target go "
+                             "with a recording the review processes, not with a session "
+                             "file: speechcal review RECORDING --audio AUDIO --trigger W")
     elif (args.session or args.target) and not args.inputs:
         raise UsageError(f"{'--session' if args.session else '--target'} goes with a "
                          "recording: RECORDING --audio AUDIO "

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.frames.nearest import stamped_index
 from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY
-from speechcal_core.session.model import STREAMS_KEY, Session
+from speechcal_core.session.model import Session
 from speechcal_core.session.store import (
     check_recording_present,
     file_stamp,
@@ -97,6 +97,7 @@ def load_for_review(
     report = progress or (lambda _t, _f: None)
     note = ""
     source = sound = None
+    made_new = False  # processed now: its streams are as asked
     if session_path is not None:
         report("reading session", 0.05)
         path = Path(session_path)
@@ -128,7 +129,7 @@ def load_for_review(
                          f"with {Path(audio).name}, move {path.name} away or give another "
                          f"session file")
             else:
-                note += _settings_note(session, path, triggers, channel, target, streams)
+                note += _settings_note(session, path, triggers, channel, target)
         else:
             from speechcal_core.pipeline import process_loaded
 
@@ -152,6 +153,7 @@ def load_for_review(
             except BaseException:
                 source.close()
                 raise
+            made_new = True
             note = f"new session saved as {path.name}"
             if session.sets:  # without sets the list itself says why (no_sets_hint)
                 note += "".join(f"; {n}" for n in session.extra.get("detection_notes", []))
@@ -162,6 +164,13 @@ def load_for_review(
         check_recording_present(session, path)
         report("indexing recording", 0.6)
         source = open_recording(session.recording, streams=session.stream_choice())
+    if not made_new:
+        try:
+            said, source, stamp = _leave_out(session, source, streams, path, stamp)
+        except BaseException:
+            source.close()
+            raise
+        note = "; ".join(filter(None, [note, said, *twin_notes(source)]))
     claps = tuple(float(c["audio_s"]) for c in session.sync_evidence.get("claps") or []
                   if isinstance(c, dict) and isinstance(c.get("audio_s"), (int, float)))
     if session.audio and sound is None and Path(session.audio).exists():
@@ -184,10 +193,9 @@ def load_for_review(
 
 
 def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
-                   channel: int | None, target: TargetSpec | None = None,
-                   streams: StreamChoice | None = None) -> str:
-    """Why an existing session does not follow the trigger words, channel, board or
-    streams asked for (its detection and corners are kept with its review work), or ""."""
+                   channel: int | None, target: TargetSpec | None = None) -> str:
+    """Why an existing session does not follow the trigger words, channel or board asked
+    for (its detection and corners are kept with its review work), or ""."""
     words = []
     if triggers is not None and not set(triggers.words) <= set(session.triggers_word):
         words.append(f"trigger word {', '.join(triggers.words)} (it has "
@@ -200,10 +208,6 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
     kept = TargetSpec.from_stored(session.extra.get("target")) or TargetSpec()
     if target is not None and target != kept:
         others.append(f"the board {target.describe()} (it has {kept.describe()})")
-    used = session.extra.get(STREAMS_KEY)
-    if streams and not _same_streams(streams, used):
-        others.append(f"the streams asked for (it uses "
-                      f"{', '.join(used) if used else 'all of the recording'})")
     if words and not others:  # other words can be looked for in the window
         return (f"; not detected again with {words[0]}: Edit ▸ {FIND_WORDS}… "
                 f"({FIND_WORDS_KEY}) adds its sets and keeps the review work")
@@ -213,12 +217,50 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
             f"away or give another session file to process anew")
 
 
-def _same_streams(choice: StreamChoice, used: list[str] | None) -> bool:
-    """Whether ``choice`` keeps the streams ``used`` (None: all of the recording's)."""
-    if used is None:
-        return False  # a choice of some streams, and the session uses all
-    return (not choice.only or set(choice.only) == set(used)) and \
-        not set(choice.skip) & set(used)
+def _leave_out(session: Session, source: FrameSource, choice: StreamChoice | None,
+               path: Path, stamp: tuple[int, int, int] | None
+               ) -> tuple[str, FrameSource, tuple[int, int, int] | None]:
+    """Narrow an existing session to the streams ``choice`` keeps of those it uses,
+    keeping its review work and saving it: what was said, the source of the streams left
+    and the file's new stamp. A stream the session does not use cannot be taken in
+    (that needs processing): UsageError."""
+    from speechcal_core.session.streams import leave_out_streams
+    from speechcal_core.sources.selection import (
+        StreamChoice,
+        chosen_streams,
+        select_streams,
+        stream_named,
+    )
+
+    if not choice:
+        return "", source, stamp
+    names = [s.name for s in source.streams]
+    recorded = getattr(source, "recorded", names)
+    chosen_streams(recorded, choice.only, choice.skip)  # a name not recorded at all: say so
+    skip = [n for n in choice.skip if stream_named(names, n) is not None]  # not yet out
+    try:
+        kept = chosen_streams(names, choice.only, skip)
+    except SpeechCalError as exc:
+        raise UsageError(
+            f"{path.name} uses the streams {', '.join(names)}; it can leave some of them "
+            f"out but take in no other ({exc}); to use others, process the recording into "
+            "another session file (--session)") from None
+    left = [n for n in names if n not in kept]
+    if not left:
+        return "", source, stamp
+    leave_out_streams(session, left, kept)
+    save_session(session, path, expect=stamp)
+    return (f"left out {', '.join(left)} (its frames, calibration and coverage; the review "
+            "work is kept)", select_streams(source, StreamChoice(only=tuple(kept))),
+            file_stamp(path))
+
+
+def twin_notes(source: FrameSource) -> list[str]:
+    """The note on each stream of ``source`` that repeats another frame for frame (one
+    camera recorded raw and compressed), said on every opening: its session holds both."""
+    from speechcal_core.sources.bag_source import same_frames_notes
+
+    return same_frames_notes({s.name: source.stamps(s.name) for s in source.streams})
 
 
 def _waveform(session: Session, sound: Audio | None, report: Progress

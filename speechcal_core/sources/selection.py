@@ -69,6 +69,11 @@ class SelectedStreams(ClosingContext):
                                  if not any(_names(n, name) for name in left_out)]
 
     @property
+    def recorded(self) -> list[str]:
+        """The names of all the recording's streams, those left out too."""
+        return [s.name for s in self._source.streams]
+
+    @property
     def streams(self) -> list[StreamInfo]:
         """The kept streams, in the source's order."""
         return [s for s in self._source.streams if s.name in self.names]

@@ -60,13 +60,12 @@ def test_the_review_looks_for_the_board_it_is_given(
     # status line cuts short
     capsys.readouterr()
     assert main(["review", str(folder / truth["recording"]), "--audio",
-                 str(folder / truth["audio"]), "--skip-stream", "/cam0/image_raw",
+                 str(folder / truth["audio"]), "--trigger", "snapshot",
                  "--session", str(session_path), "--screenshot", str(tmp_path / "x.png")]) == 0
     err = capsys.readouterr().err
     assert "speechcal review: 1 camera, " in err
-    assert ("not processed again with the streams asked for (it uses all of the recording): "
-            f"move {session_path.name} away or give another session file to process anew"
-            ) in err
+    assert "not detected again with trigger word snapshot (it has capture): Edit ▸ " in err
+    assert "adds its sets and keeps the review work" in err
 
 
 def test_a_bad_target_file_is_reported_before_anything_opens(

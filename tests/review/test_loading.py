@@ -265,7 +265,7 @@ def test_a_new_session_looks_for_the_board_given_and_an_existing_one_says_it_kee
     assert "again" not in same.note
 
 
-def test_a_new_session_uses_the_streams_chosen_and_an_existing_one_says_it_keeps_its_own(
+def test_a_new_session_uses_the_streams_chosen_and_an_existing_one_leaves_more_out(
         tiny_synth, tmp_path: Path) -> None:
     from speechcal_core.sources import StreamChoice
 
@@ -275,18 +275,34 @@ def test_a_new_session_uses_the_streams_chosen_and_an_existing_one_says_it_keeps
     inputs.close()
     assert [s.name for s in inputs.source.streams] == ["/cam0/image_raw", "/cam1/image_raw"]
     assert inputs.session.extra["streams"] == ["/cam0/image_raw", "/cam1/image_raw"]
+    session = load_session(inputs.session_path)
+    decided = session.sets[0].id
+    session.replace_set(session.sets[0].with_decision("rejected"))
+    save_session(session, inputs.session_path)
     reopened = load_for_review(session_path=inputs.session_path)
     reopened.close()
     assert [s.name for s in reopened.source.streams] == ["/cam0/image_raw", "/cam1/image_raw"]
     same = load_for_review(recording=[recording], audio=audio, streams=two)
     same.close()
-    assert "again" not in same.note
-    other = load_for_review(recording=[recording], audio=audio,
-                            streams=StreamChoice(only=("/cam0/image_raw",)))
-    other.close()
-    assert ("not processed again with the streams asked for (it uses /cam0/image_raw, "
-            "/cam1/image_raw)") in other.note
-    assert len(other.source.streams) == 2  # the session's own choice
+    assert "left out" not in same.note
+    # one more left out of the session made: its review work stays
+    one = load_for_review(recording=[recording], audio=audio,
+                          streams=StreamChoice(skip=("/cam1/image_raw",)))
+    one.close()
+    assert ("left out /cam1/image_raw (its frames, calibration and coverage; the review work "
+            "is kept)") in one.note
+    assert [s.name for s in one.source.streams] == ["/cam0/image_raw"]
+    kept = load_session(one.session_path)
+    assert kept.extra["streams"] == ["/cam0/image_raw"]
+    assert kept.set_by_id(decided).decision == "rejected"
+    assert {f.stream for s in kept.sets for f in s.frames} == {"/cam0/image_raw"}
+    assert set(kept.calibration) <= {"/cam0/image_raw"}
+    assert set(kept.extra["coverage"]) <= {"/cam0/image_raw"}
+    # a stream the session does not use needs processing anew
+    with pytest.raises(UsageError, match="it can leave some of them out but take in no "
+                                         "other"):
+        load_for_review(session_path=one.session_path,
+                        streams=StreamChoice(only=("/cam2/image_raw",)))
 
 
 def test_a_session_whose_audio_was_replaced_in_place_opens_with_a_note(
