@@ -250,8 +250,9 @@ def _leave_out(session: Session, source: FrameSource, choice: StreamChoice | Non
         return "", source, stamp
     leave_out_streams(session, left, kept)
     save_session(session, path, expect=stamp)
-    return (f"left out {', '.join(left)} (its frames, calibration and coverage; the review "
-            "work is kept)", select_streams(source, StreamChoice(only=tuple(kept))),
+    whose = "its" if len(left) == 1 else "their"
+    return (f"left out {', '.join(left)} ({whose} frames, calibration and coverage; the "
+            "review work is kept)", select_streams(source, StreamChoice(only=tuple(kept))),
             file_stamp(path))
 
 
