@@ -33,6 +33,7 @@ from app.elided_label import ElidedLabel, EllipsisLabel
 from app.export_action import ExportAction
 from app.frame_grid import DROPPED_CAPTION, NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
+from app.leave_out_action import LeaveOutAction
 from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver, free_name_beside
 from app.set_table import MISSING, SetTable, clock_text
@@ -311,6 +312,8 @@ class ReviewWindow(QMainWindow):
         self.detect_action.setEnabled(False)
         self.addAction(self.detect_action)
         self.edit_menu.addAction(self.detect_action)
+        self.leave_out_action = LeaveOutAction(self)
+        self.edit_menu.addAction(self.leave_out_action)
         self._update_edit_menu()
 
     def _update_edit_menu(self, *_args: object) -> None:
@@ -590,6 +593,7 @@ class ReviewWindow(QMainWindow):
         self.detect_action.setEnabled(bool(inputs.session.audio))
         self._update_saved_label()
         self.model = ReviewModel(inputs.session, inputs.source, autosave=self._autosave)
+        self.leave_out_action.update()
         self.model.advance_after_decision = self.advance_after_decision
         self.loader = FrameLoader(inputs.source, parent=self)
         self.loader.loaded.connect(self._on_frame)
