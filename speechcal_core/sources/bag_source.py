@@ -81,7 +81,8 @@ def same_frames_notes(stamps: dict[str, np.ndarray]) -> list[str]:
                     f"{b} has the same header stamps as {a}, frame for frame: one camera "
                     "recorded twice (raw and compressed?) is taken as two cameras in one "
                     "place; a calibration of both fails or is meaningless: leave one out "
-                    f"(speechcal process or review ... --skip-stream {b})")
+                    f"(speechcal process or review ... --skip-stream {b}, or the review "
+                    "window's Edit ▸ Leave a camera out…)")
     return notes
 
 

@@ -98,7 +98,7 @@ def test_one_camera_recorded_raw_and_compressed_gets_a_note(make_bag) -> None:
             "for frame: one camera recorded twice (raw and compressed?) is taken as two "
             "cameras in one place; a calibration of both fails or is meaningless: leave "
             "one out (speechcal process or review ... --skip-stream "
-            "/cam0/image_raw/compressed)"]
+            "/cam0/image_raw/compressed, or the review window's Edit ▸ Leave a camera out…)"]
 
 
 def test_streams_left_out_are_as_if_not_recorded_and_take_their_note_along(make_bag) -> None:
