@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.frames.nearest import stamped_index
 from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY
-from speechcal_core.session.model import Session
+from speechcal_core.session.model import SENSITIVITY_KEY, Session
 from speechcal_core.session.store import (
     check_recording_present,
     file_stamp,
@@ -200,6 +200,10 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
     if triggers is not None and not set(triggers.words) <= set(session.triggers_word):
         words.append(f"trigger word {', '.join(triggers.words)} (it has "
                      f"{', '.join(session.triggers_word)})")
+    level = session.extra.get(SENSITIVITY_KEY)
+    if triggers is not None and isinstance(level, (int, float)) \
+            and abs(triggers.sensitivity - level) > 1e-9:
+        words.append(f"sensitivity {triggers.sensitivity:g} (it has {level:g})")
     others = []
     if channel is not None and channel != session.audio_channel:
         had = "all channels mixed" if session.audio_channel is None \
@@ -209,7 +213,7 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
     if target is not None and target != kept:
         others.append(f"the board {target.describe()} (it has {kept.describe()})")
     if words and not others:  # other words can be looked for in the window
-        return (f"; not detected again with {words[0]}: Edit ▸ {FIND_WORDS}… "
+        return (f"; not detected again with {' and '.join(words)}: Edit ▸ {FIND_WORDS}… "
                 f"({FIND_WORDS_KEY}) adds its sets and keeps the review work")
     if not others:
         return ""

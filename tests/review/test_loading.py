@@ -241,6 +241,11 @@ def test_an_existing_session_keeps_its_trigger_words_and_says_so(
                             triggers=TriggerSpec(("snapshot",)))
     again.close()
     assert "detected again" not in again.note
+    finer = load_for_review(recording=[recording], audio=audio,
+                            triggers=TriggerSpec(("capture",), sensitivity=0.9))
+    finer.close()
+    assert ("not detected again with sensitivity 0.9 (it has 0.5): Edit ▸ Find trigger "
+            "words… (Ctrl+F)") in finer.note
 
 
 def test_a_new_session_looks_for_the_board_given_and_an_existing_one_says_it_keeps_its_own(
