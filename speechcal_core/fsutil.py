@@ -59,6 +59,12 @@ def _remove(path: Path) -> None:
         path.unlink()
 
 
+def same_file(a: str | Path, b: str | Path) -> bool:
+    """Whether two paths name the same file (both resolved; a missing one compares by
+    path)."""
+    return Path(a).resolve() == Path(b).resolve()
+
+
 def folder_write_problem(folder: str | Path) -> str | None:
     """Why no file can be written in ``folder`` (None when one can): it or a folder above
     it is a file, it is missing, or the system's reason (read-only, no permission)."""

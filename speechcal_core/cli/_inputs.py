@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from speechcal_core.errors import UsageError
+from speechcal_core.fsutil import same_file
 from speechcal_core.sources.selection import StreamChoice
 
 
@@ -38,7 +39,7 @@ def recording_and_audio(inputs: list[str], audio: str | None, command: str
     sounds = [p for p in inputs if p.lower().endswith(AUDIO_SUFFIXES)]
     others = [p for p in inputs if p not in sounds]
     if audio:
-        extra = [p for p in sounds if not _same_file(p, audio)]
+        extra = [p for p in sounds if not same_file(p, audio)]
         if extra:
             raise UsageError(f"two audio files given, {extra[0]} and --audio {audio}: "
                              "give only the microphone's")
@@ -55,11 +56,3 @@ def recording_and_audio(inputs: list[str], audio: str | None, command: str
         raise UsageError(f"{sounds[0]} is an audio file: give the recording too "
                          f"(speechcal {command} RECORDING --audio {sounds[0]})")
     return inputs, None
-
-
-def _same_file(a: str, b: str) -> bool:
-    """Whether the paths ``a`` and ``b`` name one file."""
-    try:
-        return Path(a).samefile(b)
-    except OSError:
-        return Path(a).absolute() == Path(b).absolute()

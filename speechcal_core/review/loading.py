@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.frames.nearest import stamped_index
+from speechcal_core.fsutil import same_file
 from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY
 from speechcal_core.session.model import SENSITIVITY_KEY, Session
 from speechcal_core.session.store import (
@@ -121,10 +122,10 @@ def load_for_review(
                     raise
                 stamp = file_stamp(path)
                 note += f"; {moved}"
-            if not any(_same_file(r, kept) for r in recording for kept in session.recording):
+            if not any(same_file(r, kept) for r in recording for kept in session.recording):
                 note += (f"; it is the session of {', '.join(session.recording)}, not of "
                          f"{', '.join(recording)}: give another session file to process these")
-            elif session.audio and not _same_file(audio, session.audio):
+            elif session.audio and not same_file(audio, session.audio):
                 note += (f"; it uses the audio {session.audio}, not {audio}: to process "
                          f"with {Path(audio).name}, move {path.name} away or give another "
                          f"session file")
@@ -365,12 +366,6 @@ def frames_missing(session: Session, source: FrameSource) -> str:
                 return (f"{frame.stream} has no frame stamped {frame.stamp_ns}, set "
                         f"{frame_set.id}'s")
     return ""
-
-
-def _same_file(a: str | Path, b: str | Path) -> bool:
-    """Whether two paths name the same file (both resolved; a missing one compares by
-    path)."""
-    return Path(a).resolve() == Path(b).resolve()
 
 
 def _check_new_session_path(path: Path) -> None:
