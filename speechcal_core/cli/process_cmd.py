@@ -143,23 +143,15 @@ def _refuse_to_replace_other_files(out: Path) -> None:
 
 
 def review_work(path: Path) -> str:
-    """What an operator did in the session file at ``path`` ("12 decisions, 2 sets
-    added"); "" for nothing, or a file that does not read as a session. (An edited
-    offset does not count: ``--offset-ns`` gives one too.)"""
-    from speechcal_core.review.summary import SOURCE_MARKS
+    """What an operator did in the session file at ``path`` (``summary.review_work``);
+    "" for nothing, or a file that does not read as a session."""
+    from speechcal_core.review.summary import review_work as work_in
     from speechcal_core.session.store import SessionFileError, load_session
-    from speechcal_core.text import counted
 
     try:
-        session = load_session(path)
+        return work_in(load_session(path))
     except SessionFileError:
         return ""
-    decided = len(session.sets) - session.counts()["undecided"]
-    added = sum(1 for s in session.sets if s.trigger.source in SOURCE_MARKS)
-    work = [counted(decided, "decision")] if decided else []
-    if added:
-        work.append(f"{counted(added, 'set')} added")
-    return ", ".join(work)
 
 
 def _summary(session: Session) -> str:

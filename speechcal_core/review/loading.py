@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.frames.nearest import stamped_index
 from speechcal_core.fsutil import same_file
-from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY
+from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY, review_work
 from speechcal_core.session.model import SENSITIVITY_KEY, Session
 from speechcal_core.session.store import (
     check_recording_present,
@@ -110,7 +110,9 @@ def load_for_review(
             report(f"reading existing session {path.name}", 0.05)
             stamp = file_stamp(path)
             session = load_session(path)
-            note = f"opened the existing {path.name} (review work kept)"
+            work = review_work(session)
+            note = (f"opened the existing {path.name} ({work} kept)" if work else
+                    f"opened the existing {path.name} (nothing decided in it yet)")
             audio = audio or session.audio  # the session knows its audio
             moved, source = _follow_moved_files(session, recording, audio)
             if moved:

@@ -12,6 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from speechcal_core.text import counted
+
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
@@ -38,6 +40,17 @@ def flag_words(flags: Sequence[str]) -> str:
 #: how the list marks a trigger the detector did not report, by ``Trigger.source``: added
 #: by hand (``T``) or found like another set (``S``)
 SOURCE_MARKS = {"manual": "added", "similar": "similar"}
+
+
+def review_work(session: Session) -> str:
+    """What an operator did in ``session`` ("12 decisions, 2 sets added"); "" for nothing.
+    (An edited offset does not count: ``--offset-ns`` gives one too.)"""
+    decided = len(session.sets) - session.counts()["undecided"]
+    added = sum(1 for s in session.sets if s.trigger.source in SOURCE_MARKS)
+    work = [counted(decided, "decision")] if decided else []
+    if added:
+        work.append(f"{counted(added, 'set')} added")
+    return ", ".join(work)
 
 
 def word_text(frame_set: FrameSet) -> str:
