@@ -34,7 +34,7 @@ from speechcal_core.fsutil import (
     staged_directory,
 )
 from speechcal_core.session.store import check_recording_present
-from speechcal_core.sources.bag_source import same_frames_notes
+from speechcal_core.sources.bag_source import twin_notes
 from speechcal_core.target import TargetSpec
 
 if TYPE_CHECKING:
@@ -246,7 +246,7 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     skipped = [f"set {s.id}: no camera has a frame at its time"
                for s in frameless_sets(session, include_undecided=include_undecided)]
     skipped += [f"set {sid} {stream}: {why}" for (sid, stream), why in outcome.skipped.items()]
-    twins = same_frames_notes({s: source.stamps(s) for s in plan.streams})
+    twins = twin_notes(source, plan.streams)
     return ExportResult(out, fmt, len(plan.sets), len(outcome.files), len(outcome.written),
                         skipped, target_from if fmt == "kalibr" else "",
                         [*twins, *export_notes(fmt, session, plan, spec, target_from)])

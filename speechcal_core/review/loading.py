@@ -94,6 +94,7 @@ def load_for_review(
     """
     from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
+    from speechcal_core.sources.bag_source import twin_notes
 
     report = progress or (lambda _t, _f: None)
     note = ""
@@ -261,14 +262,6 @@ def _leave_out(session: Session, source: FrameSource, choice: StreamChoice | Non
     return (f"left out {', '.join(left)} ({whose} frames, calibration and coverage; the "
             "review work is kept)", select_streams(source, StreamChoice(only=tuple(kept))),
             file_stamp(path))
-
-
-def twin_notes(source: FrameSource) -> list[str]:
-    """The note on each stream of ``source`` that repeats another frame for frame (one
-    camera recorded raw and compressed), said on every opening: its session holds both."""
-    from speechcal_core.sources.bag_source import same_frames_notes
-
-    return same_frames_notes({s.name: source.stamps(s.name) for s in source.streams})
 
 
 def _waveform(session: Session, sound: Audio | None, report: Progress

@@ -29,6 +29,7 @@ from speechcal_core.sources.stats import nearest_index, stamp_stats
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
+    from speechcal_core.sources.base import FrameSource
     from speechcal_core.sources.scan import FileScan, MessageFile, TopicScan
 
 _MAX_VERIFY = 2000
@@ -84,6 +85,13 @@ def same_frames_notes(stamps: dict[str, np.ndarray]) -> list[str]:
                     f"(speechcal process or review ... --skip-stream {b}, or the review "
                     "window's Edit ▸ Leave a camera out…)")
     return notes
+
+
+def twin_notes(source: FrameSource, streams: Sequence[str] | None = None) -> list[str]:
+    """:func:`same_frames_notes` over ``streams`` of an opened ``source`` (default: all of
+    them): said again wherever a session holding both twins is opened or exported."""
+    names = [s.name for s in source.streams] if streams is None else list(streams)
+    return same_frames_notes({name: source.stamps(name) for name in names})
 
 
 class BagSource(ClosingContext):
