@@ -117,6 +117,9 @@ def detect_triggers(audio_path: str | Path | Audio | None,
         if progress is not None and hasattr(chosen, "progress"):
             chosen.progress = progress
         words = chosen.words(audio, spec)
+        retried = getattr(chosen, "last_note", None)
+        if retried:
+            notes.append(f"{audio_path}: {retried}")
     found = match_triggers(words, spec)
     if not found:
         what = f"{audio_path}" if transcript is None else f"{transcript}"
