@@ -17,7 +17,9 @@ Finally the recording is searched for spans that sound like the triggers found (
 speaker, same word: see ``self_similarity``), which recovers words the recogniser lost
 (in noise, or a trigger word it knows less well than "capture"); spans it heard as a
 near-homophone need a much closer match. Spans it took for an inflection are searched
-too: some voices say "capture" so that it hears "capturing".
+too: some voices say "capture" so that it hears "capturing". Where the recogniser hears
+too few triggers for that search to start from (a short recording in loud noise), the
+speech is decoded again more sensitively.
 A trigger, recognised or found, whose sound runs on without a pause, or resumes after a
 pause too short to end a phrase, is dropped: it is the start of something longer
 ("captured it?"). Operators say the trigger word on its own.
