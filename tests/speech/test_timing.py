@@ -7,6 +7,7 @@ import numpy as np
 from speechcal_core.speech.timing import (
     MAX_ONSET_DELAY_S,
     SEARCH_AFTER_S,
+    SEARCH_BEFORE_S,
     refine_bounds,
     word_bounds,
 )
@@ -71,3 +72,18 @@ def test_a_word_followed_by_more_speech_after_a_short_pause_runs_on() -> None:
     assert not word_bounds(click, RATE, 1.0, 1.5, _floor_db(click)).runs_on
     apart = _bursts((1.0, 1.5), (1.75, 2.0))
     assert not word_bounds(apart, RATE, 1.0, 1.5, _floor_db(apart)).runs_on
+
+
+def test_speech_running_into_the_word_keeps_the_recognised_start() -> None:
+    """"of" before "clubs" with no pause: the sound goes back past the onset search, so
+    the onset found there would only be the search's limit, 0.12 s early."""
+    x = _bursts((0.6, 1.5))  # the recogniser's word starts at 1.0
+    bounds = word_bounds(x, RATE, 1.0, 1.45, _floor_db(x))
+    assert bounds.start_s == 1.0
+    assert abs(bounds.end_s - 1.5) <= 0.03
+    # a fricative's hiss still loud there is the word's own: the onset goes back
+    hiss_band = word_bounds(x, RATE, 1.0, 1.45, _floor_db(x), runs_in_keeps_start=False)
+    assert hiss_band.start_s <= 1.0 - SEARCH_BEFORE_S
+    # a pause before the word: its onset is found as before
+    apart = _bursts((0.6, 0.8), (0.96, 1.5))
+    assert abs(word_bounds(apart, RATE, 1.0, 1.45, _floor_db(apart)).start_s - 0.96) <= 0.03
