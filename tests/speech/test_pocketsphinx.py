@@ -13,6 +13,7 @@ from speechcal_core.audio import Audio, load_audio
 from speechcal_core.speech import SpeechError, TriggerSpec, detect_triggers
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
 from speechcal_core.speech.pocketsphinx_backend import TIERS, PocketsphinxBackend, phone_log10
+from speechcal_core.speech.vad import voice_activity
 
 
 def _hits(scene: Scene, times: list[float], text: str, tol: float = 0.05) -> int:
@@ -300,3 +301,26 @@ def test_too_few_heard_to_search_from_decodes_again_more_sensitively(tmp_path: P
     assert result.notes == [f"{scene.path}: the recogniser heard no trigger word at "
                             "sensitivity 0.5, too few to search for others that sound "
                             "alike, so it listened again at 0.7 and heard 2"]
+
+
+def test_the_noisiest_spans_where_nothing_was_heard_are_decoded_again(tmp_path: Path) -> None:
+    """A voice the recogniser hardly hears in loud noise: its triggers pass a dearer
+    filler, and then serve the similarity search as templates of that voice."""
+    items = [("loud", f"rms/capture_{k}", 6.0) for k in (1, 2, 3)]
+    items += [("quiet", f"slt/capture_{k}", -4.0) for k in (1, 2, 3, 4)]
+    scene = make_scene(tmp_path / "quiet_voice.wav", items, snr_db=8, seed=0)
+    x = load_audio(scene.path, rate=RATE).samples
+    spec = TriggerSpec(("capture",))
+    backend = PocketsphinxBackend()
+    activity = voice_activity(x, RATE)
+    first = backend._hear(x, activity, activity.segments, spec, (0.0, 1.0))
+    harder, used = backend._listen_harder(x, activity, spec, first)
+
+    def heard(words: list, kind: str) -> int:
+        return sum(any(abs(w.t - (a + b) / 2) < 0.15 for w in words)
+                   for text, a, b in scene.placed if text == kind)
+
+    assert (heard(first.triggers(spec), "loud"), heard(first.triggers(spec), "quiet")) == (3, 0)
+    assert (heard(harder.triggers(spec), "loud"), heard(harder.triggers(spec), "quiet")) == (3, 1)
+    assert len(harder.triggers(spec)) == 4  # nothing else
+    assert used == spec and backend.last_note is None  # enough were heard to search from
