@@ -294,8 +294,8 @@ def test_too_few_heard_to_search_from_decodes_again_more_sensitively(tmp_path: P
     assert [w for w in first_pass if w.word == "clubs"] == []
 
     result = detect_triggers(scene.path, ["clubs"])
-    said = [placed_at + (a + b) / 2 for (name, placed_at, _), (a, b)
-            in ((p, CLUBS_MARKED[p[0]]) for p in scene.placed if p[0] in CLUBS_MARKED)]
+    said = [placed_at + sum(CLUBS_MARKED[name]) / 2
+            for name, placed_at, _ in scene.placed if name in CLUBS_MARKED]
     # the hiss ending "clubs" is lost in this much noise: found ones end at their "b"
     assert [w.t for w in result.triggers] == pytest.approx(said, abs=0.1)
     assert result.notes == [f"{scene.path}: the recogniser heard no trigger word at "

@@ -75,8 +75,8 @@ def test_a_word_followed_by_more_speech_after_a_short_pause_runs_on() -> None:
 
 
 def test_speech_running_into_the_word_keeps_the_recognised_start() -> None:
-    """"of" before "clubs" with no pause: the sound goes back past the onset search, so
-    the onset found there would only be the search's limit, 0.12 s early."""
+    """The "of" before "clubs", with no pause: the sound goes back past the onset search,
+    so the onset found there would only be the search's limit, 0.12 s early."""
     x = _bursts((0.6, 1.5))  # the recogniser's word starts at 1.0
     bounds = word_bounds(x, RATE, 1.0, 1.45, _floor_db(x))
     assert bounds.start_s == 1.0
