@@ -308,12 +308,13 @@ class PocketsphinxBackend:
                    and not any(w.start_s < b and a < w.end_s
                                for w in heard.words + heard.running_on)]
         more = self._hear(x, activity, unheard, louder, (DECODING_SHARE, middle))
+        at_first = heard.triggers(spec)  # at spec's own sensitivity, for the note
         heard = heard.with_triggers(more, spec)
         if _too_few_to_search(heard.triggers(spec)):
             again = self._hear(x, activity, activity.segments, louder,
                                (middle, LISTENING_HARDER_SHARE))
             if len(again.triggers(louder)) > len(heard.triggers(spec)):
-                self.last_note = _retry_note(heard.triggers(spec), spec, louder,
+                self.last_note = _retry_note(at_first, spec, louder,
                                              len(again.triggers(louder)))
                 return again, louder
         return heard, spec
