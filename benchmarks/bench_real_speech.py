@@ -23,7 +23,6 @@ import argparse
 import os
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -35,10 +34,10 @@ for p in (REPO, HERE):
     if str(p) not in sys.path:
         sys.path.insert(0, str(p))
 
-from bench_triggers import NaiveKeyphrase, label, row, score  # noqa: E402
+from bench_triggers import NaiveKeyphrase, label, measure, row  # noqa: E402
 
 from speechcal_core.audio import load_audio  # noqa: E402
-from speechcal_core.speech import TriggerSpec, match_triggers  # noqa: E402
+from speechcal_core.speech import TriggerSpec  # noqa: E402
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY  # noqa: E402
 from speechcal_core.speech.pocketsphinx_backend import PocketsphinxBackend  # noqa: E402
 from speechcal_core.synth.audio import _RoomNoise  # noqa: E402  (the synth's room tone)
@@ -104,13 +103,7 @@ def main() -> None:
                 audio = load_audio(path, rate=RATE)
                 audio_s += audio.duration_s
                 for d in detectors:
-                    t0, c0 = time.perf_counter(), time.process_time()
-                    found = match_triggers(d.words(audio, spec), spec)
-                    dt, dc = time.perf_counter() - t0, time.process_time() - c0
-                    tp, nf, nt, err = score(found, truth)
-                    acc = totals[d.name]
-                    for k, v in enumerate((tp, nf, nt, err, dt, dc)):
-                        acc[k] += v
+                    measure(d, audio, spec, truth, totals[d.name])
             for d in detectors:
                 print(row(label(d), snr, *totals[d.name], audio_s), flush=True)
 

@@ -85,6 +85,21 @@ def label(detector: PocketsphinxBackend | NaiveKeyphrase) -> str:
     return "speechcal" if isinstance(detector, PocketsphinxBackend) else detector.name
 
 
+def measure(detector: PocketsphinxBackend | NaiveKeyphrase, audio: Path | Audio,
+            spec: TriggerSpec, truth: list[dict], totals: list) -> Audio:
+    """Run ``detector`` on ``audio`` (a file's loading timed too) and add to ``totals`` its
+    true positives, detections, truth count, errors, wall and CPU seconds; returns the
+    audio."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    if isinstance(audio, Path):
+        audio = load_audio(audio, rate=RATE)
+    found = match_triggers(detector.words(audio, spec), spec)
+    dt, dc = time.perf_counter() - t0, time.process_time() - c0
+    for k, value in enumerate((*score(found, truth), dt, dc)):
+        totals[k] += value
+    return audio
+
+
 def score(found: list[Word], truth: list[dict]) -> tuple[int, int, int, list[float]]:
     """True positives, detections, truth count and |t - truth| of the true positives."""
     used: set[int] = set()
@@ -135,18 +150,7 @@ def main() -> None:
             for seed in range(args.first_seed, args.first_seed + args.sessions):
                 path, truth = render(Path(tmp), snr, seed, args.duration, args.word)
                 for d in detectors:
-                    t0, c0 = time.perf_counter(), time.process_time()
-                    audio = load_audio(path, rate=RATE)
-                    found = match_triggers(d.words(audio, spec), spec)
-                    dt, dc = time.perf_counter() - t0, time.process_time() - c0
-                    tp, nf, nt, err = score(found, truth)
-                    acc = totals[d.name]
-                    acc[0] += tp
-                    acc[1] += nf
-                    acc[2] += nt
-                    acc[3] += err
-                    acc[4] += dt
-                    acc[5] += dc
+                    audio = measure(d, path, spec, truth, totals[d.name])
                 audio_s += audio.duration_s
             for d in detectors:
                 print(row(label(d), snr, *totals[d.name], audio_s), flush=True)
