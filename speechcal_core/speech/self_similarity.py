@@ -78,14 +78,16 @@ CLEAR_VOICE_BOOST = 1.3
 # against that seed's matches of its siblings, how closely the second to fifth closest
 # seeds match, MFCC and posteriorgram costs combined (5 dB, seeds 101-124: at best 8
 # false alarms fewer for 4 triggers lost), per-seed limits from each seed's closest
-# sibling. Spans just over the limit that sound alike among themselves (a voice with no
-# seed) gave 4 of the 54 missed triggers. Seeds also
-# read as said by a vocal tract 6-12 % shorter or longer (eight seeds most unlike each
-# other, 5 % dearer) found more of a voice with few seeds, mostly through that voice's
-# own seeds: 5 dB 930 / 52 -> 941 / 56 found / false alarms on seeds 101-124, 931 / 63 ->
-# 939 / 70 on untouched 125-148, at 10 dB one to three found and one false alarm more;
-# but a quarter more CPU, and on the benchmark's 5 dB sessions one false alarm more
-# (precision 0.971 -> 0.966).
+# sibling, a template averaged over a voice's seeds (aligned by DTW). Spans just over
+# the limit that sound alike among themselves (a voice with no seed) gave 4 of the 54
+# missed triggers. Posteriorgram mixtures trained only on frames well above the noise
+# floor moved along the same trade-off, below it (8 dB: 957 / 190, at a stricter limit
+# 907 / 93). Seeds also read as said by a vocal tract 6-12 % shorter or longer (eight
+# seeds most unlike each other, 5 % dearer) found more of a voice with few seeds, mostly
+# through that voice's own seeds: 5 dB 930 / 52 -> 941 / 56 found / false alarms on
+# seeds 101-124, 931 / 63 -> 939 / 70 on untouched 125-148, at 10 dB one to three found
+# and one false alarm more; but a quarter more CPU, and on the benchmark's 5 dB sessions
+# one false alarm more (precision 0.971 -> 0.966).
 
 
 def expand_by_similarity(samples: np.ndarray, rate: int, seeds: list[Word],
