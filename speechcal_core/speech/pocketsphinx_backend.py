@@ -236,11 +236,11 @@ class PocketsphinxBackend:
         self._decoder: Any = None
         self._key: tuple | None = None
         self._sensitivities: set[float] = set()  # those the decoder has grammars for
-        self._neighbours: tuple[list[str], list[str]] = ([], [])  # rivals, confusables
         self._phones: list[str] = []
         self._vocab: set[str] = set()
-        self._rivals: set[str] = set()
-        self._confusables: set[str] = set()
+        #: the trigger words' inflections and near-homophones, in the grammar's order
+        self._rivals: list[str] = []
+        self._confusables: list[str] = []
         self._hiss_first: set[str] = set()  # triggers opening with a fricative
         self._hiss_last: set[str] = set()  # triggers closing with one
 
@@ -281,7 +281,7 @@ class PocketsphinxBackend:
             out += kept + [w for w in extra
                            if activity.level_db(w.start_s, w.end_s) >= EXPAND_MIN_DB]
         triggers = [w for w in out if w.word in spec.words]
-        neighbours = self._rivals | self._confusables
+        neighbours = {*self._rivals, *self._confusables}
         out = [w for w in out if w.word not in neighbours
                or not any(t.start_s < w.end_s and w.start_s < t.end_s for t in triggers)]
         return sorted(self._hiss_bounds(x, activity, out, heard_ends), key=lambda w: w.start_s)
@@ -386,7 +386,8 @@ class PocketsphinxBackend:
         if spec.sensitivity not in self._sensitivities:
             logmath = self._decoder.get_logmath()
             for k, tier in enumerate(TIERS):
-                grammar = _spot_grammar(logmath, spec, *self._neighbours, self._phones, tier)
+                grammar = _spot_grammar(logmath, spec, self._rivals, self._confusables,
+                                        self._phones, tier)
                 self._decoder.add_fsg(_grammar_name(spec.sensitivity, k), grammar)
             self._sensitivities.add(spec.sensitivity)
         return self._decoder
@@ -423,10 +424,8 @@ class PocketsphinxBackend:
         for p in sorted(PHONES):
             _add_word(decoder, PHONE_PREFIX + p.lower(), (p,))
         self._phones = [PHONE_PREFIX + p.lower() for p in sorted(PHONES)]
-        self._neighbours = (rivals, confusables)
         self._vocab = set(spec.words) | set(rivals) | set(confusables)
-        self._rivals = set(rivals)
-        self._confusables = set(confusables)
+        self._rivals, self._confusables = rivals, confusables
         self._hiss_first, self._hiss_last = hiss_first, hiss_last
         return decoder
 
