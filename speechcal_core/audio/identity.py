@@ -8,6 +8,8 @@ from pathlib import Path
 
 import soundfile as sf
 
+from speechcal_core.audio.loader import UNKNOWN_FRAMES
+
 #: where a session keeps its audio file's identity (``Session.extra``)
 AUDIO_FILE_KEY = "audio_file"
 #: lengths closer than this are the same file's (a header's frame count is exact)
@@ -16,14 +18,15 @@ SAME_LENGTH_S = 0.01
 
 def audio_identity(path: str | Path) -> dict | None:
     """``{"seconds", "rate", "channels"}`` of the audio file ``path`` from its header, or
-    None when it is no sound file soundfile reads (a bag's audio topic, a missing file)."""
+    None when it is no sound file soundfile reads (a bag's audio topic, a missing file)
+    or its header does not know its length."""
     try:
         with sf.SoundFile(str(path)) as f:
             frames, rate, channels = int(f.frames), int(f.samplerate), int(f.channels)
     except (OSError, RuntimeError, TypeError, ValueError, sf.LibsndfileError):
         return None
-    if rate <= 0 or frames < 0:
-        return None
+    if rate <= 0 or frames < 0 or frames >= UNKNOWN_FRAMES:
+        return None  # no rate, or a length the header does not know
     return {"seconds": round(frames / rate, 6), "rate": rate, "channels": channels}
 
 

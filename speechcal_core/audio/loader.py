@@ -17,6 +17,10 @@ AUDIO_SUFFIXES = (".ogg", ".opus", ".wav", ".flac", ".mp3")
 
 BLOCK_FRAMES = 1 << 16
 SUPPORTED = "WAV, FLAC, Ogg Vorbis, Opus, MP3"
+#: libsndfile reports a length this large (its SF_COUNT_MAX) when the header does not
+#: know it: an Ogg file whose pages switch to another stream part way, as when two
+#: programs wrote the same file at once
+UNKNOWN_FRAMES = 1 << 62
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,7 +83,7 @@ def load_resampled(path: str | Path, rate: int, *,
         raise AudioError(f"{p}: cannot resample to {rate} Hz; give a positive rate")
     with open_audio(p, channel) as f:
         channels, rate_in = int(f.channels), int(f.samplerate)
-        expected = int(f.frames) if f.frames and f.frames > 0 else 0
+        expected = header_frames(f)
         samples, size_in = resample_blocks(_finite(mono_blocks(f, p, channel)), rate_in,
                                            int(rate), size_hint=expected)
     if size_in == 0:
@@ -93,6 +97,18 @@ def _finite(blocks: Iterator[np.ndarray]) -> Iterator[np.ndarray]:
         if not np.all(np.isfinite(block)):
             block = np.nan_to_num(block, nan=0.0, posinf=1.0, neginf=-1.0)
         yield block
+
+
+def header_frames(f: sf.SoundFile) -> int:
+    """The file's length in frames as its header gives it; 0 where the header does not
+    know it (the file is then decoded to its end to learn it)."""
+    frames = int(f.frames or 0)
+    return frames if 0 < frames < UNKNOWN_FRAMES else 0
+
+
+def decoded_frames(f: sf.SoundFile, path: str | Path) -> int:
+    """How many frames of ``f`` decode, counted by decoding them all (from its start)."""
+    return sum(block.size for block in mono_blocks(f, path))
 
 
 def open_audio(path: str | Path, channel: int | None = None) -> sf.SoundFile:
@@ -159,8 +175,7 @@ def mono_blocks(f: sf.SoundFile, path: str | Path,
 
 def _read_mono(f: sf.SoundFile, p: Path, channel: int | None) -> np.ndarray:
     """Decode block by block into one preallocated mono array."""
-    expected = int(f.frames) if f.frames and f.frames > 0 else 0
-    out = np.empty(max(expected, BLOCK_FRAMES), dtype=np.float32)
+    out = np.empty(max(header_frames(f), BLOCK_FRAMES), dtype=np.float32)
     n = 0
     for block in mono_blocks(f, p, channel):
         k = block.size

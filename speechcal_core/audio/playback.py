@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from speechcal_core.audio.file_samples import FileSamples
-from speechcal_core.audio.loader import open_audio
+from speechcal_core.audio.loader import decoded_frames, header_frames, open_audio
 
 if TYPE_CHECKING:
     from speechcal_core.session.model import Trigger
@@ -95,7 +95,7 @@ class PlaybackAudio:
         self.path = Path(path)
         with open_audio(self.path, channel) as f:  # AudioError naming the file
             self.rate_in = int(f.samplerate)
-            frames = int(f.frames) if f.frames and f.frames > 0 else 0
+            frames = header_frames(f) or decoded_frames(f, self.path)
         self.rate = int(rate or self.rate_in)
         self.samples = FileSamples(self.path, self.rate, rate_in=self.rate_in, size_in=frames,
                                    channel=channel)

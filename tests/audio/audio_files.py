@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
@@ -20,4 +21,21 @@ def write_gated_tone(path: Path, rate: int, seconds: float, channels: int, *, se
     with sf.SoundFile(str(path), "w", samplerate=rate, channels=channels, **kw) as f:
         for i in range(0, n, 4096):  # DESIGN §5: write Ogg in blocks
             f.write(data[i:i + 4096])
+    return path
+
+
+def write_spliced_ogg(path: Path, rate: int, seconds: float, *, seed: int) -> Path:
+    """An Ogg Vorbis file whose pages switch part way to another encoding of the same
+    audio (another stream serial), as when two programs wrote the file at once. Where
+    the switch lies more than libsndfile's search for the last page looks back from the
+    end (about 64 kB: 40 s of noise at 16 kHz), it does not know the file's length."""
+    rng = np.random.default_rng(seed)
+    data = (0.1 * rng.standard_normal(int(rate * seconds))).astype(np.float32)
+    takes = []
+    for _ in range(2):  # each write picks a new stream serial
+        buf = io.BytesIO()
+        sf.write(buf, data, rate, format="OGG", subtype="VORBIS")
+        takes.append(buf.getvalue())
+    switch = len(takes[0]) // 4
+    path.write_bytes(takes[1][:switch] + takes[0][switch:])
     return path

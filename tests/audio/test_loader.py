@@ -7,8 +7,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 import soundfile as sf
+from audio_files import write_spliced_ogg
 
 from speechcal_core.audio import AudioError, load_audio, resample
+from speechcal_core.audio.identity import audio_identity
+from speechcal_core.audio.loader import UNKNOWN_FRAMES, load_resampled
 
 
 def _write(path: Path, data: np.ndarray, rate: int, **kw) -> Path:
@@ -96,3 +99,15 @@ def test_empty_and_garbage_files_are_refused(tmp_path: Path) -> None:
     p = _write(tmp_path / "zero.wav", np.zeros(0, np.float32), 16000)
     with pytest.raises(AudioError, match="no audio samples"):
         load_audio(p)
+
+
+def test_a_file_whose_header_does_not_know_its_length_loads_what_decodes(
+        tmp_path: Path) -> None:
+    p = write_spliced_ogg(tmp_path / "spliced.ogg", 16000, 40.0, seed=3)
+    assert sf.info(str(p)).frames >= UNKNOWN_FRAMES  # the case itself, as libsndfile sees it
+    audio = load_audio(p)
+    assert 16000 < audio.samples.size <= 40 * 16000
+    resampled, size_in = load_resampled(p, 8000)
+    assert size_in == audio.samples.size
+    assert resampled.samples.size == -(-size_in // 2)
+    assert audio_identity(p) is None  # no length to tell this file from another by

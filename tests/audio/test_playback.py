@@ -10,9 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 import soundfile as sf
-from audio_files import write_gated_tone
+from audio_files import write_gated_tone, write_spliced_ogg
 from truth_sessions import quiet_time_s
 
+from speechcal_core.audio import load_audio
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.playback import (
     BY_HAND_SPAN_S,
@@ -237,3 +238,13 @@ def test_playback_and_search_read_the_sessions_channel(tmp_path: Path) -> None:
     assert np.abs(mixed.pcm).max() == pytest.approx(0.25 * 32768, rel=0.01)
     assert SessionAudio(path, channel=1).index().samples.read(0, 4000).max() > 0.4
     assert SessionAudio(path, channel=0).index().samples.read(0, 4000).max() == 0.0
+
+
+def test_a_file_whose_header_does_not_know_its_length_plays_what_decodes(
+        tmp_path: Path) -> None:
+    p = write_spliced_ogg(tmp_path / "spliced.ogg", 16000, 40.0, seed=3)
+    audio = PlaybackAudio(p)
+    decoded = load_audio(p).samples
+    assert audio.duration_s == pytest.approx(decoded.size / 16000)
+    stretch = audio.samples[16000:20000]
+    assert stretch.size == 4000 and np.any(stretch != 0)
