@@ -418,7 +418,7 @@ class PocketsphinxBackend:
                 if prons[0] not in known:
                     _add_word(decoder, free, prons[0])  # an accent
             rivals += [r for r in rival_words(prons, set(spec.words)) if r not in rivals]
-            alike = confusable_words(prons, set(spec.words)) \
+            alike = confusable_words(w, prons, set(spec.words)) \
                 + commoner_words_ending_alike(w, prons, set(spec.words))
             confusables += [r for r in alike if r not in rivals and r not in confusables]
         for p in sorted(PHONES):

@@ -27,10 +27,17 @@ from speechcal_core.speech.vad import voice_activity
 
 
 def test_confusables_are_common_words_one_phone_away() -> None:
-    assert confusable_words(pronunciations("capture"), {"capture"}) == ["captor", "rapture"]
-    near_mark = confusable_words(pronunciations("mark"), {"mark"})
+    assert confusable_words("capture", pronunciations("capture"), {"capture"}) \
+        == ["captor", "rapture"]
+    near_mark = confusable_words("mark", pronunciations("mark"), {"mark"})
     assert {"park", "dark", "march"} <= set(near_mark)
     assert "market" not in near_mark and "mark" not in near_mark  # longer; the word itself
+    assert "marv" not in near_mark  # a hundred times rarer than "mark": hardly said
+
+
+def test_a_word_the_language_model_does_not_know_keeps_every_common_neighbour() -> None:
+    # a user pronunciation for a made-up word: no unigram to compare the neighbours with
+    assert "marv" in confusable_words("marq", pronunciations("mark"), {"marq"})
 
 
 def test_span_level_tracks_how_far_speech_stands_above_the_noise(tmp_path: Path) -> None:
