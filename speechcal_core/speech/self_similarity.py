@@ -87,7 +87,13 @@ CLEAR_VOICE_BOOST = 1.3
 # through that voice's own seeds: 5 dB 930 / 52 -> 941 / 56 found / false alarms on
 # seeds 101-124, 931 / 63 -> 939 / 70 on untouched 125-148, at 10 dB one to three found
 # and one false alarm more; but a quarter more CPU, and on the benchmark's 5 dB sessions
-# one false alarm more (precision 0.971 -> 0.966).
+# one false alarm more (precision 0.971 -> 0.966). Spans up to 1.5 times their limit
+# that sound alike among themselves, decoded again (sensitivity 0.9, 0.3 s around them),
+# gave a voice with no seed its own where two or more were heard as the trigger and
+# matched each other, and those searched at the first search's limit: 5 dB 930 / 52 ->
+# 944 / 54 on seeds 101-124, 931 / 63 -> 933 / 63 on 125-148, 10 dB and the benchmark
+# the same, for a sixth more CPU. Most of such a voice's missed triggers are not heard
+# as the trigger even at sensitivity 1 (session 125: 1 of 10).
 
 
 def expand_by_similarity(samples: np.ndarray, rate: int, seeds: list[Word],
