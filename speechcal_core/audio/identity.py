@@ -8,7 +8,7 @@ from pathlib import Path
 
 import soundfile as sf
 
-from speechcal_core.audio.loader import UNKNOWN_FRAMES
+from speechcal_core.audio.loader import header_frames
 
 #: where a session keeps its audio file's identity (``Session.extra``)
 AUDIO_FILE_KEY = "audio_file"
@@ -22,10 +22,10 @@ def audio_identity(path: str | Path) -> dict | None:
     or its header does not know its length."""
     try:
         with sf.SoundFile(str(path)) as f:
-            frames, rate, channels = int(f.frames), int(f.samplerate), int(f.channels)
+            frames, rate, channels = header_frames(f), int(f.samplerate), int(f.channels)
     except (OSError, RuntimeError, TypeError, ValueError, sf.LibsndfileError):
         return None
-    if rate <= 0 or frames < 0 or frames >= UNKNOWN_FRAMES:
+    if rate <= 0 or frames is None:
         return None  # no rate, or a length the header does not know
     return {"seconds": round(frames / rate, 6), "rate": rate, "channels": channels}
 

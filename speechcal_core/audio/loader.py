@@ -83,7 +83,7 @@ def load_resampled(path: str | Path, rate: int, *,
         raise AudioError(f"{p}: cannot resample to {rate} Hz; give a positive rate")
     with open_audio(p, channel) as f:
         channels, rate_in = int(f.channels), int(f.samplerate)
-        expected = header_frames(f)
+        expected = header_frames(f) or 0
         samples, size_in = resample_blocks(_finite(mono_blocks(f, p, channel)), rate_in,
                                            int(rate), size_hint=expected)
     if size_in == 0:
@@ -99,11 +99,11 @@ def _finite(blocks: Iterator[np.ndarray]) -> Iterator[np.ndarray]:
         yield block
 
 
-def header_frames(f: sf.SoundFile) -> int:
-    """The file's length in frames as its header gives it; 0 where the header does not
-    know it (the file is then decoded to its end to learn it)."""
+def header_frames(f: sf.SoundFile) -> int | None:
+    """The file's length in frames as its header gives it; None where the header does not
+    know it (decode the file to its end to learn it)."""
     frames = int(f.frames or 0)
-    return frames if 0 < frames < UNKNOWN_FRAMES else 0
+    return frames if 0 <= frames < UNKNOWN_FRAMES else None
 
 
 def decoded_frames(f: sf.SoundFile, path: str | Path) -> int:
@@ -175,7 +175,7 @@ def mono_blocks(f: sf.SoundFile, path: str | Path,
 
 def _read_mono(f: sf.SoundFile, p: Path, channel: int | None) -> np.ndarray:
     """Decode block by block into one preallocated mono array."""
-    out = np.empty(max(header_frames(f), BLOCK_FRAMES), dtype=np.float32)
+    out = np.empty(max(header_frames(f) or 0, BLOCK_FRAMES), dtype=np.float32)
     n = 0
     for block in mono_blocks(f, p, channel):
         k = block.size

@@ -95,7 +95,9 @@ class PlaybackAudio:
         self.path = Path(path)
         with open_audio(self.path, channel) as f:  # AudioError naming the file
             self.rate_in = int(f.samplerate)
-            frames = header_frames(f) or decoded_frames(f, self.path)
+            frames = header_frames(f)
+            if frames is None:
+                frames = decoded_frames(f, self.path)
         self.rate = int(rate or self.rate_in)
         self.samples = FileSamples(self.path, self.rate, rate_in=self.rate_in, size_in=frames,
                                    channel=channel)
