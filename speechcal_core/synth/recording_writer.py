@@ -8,8 +8,6 @@ stays bounded by a few chunks whatever the session length.
 from __future__ import annotations
 
 import multiprocessing
-import os
-import sys
 from collections import deque
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -19,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from speechcal_core.errors import SpeechCalError
+from speechcal_core.processes import spawn_can_start, usable_cores
 from speechcal_core.synth.camera_stamps import CameraFrames, plan_frames
 from speechcal_core.synth.image_messages import message_type, serialize_frame, typestore_for
 from speechcal_core.synth.render import FrameRenderer
@@ -86,7 +85,7 @@ def write_recording(timeline: Timeline, out_dir: Path,
     tasks = list(_chunks(timeline, frames, order))
     ros_version = 1 if options.format == "ros1" else 2
     if workers is None:
-        workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
+        workers = usable_cores()
     workers = max(1, min(workers, len(tasks)))
     total = len(order[0])
     msgtype = message_type(options.encoding)
@@ -141,7 +140,7 @@ def _chunks(timeline: Timeline, frames: list[CameraFrames],
 def _rendered(timeline: Timeline, tasks: list[_Task], ros_version: int, workers: int,
               total: int) -> Iterator[tuple[_Task, list[bytes]]]:
     """(task, serialized messages) in task order, rendered here or by worker processes."""
-    if workers <= 1 or total < MIN_FRAMES_FOR_POOL or not _spawn_can_start():
+    if workers <= 1 or total < MIN_FRAMES_FOR_POOL or not spawn_can_start():
         renderer = FrameRenderer(timeline)
         for task in tasks:
             yield task, _render_task(renderer, timeline, task, ros_version)
@@ -164,12 +163,6 @@ def _rendered(timeline: Timeline, tasks: list[_Task], ros_version: int, workers:
             if nxt is not None:
                 pending.append((nxt, pool.submit(_worker_task, nxt, ros_version)))
             yield task, payloads
-
-
-def _spawn_can_start() -> bool:
-    """Whether spawned workers can re-import ``__main__`` (not so for ``python -`` input)."""
-    main_file = getattr(sys.modules.get("__main__"), "__file__", None)
-    return main_file is None or os.path.exists(main_file)
 
 
 def _render_task(renderer: FrameRenderer, timeline: Timeline, task: _Task,
