@@ -24,19 +24,32 @@ search to start from (a short recording in loud noise), all the speech is.
 A trigger, recognised or found, whose sound runs on without a pause, or resumes after a
 pause too short to end a phrase, is dropped: it is the start of something longer
 ("captured it?"). Operators say the trigger word on its own.
+The spans are decoded in chunks, by worker processes where there are several cores
+(``decoding_workers``); each chunk's front end starts afresh, so the words are the same
+however many decode them.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from collections import Counter
 from collections.abc import Callable
+from concurrent.futures import FIRST_COMPLETED, Future, wait
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from speechcal_core.processes import spawn_can_start, usable_cores
 from speechcal_core.speech.backend import Word
+from speechcal_core.speech.decoding_workers import (
+    decoding_pool,
+    discard_decoding_pool,
+    note_served,
+    workers_usable,
+)
 from speechcal_core.speech.errors import SpeechError
 from speechcal_core.speech.lexicon import (
     PHONES,
@@ -177,6 +190,22 @@ SEED_CHECK: float | None = 1.5
 #: and at 5 dB its phone loop hears silence in most of them
 RETRY_STEP = 0.2
 PEAK_LEVEL = 0.7  # each span is scaled to this peak before 16-bit conversion
+#: spans are decoded in chunks of at least this much audio, each by a fresh front end
+#: (cepstral mean and noise estimate) warmed up on the span before the chunk, so that
+#: chunks decode alike in any order and in any process (``decode_chunk``). Found / false
+#: alarms, every span decoded after the one before -> in chunks: 5 dB seeds 101-124 930
+#: / 52 -> 930 / 51, 125-148 931 / 63 -> 926 / 63; 10 dB the same (962 / 31, 954 / 28);
+#: the benchmark's seeds 1-3 the same at 20, 10 and 5 dB. Not warmed up: 101-124 at 5 dB
+#: 931 / 56; warmed up on 8 s of spans before: 930 / 54, 925 / 63
+CHUNK_S = 15.0
+#: the grammar of a warm-up: one phone, so that it costs a tenth of decoding
+WARM_UP_SEARCH = "warm-up"
+WARM_UP_PHONE = "AH"
+#: below this much speech, starting worker processes costs more than they save (each
+#: takes about 1.5 s to import and build its decoder)
+MIN_PARALLEL_S = 60.0
+#: worker processes at most (each holds the model, dictionary and grammars: 215 MB)
+MAX_WORKERS = 4
 DECODING_SHARE = 0.8  # of the work, for progress reports: the search takes the rest
 #: the share of the work done once the more sensitive decodings are done
 LISTENING_HARDER_SHARE = DECODING_SHARE + (1.0 - DECODING_SHARE) / 2
@@ -225,8 +254,15 @@ class PocketsphinxBackend:
     name = "pocketsphinx"
 
     def __init__(self, expand: bool = True,
-                 progress: Callable[[float], None] | None = None) -> None:
+                 progress: Callable[[float], None] | None = None,
+                 workers: int | None = None) -> None:
         self.expand = expand
+        #: processes decoding at once (None: one per usable core, up to MAX_WORKERS);
+        #: the result does not depend on it
+        self.workers = min(MAX_WORKERS, usable_cores()) if workers is None else workers
+        #: CPU seconds the worker processes spent on the last call (this process's own
+        #: are in ``time.process_time``)
+        self.last_worker_cpu_s = 0.0
         #: called with the share of the work done (0..1: decoding the speech up to
         #: DECODING_SHARE, then the similarity search); it may raise to stop
         self.progress = progress
@@ -250,6 +286,7 @@ class PocketsphinxBackend:
         activity = voice_activity(x, RATE)
         self.last_activity = activity
         self.last_note = None
+        self.last_worker_cpu_s = 0.0
         heard = self._hear(x, activity, activity.segments, spec, (0.0, DECODING_SHARE))
         share = DECODING_SHARE  # of the work done once the speech is decoded
         if self.expand and activity.segments and spec.sensitivity < 1.0:
@@ -329,19 +366,12 @@ class PocketsphinxBackend:
         """What the recogniser hears in ``segments`` (voice-active spans of ``x``) at
         ``spec``'s sensitivity, word bounds snapped to the words' energy; progress is
         reported from ``shares[0]`` to ``shares[1]`` of the work."""
-        decoder = self._prepare(spec)
-        found: list[Word] = []
-        total = sum(end - start for start, end in segments) or 1.0
-        done = 0.0
-        for start, end in segments:
-            if self.progress is not None:
-                self.progress(shares[0] + (shares[1] - shares[0]) * done / total)
-            done += end - start
-            a, b = int(start * RATE), int(end * RATE)
-            decoder.activate_search(_search_name(
-                spec.sensitivity, activity.level_db(start, end),
-                activity.level_db(start, end, PEAK_PERCENTILE)))
-            found.extend(decode_span(decoder, x[a:b], start, self._vocab))
+        self._prepare(spec)  # the word lists below, and the decoder for serial decoding
+        spans = [Span(start, x[int(start * RATE):int(end * RATE)], _search_name(
+                     spec.sensitivity, activity.level_db(start, end),
+                     activity.level_db(start, end, PEAK_PERCENTILE)))
+                 for start, end in segments]
+        found = self._decode(spans, spec, shares)
         heard = Heard()
         for w in _dedupe(found):
             bounds = word_bounds(x, RATE, w.start_s, w.end_s, activity.floor_at(w.t))
@@ -353,6 +383,54 @@ class PocketsphinxBackend:
             running_on = bounds.runs_on and w.word in spec.words
             (heard.running_on if running_on else heard.words).append(word)
         return heard
+
+    def _decode(self, spans: list[Span], spec: TriggerSpec,
+                shares: tuple[float, float]) -> list[Word]:
+        """The words of the grammars (triggers, rivals, confusables) in ``spans``, decoded
+        in chunks (CHUNK_S): by worker processes where there are several cores and enough
+        speech, else here; the same words either way."""
+        chunks = _chunks(spans)
+        seconds = [sum(span.samples.size for span in chunk.spans) / RATE for chunk in chunks]
+        total = sum(seconds) or 1.0
+        if self.workers > 1 and len(chunks) > 1 and total >= MIN_PARALLEL_S \
+                and spawn_can_start() and workers_usable():
+            try:
+                return self._decode_in_workers(chunks, seconds, spec, shares)
+            except BrokenProcessPool:
+                discard_decoding_pool()  # a worker died (out of memory?): decode here
+        found: list[Word] = []
+        done = 0.0
+        for chunk, length in zip(chunks, seconds, strict=True):
+            self._report(shares, done / total)
+            found += decode_chunk(self._decoder, chunk, self._vocab)
+            done += length
+        return found
+
+    def _decode_in_workers(self, chunks: list[Chunk], seconds: list[float],
+                           spec: TriggerSpec, shares: tuple[float, float]) -> list[Word]:
+        """``_decode`` by the worker processes; progress as chunks come back."""
+        with decoding_pool(min(self.workers, len(chunks))) as pool:
+            futures = [pool.submit(_decode_chunk_in_worker, spec, chunk) for chunk in chunks]
+            length = dict(zip(futures, seconds, strict=True))
+            total, done = sum(seconds), 0.0
+            pending: set[Future] = set(futures)
+            try:
+                while pending:
+                    self._report(shares, done / total)
+                    finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                    for future in finished:
+                        self.last_worker_cpu_s += future.result()[1]
+                        note_served()
+                        done += length[future]
+            finally:
+                for future in pending:  # stopped: chunks not yet begun are not decoded
+                    future.cancel()
+        return [word for future in futures for word in future.result()[0]]
+
+    def _report(self, shares: tuple[float, float], fraction: float) -> None:
+        """Progress at ``fraction`` of the way from ``shares[0]`` to ``shares[1]``."""
+        if self.progress is not None:
+            self.progress(shares[0] + (shares[1] - shares[0]) * fraction)
 
     def _hiss_bounds(self, x: np.ndarray, activity: VoiceActivity, words: list[Word],
                      heard_ends: dict[Word, float]) -> list[Word]:
@@ -381,6 +459,8 @@ class PocketsphinxBackend:
         key = (spec.words, tuple(sorted(spec.pronunciations.items())))
         if self._decoder is None or key != self._key:
             self._decoder = self._new_decoder(spec)
+            self._decoder.add_fsg(WARM_UP_SEARCH, _warm_up_grammar(
+                self._decoder.get_logmath(), PHONE_PREFIX + WARM_UP_PHONE.lower()))
             self._key = key
             self._sensitivities = set()
         if spec.sensitivity not in self._sensitivities:
@@ -488,6 +568,18 @@ def _spot_grammar(logmath: Any, spec: TriggerSpec, rivals: list[str], confusable
     return fsg
 
 
+def _warm_up_grammar(logmath: Any, phone: str) -> Any:
+    """One state looping over one phone: whatever it decodes, the front end adapts."""
+    import pocketsphinx
+
+    fsg = pocketsphinx.FsgModel(WARM_UP_SEARCH, logmath, 1.0, 2)
+    fsg.trans_add(0, 0, 0, fsg.word_add(phone))
+    fsg.null_trans_add(0, 1, 0)
+    fsg.set_start_state(0)
+    fsg.set_final_state(1)
+    return fsg
+
+
 def _alternates(decoder: Any, word: str) -> tuple[set[tuple[str, ...]], str]:
     """The pronunciations the decoder holds for ``word`` (``word``, ``word(2)``, ...) and
     its first unused alternate entry: pocketsphinx refuses to redefine a word, and the
@@ -510,6 +602,68 @@ def _add_word(decoder: Any, word: str, phones: tuple[str, ...]) -> None:
         ) from exc
 
 
+class Span(NamedTuple):
+    """A voice-active span to decode: where it starts (audio seconds), its samples and
+    the grammar (search) to decode it with."""
+
+    start_s: float
+    samples: np.ndarray
+    search: str
+
+
+class Chunk(NamedTuple):
+    """Consecutive spans to decode, and the samples of the span before them (None for the
+    first chunk) to warm the front end up on."""
+
+    warm_up: np.ndarray | None
+    spans: list[Span]
+
+
+def _chunks(spans: list[Span]) -> list[Chunk]:
+    """``spans`` in consecutive chunks of at least CHUNK_S of audio (the last may be
+    shorter)."""
+    chunks: list[Chunk] = []
+    length = math.inf
+    for k, span in enumerate(spans):
+        if length >= CHUNK_S:
+            chunks.append(Chunk(spans[k - 1].samples if k else None, []))
+            length = 0.0
+        chunks[-1].spans.append(span)
+        length += span.samples.size / RATE
+    return chunks
+
+
+def decode_chunk(decoder: Any, chunk: Chunk, vocab: set[str]) -> list[Word]:
+    """The words of ``vocab`` in the chunk's spans, decoded one after the other by a fresh
+    front end warmed up on its ``warm_up`` samples: each chunk starts alike, whatever the
+    decoder decoded before."""
+    decoder.reinit_feat()
+    if chunk.warm_up is not None:
+        decoder.activate_search(WARM_UP_SEARCH)
+        decode_span(decoder, chunk.warm_up, 0.0, set())
+    found: list[Word] = []
+    for span in chunk.spans:
+        decoder.activate_search(span.search)
+        found += decode_span(decoder, span.samples, span.start_s, vocab)
+    return found
+
+
+#: the backend of a worker process, kept for its decoders between chunks
+_worker_backend: PocketsphinxBackend | None = None
+
+
+def _decode_chunk_in_worker(spec: TriggerSpec, chunk: Chunk) -> tuple[list[Word], float]:
+    """``decode_chunk`` in a worker process, and the CPU seconds it took there."""
+    global _worker_backend
+    started = time.process_time()
+    if _worker_backend is None:
+        _worker_backend = PocketsphinxBackend(workers=1)
+    backend = _worker_backend
+    decoder = backend._prepare(spec)
+    words = decode_chunk(decoder, chunk, backend._vocab)
+    return words, time.process_time() - started
+
+
 def decode_span(decoder: Any, samples: np.ndarray, offset_s: float,
                 vocab: set[str]) -> list[Word]:
     """Decode one span with the active search; words of ``vocab`` in audio seconds.
@@ -517,11 +671,12 @@ def decode_span(decoder: Any, samples: np.ndarray, offset_s: float,
     The score is the word's acoustic score relative to the best partial path of each of
     its frames (1.0: the best explanation everywhere).
     pocketsphinx's cepstral mean is live whatever the model's ``-cmn batch`` says: a span
-    starts from the mean the previous one left, so what is heard in it depends a little
-    on the span before. Starting each span from its own mean (a front-end pass before
-    decoding) moved single 5 dB sessions by up to ten triggers either way but not the
-    total: seeds 101-148, 1824 found / 110 false -> 1822 / 117 (its mean with 2 s around
-    it: 1823 / 115; both decodings' words together: 1847 / 118 at a third more CPU).
+    starts from the mean the previous one left (``decode_chunk`` starts each chunk
+    afresh), so what is heard in it depends a little on the span before. Starting each
+    span from its own mean (a front-end pass before decoding) moved single 5 dB sessions
+    by up to ten triggers either way but not the total: seeds 101-148, 1824 found / 110
+    false -> 1822 / 117 (its mean with 2 s around it: 1823 / 115; both decodings' words
+    together: 1847 / 118 at a third more CPU).
     """
     peak = float(np.max(np.abs(samples))) if samples.size else 0.0
     if peak <= 0.0 or samples.size < RATE // 10:
