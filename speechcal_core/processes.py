@@ -7,8 +7,11 @@ Workers are spawned, never forked: a forked child inherits the parent's threads'
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 import sys
+import threading
+from multiprocessing.connection import wait
 
 
 def usable_cores() -> int:
@@ -22,3 +25,19 @@ def spawn_can_start() -> bool:
     """Whether spawned workers can re-import ``__main__`` (not so for ``python -`` input)."""
     main_file = getattr(sys.modules.get("__main__"), "__file__", None)
     return main_file is None or os.path.exists(main_file)
+
+
+def exit_with_parent() -> None:
+    """Make this worker process exit when the process that started it ends, however it
+    ends: a pool's idle workers wait on a queue whose writing end they hold themselves,
+    so a parent that was killed would leave them waiting, and holding their memory, for
+    good. A worker initializer."""
+    parent = multiprocessing.parent_process()
+    if parent is None:
+        return
+
+    def watch() -> None:
+        wait([parent.sentinel])
+        os._exit(1)
+
+    threading.Thread(target=watch, name="exit-with-parent", daemon=True).start()

@@ -18,6 +18,8 @@ from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
 
+from speechcal_core.processes import exit_with_parent
+
 #: workers idle this long are stopped (each holds about 200 MB)
 IDLE_S = 120.0
 
@@ -55,7 +57,8 @@ def decoding_pool(workers: int) -> Iterator[ProcessPoolExecutor]:
         if _pool is None or (_size != workers and _users == 0):
             _shut_down()
             _pool = ProcessPoolExecutor(max_workers=workers,
-                                        mp_context=multiprocessing.get_context("spawn"))
+                                        mp_context=multiprocessing.get_context("spawn"),
+                                        initializer=exit_with_parent)
             _size = workers
         pool = _pool
         _users += 1

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from speechcal_core.errors import SpeechCalError
-from speechcal_core.processes import spawn_can_start, usable_cores
+from speechcal_core.processes import exit_with_parent, spawn_can_start, usable_cores
 from speechcal_core.synth.camera_stamps import CameraFrames, plan_frames
 from speechcal_core.synth.image_messages import message_type, serialize_frame, typestore_for
 from speechcal_core.synth.render import FrameRenderer
@@ -184,6 +184,7 @@ _WORKER: dict[str, object] = {}
 def _init_worker(timeline: Timeline) -> None:
     import cv2
 
+    exit_with_parent()
     cv2.setNumThreads(1)
     _WORKER["timeline"] = timeline
     _WORKER["renderer"] = FrameRenderer(timeline)
