@@ -37,6 +37,11 @@ def workers_usable() -> bool:
     return not _unusable
 
 
+def pool_running(workers: int) -> bool:
+    """Whether a pool of ``workers`` processes is up (its workers cost nothing to start)."""
+    return _pool is not None and _size == workers
+
+
 def note_served() -> None:
     """The pool's workers returned a result: they start, so a later breakdown (a worker
     killed) is no reason to stop using them."""

@@ -48,6 +48,7 @@ from speechcal_core.speech.decoding_workers import (
     decoding_pool,
     discard_decoding_pool,
     note_served,
+    pool_running,
     workers_usable,
 )
 from speechcal_core.speech.errors import SpeechError
@@ -202,7 +203,7 @@ CHUNK_S = 15.0
 WARM_UP_SEARCH = "warm-up"
 WARM_UP_PHONE = "AH"
 #: below this much speech, starting worker processes costs more than they save (each
-#: takes about 1.5 s to import and build its decoder)
+#: takes about 1.5 s to import and build its decoder); workers already up take any
 MIN_PARALLEL_S = 60.0
 #: worker processes at most (each holds the model, dictionary and grammars: 215 MB)
 MAX_WORKERS = 4
@@ -392,8 +393,9 @@ class PocketsphinxBackend:
         chunks = _chunks(spans)
         seconds = [sum(span.samples.size for span in chunk.spans) / RATE for chunk in chunks]
         total = sum(seconds) or 1.0
-        if self.workers > 1 and len(chunks) > 1 and total >= MIN_PARALLEL_S \
-                and spawn_can_start() and workers_usable():
+        worth_it = total >= MIN_PARALLEL_S or pool_running(self.workers)
+        if self.workers > 1 and len(chunks) > 1 and worth_it and spawn_can_start() \
+                and workers_usable():
             try:
                 return self._decode_in_workers(chunks, seconds, spec, shares)
             except BrokenProcessPool:
@@ -409,7 +411,7 @@ class PocketsphinxBackend:
     def _decode_in_workers(self, chunks: list[Chunk], seconds: list[float],
                            spec: TriggerSpec, shares: tuple[float, float]) -> list[Word]:
         """``_decode`` by the worker processes; progress as chunks come back."""
-        with decoding_pool(min(self.workers, len(chunks))) as pool:
+        with decoding_pool(self.workers) as pool:  # a worker starts only when needed
             futures = [pool.submit(_decode_chunk_in_worker, spec, chunk) for chunk in chunks]
             length = dict(zip(futures, seconds, strict=True))
             total, done = sum(seconds), 0.0
