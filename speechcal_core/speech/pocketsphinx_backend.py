@@ -24,45 +24,42 @@ search to start from (a short recording in loud noise), all the speech is.
 A trigger, recognised or found, whose sound runs on without a pause, or resumes after a
 pause too short to end a phrase, is dropped: it is the start of something longer
 ("captured it?"). Operators say the trigger word on its own.
-The spans are decoded in chunks, by worker processes where there are several cores
-(``decoding_workers``); each chunk's front end starts afresh, so the words are the same
-however many decode them.
+The spans are decoded in chunks, by worker processes where there are several cores, with
+the same words however many decode them (``span_decoding``).
 """
 
 from __future__ import annotations
 
 import math
-import time
 from collections import Counter
 from collections.abc import Callable
-from concurrent.futures import FIRST_COMPLETED, Future, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from speechcal_core.processes import spawn_can_start, usable_cores
 from speechcal_core.speech.backend import Word
-from speechcal_core.speech.decoding_workers import (
-    decoding_pool,
-    discard_decoding_pool,
-    note_served,
-    pool_running,
-    workers_usable,
-)
 from speechcal_core.speech.errors import SpeechError
 from speechcal_core.speech.lexicon import (
     PHONES,
     commoner_words_ending_alike,
     confusable_words,
-    dictionary_word,
     model_dir,
     pronunciations,
     rival_words,
 )
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
 from speechcal_core.speech.self_similarity import MIN_SEEDS, confirm_and_expand
+from speechcal_core.speech.span_decoding import (
+    RATE,
+    WARM_UP_SEARCH,
+    Chunk,
+    Span,
+    decode_chunk,
+    decode_spans,
+    default_workers,
+    warm_up_grammar,
+)
 from speechcal_core.speech.speech_index import Representation
 from speechcal_core.speech.timing import FRICATIVE_BAND_HZ, word_bounds
 from speechcal_core.speech.vad import HOP_S as VAD_HOP_S
@@ -77,9 +74,8 @@ if TYPE_CHECKING:
     from speechcal_core.audio import Audio
     from speechcal_core.speech.matching import TriggerSpec
 
-RATE = 16000
-FRAME_S = 0.01
 PHONE_PREFIX = "ph_"
+WARM_UP_PHONE = "AH"  # the one phone a decoder warms up with (``span_decoding``)
 #: narrow beams keep a phone loop fast; bestpath is off (its lattice costs seconds).
 #: Front-end settings do not belong here: the model's ``feat.params`` (noise removal on,
 #: batch CMN, its filter bank) overrides them when given to ``Decoder``. Only
@@ -190,23 +186,6 @@ SEED_CHECK: float | None = 1.5
 #: sensitivity 0.9, a near-homophone heard there drops 6 true finds for 6 false (5 dB),
 #: and at 5 dB its phone loop hears silence in most of them
 RETRY_STEP = 0.2
-PEAK_LEVEL = 0.7  # each span is scaled to this peak before 16-bit conversion
-#: spans are decoded in chunks of at least this much audio, each by a fresh front end
-#: (cepstral mean and noise estimate) warmed up on the span before the chunk, so that
-#: chunks decode alike in any order and in any process (``decode_chunk``). Found / false
-#: alarms, every span decoded after the one before -> in chunks: 5 dB seeds 101-124 930
-#: / 52 -> 930 / 51, 125-148 931 / 63 -> 926 / 63; 10 dB the same (962 / 31, 954 / 28);
-#: the benchmark's seeds 1-3 the same at 20, 10 and 5 dB. Not warmed up: 101-124 at 5 dB
-#: 931 / 56; warmed up on 8 s of spans before: 930 / 54, 925 / 63
-CHUNK_S = 15.0
-#: the grammar of a warm-up: one phone, so that it costs a tenth of decoding
-WARM_UP_SEARCH = "warm-up"
-WARM_UP_PHONE = "AH"
-#: below this much speech, starting worker processes costs more than they save (each
-#: takes about 1.5 s to import and build its decoder); workers already up take any
-MIN_PARALLEL_S = 60.0
-#: worker processes at most (each holds the model, dictionary and grammars: 215 MB)
-MAX_WORKERS = 4
 DECODING_SHARE = 0.8  # of the work, for progress reports: the search takes the rest
 #: the share of the work done once the more sensitive decodings are done
 LISTENING_HARDER_SHARE = DECODING_SHARE + (1.0 - DECODING_SHARE) / 2
@@ -258,9 +237,9 @@ class PocketsphinxBackend:
                  progress: Callable[[float], None] | None = None,
                  workers: int | None = None) -> None:
         self.expand = expand
-        #: processes decoding at once (None: one per usable core, up to MAX_WORKERS);
-        #: the result does not depend on it
-        self.workers = min(MAX_WORKERS, usable_cores()) if workers is None else workers
+        #: processes decoding at once (None: ``span_decoding.default_workers``); the
+        #: result does not depend on it
+        self.workers = default_workers() if workers is None else workers
         #: CPU seconds the worker processes spent on the last call (this process's own
         #: are in ``time.process_time``)
         self.last_worker_cpu_s = 0.0
@@ -367,12 +346,15 @@ class PocketsphinxBackend:
         """What the recogniser hears in ``segments`` (voice-active spans of ``x``) at
         ``spec``'s sensitivity, word bounds snapped to the words' energy; progress is
         reported from ``shares[0]`` to ``shares[1]`` of the work."""
-        self._prepare(spec)  # the word lists below, and the decoder for serial decoding
+        self._prepare(spec)  # for the word lists below
         spans = [Span(start, x[int(start * RATE):int(end * RATE)], _search_name(
                      spec.sensitivity, activity.level_db(start, end),
                      activity.level_db(start, end, PEAK_PERCENTILE)))
                  for start, end in segments]
-        found = self._decode(spans, spec, shares)
+        found, worker_cpu_s = decode_spans(
+            spans, spec, lambda chunk: self.decode_chunk(spec, chunk), self.workers,
+            lambda done: self._report(shares, done))
+        self.last_worker_cpu_s += worker_cpu_s
         heard = Heard()
         for w in _dedupe(found):
             bounds = word_bounds(x, RATE, w.start_s, w.end_s, activity.floor_at(w.t))
@@ -385,49 +367,10 @@ class PocketsphinxBackend:
             (heard.running_on if running_on else heard.words).append(word)
         return heard
 
-    def _decode(self, spans: list[Span], spec: TriggerSpec,
-                shares: tuple[float, float]) -> list[Word]:
-        """The words of the grammars (triggers, rivals, confusables) in ``spans``, decoded
-        in chunks (CHUNK_S): by worker processes where there are several cores and enough
-        speech, else here; the same words either way."""
-        chunks = _chunks(spans)
-        seconds = [sum(span.samples.size for span in chunk.spans) / RATE for chunk in chunks]
-        total = sum(seconds) or 1.0
-        worth_it = total >= MIN_PARALLEL_S or pool_running(self.workers)
-        if self.workers > 1 and len(chunks) > 1 and worth_it and spawn_can_start() \
-                and workers_usable():
-            try:
-                return self._decode_in_workers(chunks, seconds, spec, shares)
-            except BrokenProcessPool:
-                discard_decoding_pool()  # a worker died (out of memory?): decode here
-        found: list[Word] = []
-        done = 0.0
-        for chunk, length in zip(chunks, seconds, strict=True):
-            self._report(shares, done / total)
-            found += decode_chunk(self._decoder, chunk, self._vocab)
-            done += length
-        return found
-
-    def _decode_in_workers(self, chunks: list[Chunk], seconds: list[float],
-                           spec: TriggerSpec, shares: tuple[float, float]) -> list[Word]:
-        """``_decode`` by the worker processes; progress as chunks come back."""
-        with decoding_pool(self.workers) as pool:  # a worker starts only when needed
-            futures = [pool.submit(_decode_chunk_in_worker, spec, chunk) for chunk in chunks]
-            length = dict(zip(futures, seconds, strict=True))
-            total, done = sum(seconds), 0.0
-            pending: set[Future] = set(futures)
-            try:
-                while pending:
-                    self._report(shares, done / total)
-                    finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                    for future in finished:
-                        self.last_worker_cpu_s += future.result()[1]
-                        note_served()
-                        done += length[future]
-            finally:
-                for future in pending:  # stopped: chunks not yet begun are not decoded
-                    future.cancel()
-        return [word for future in futures for word in future.result()[0]]
+    def decode_chunk(self, spec: TriggerSpec, chunk: Chunk) -> list[Word]:
+        """The words of ``spec``'s grammars (triggers, rivals, confusables) in one chunk
+        of spans, decoded in this process."""
+        return decode_chunk(self._prepare(spec), chunk, self._vocab)
 
     def _report(self, shares: tuple[float, float], fraction: float) -> None:
         """Progress at ``fraction`` of the way from ``shares[0]`` to ``shares[1]``."""
@@ -461,7 +404,7 @@ class PocketsphinxBackend:
         key = (spec.words, tuple(sorted(spec.pronunciations.items())))
         if self._decoder is None or key != self._key:
             self._decoder = self._new_decoder(spec)
-            self._decoder.add_fsg(WARM_UP_SEARCH, _warm_up_grammar(
+            self._decoder.add_fsg(WARM_UP_SEARCH, warm_up_grammar(
                 self._decoder.get_logmath(), PHONE_PREFIX + WARM_UP_PHONE.lower()))
             self._key = key
             self._sensitivities = set()
@@ -570,18 +513,6 @@ def _spot_grammar(logmath: Any, spec: TriggerSpec, rivals: list[str], confusable
     return fsg
 
 
-def _warm_up_grammar(logmath: Any, phone: str) -> Any:
-    """One state looping over one phone: whatever it decodes, the front end adapts."""
-    import pocketsphinx
-
-    fsg = pocketsphinx.FsgModel(WARM_UP_SEARCH, logmath, 1.0, 2)
-    fsg.trans_add(0, 0, 0, fsg.word_add(phone))
-    fsg.null_trans_add(0, 1, 0)
-    fsg.set_start_state(0)
-    fsg.set_final_state(1)
-    return fsg
-
-
 def _alternates(decoder: Any, word: str) -> tuple[set[tuple[str, ...]], str]:
     """The pronunciations the decoder holds for ``word`` (``word``, ``word(2)``, ...) and
     its first unused alternate entry: pocketsphinx refuses to redefine a word, and the
@@ -602,101 +533,6 @@ def _add_word(decoder: Any, word: str, phones: tuple[str, ...]) -> None:
             f"pocketsphinx refused the pronunciation {' '.join(phones)!r} of {word!r}; "
             f"check the phones"
         ) from exc
-
-
-class Span(NamedTuple):
-    """A voice-active span to decode: where it starts (audio seconds), its samples and
-    the grammar (search) to decode it with."""
-
-    start_s: float
-    samples: np.ndarray
-    search: str
-
-
-class Chunk(NamedTuple):
-    """Consecutive spans to decode, and the samples of the span before them (None for the
-    first chunk) to warm the front end up on."""
-
-    warm_up: np.ndarray | None
-    spans: list[Span]
-
-
-def _chunks(spans: list[Span]) -> list[Chunk]:
-    """``spans`` in consecutive chunks of at least CHUNK_S of audio (the last may be
-    shorter)."""
-    chunks: list[Chunk] = []
-    length = math.inf
-    for k, span in enumerate(spans):
-        if length >= CHUNK_S:
-            chunks.append(Chunk(spans[k - 1].samples if k else None, []))
-            length = 0.0
-        chunks[-1].spans.append(span)
-        length += span.samples.size / RATE
-    return chunks
-
-
-def decode_chunk(decoder: Any, chunk: Chunk, vocab: set[str]) -> list[Word]:
-    """The words of ``vocab`` in the chunk's spans, decoded one after the other by a fresh
-    front end warmed up on its ``warm_up`` samples: each chunk starts alike, whatever the
-    decoder decoded before."""
-    decoder.reinit_feat()
-    if chunk.warm_up is not None:
-        decoder.activate_search(WARM_UP_SEARCH)
-        decode_span(decoder, chunk.warm_up, 0.0, set())
-    found: list[Word] = []
-    for span in chunk.spans:
-        decoder.activate_search(span.search)
-        found += decode_span(decoder, span.samples, span.start_s, vocab)
-    return found
-
-
-#: the backend of a worker process, kept for its decoders between chunks
-_worker_backend: PocketsphinxBackend | None = None
-
-
-def _decode_chunk_in_worker(spec: TriggerSpec, chunk: Chunk) -> tuple[list[Word], float]:
-    """``decode_chunk`` in a worker process, and the CPU seconds it took there."""
-    global _worker_backend
-    started = time.process_time()
-    if _worker_backend is None:
-        _worker_backend = PocketsphinxBackend(workers=1)
-    backend = _worker_backend
-    decoder = backend._prepare(spec)
-    words = decode_chunk(decoder, chunk, backend._vocab)
-    return words, time.process_time() - started
-
-
-def decode_span(decoder: Any, samples: np.ndarray, offset_s: float,
-                vocab: set[str]) -> list[Word]:
-    """Decode one span with the active search; words of ``vocab`` in audio seconds.
-
-    The score is the word's acoustic score relative to the best partial path of each of
-    its frames (1.0: the best explanation everywhere).
-    pocketsphinx's cepstral mean is live whatever the model's ``-cmn batch`` says: a span
-    starts from the mean the previous one left (``decode_chunk`` starts each chunk
-    afresh), so what is heard in it depends a little on the span before. Starting each
-    span from its own mean (a front-end pass before decoding) moved single 5 dB sessions
-    by up to ten triggers either way but not the total: seeds 101-148, 1824 found / 110
-    false -> 1822 / 117 (its mean with 2 s around it: 1823 / 115; both decodings' words
-    together: 1847 / 118 at a third more CPU).
-    """
-    peak = float(np.max(np.abs(samples))) if samples.size else 0.0
-    if peak <= 0.0 or samples.size < RATE // 10:
-        return []
-    pcm = (samples * (PEAK_LEVEL * 32767 / peak)).astype(np.int16).tobytes()
-    decoder.start_utt()
-    decoder.process_raw(pcm, full_utt=True)
-    decoder.end_utt()
-    out = []
-    for seg in decoder.seg() or []:
-        word = dictionary_word(seg.word)
-        if word not in vocab:
-            continue
-        start = offset_s + seg.start_frame * FRAME_S
-        end = offset_s + (seg.end_frame + 1) * FRAME_S
-        out.append(Word(word, start, end, float(min(1.0, max(0.0, seg.ascore))),
-                        "pocketsphinx"))
-    return out
 
 
 #: phones whose hiss lies mostly above the speech band the bounds are measured in

@@ -13,9 +13,8 @@ from pathlib import Path
 import pytest
 from speech_scenes import Scene
 
-import speechcal_core.speech.pocketsphinx_backend as backend_module
 from speechcal_core.audio import load_audio
-from speechcal_core.speech import TriggerSpec, decoding_workers
+from speechcal_core.speech import TriggerSpec, decoding_workers, span_decoding
 from speechcal_core.speech.pocketsphinx_backend import PocketsphinxBackend
 
 SPEC = TriggerSpec(("capture",))
@@ -24,8 +23,8 @@ SPEC = TriggerSpec(("capture",))
 @pytest.fixture(autouse=True)
 def small_chunks(monkeypatch: pytest.MonkeyPatch) -> None:
     """The ~12 s scene in several chunks, decoded by workers although it is short."""
-    monkeypatch.setattr(backend_module, "CHUNK_S", 2.0)
-    monkeypatch.setattr(backend_module, "MIN_PARALLEL_S", 0.0)
+    monkeypatch.setattr(span_decoding, "CHUNK_S", 2.0)
+    monkeypatch.setattr(span_decoding, "MIN_PARALLEL_S", 0.0)
 
 
 def test_workers_find_the_same_words_as_decoding_here(capture_scene: Scene) -> None:
@@ -85,12 +84,12 @@ def test_idle_workers_are_stopped(capture_scene: Scene, monkeypatch: pytest.Monk
 
 
 UNGUARDED_SCRIPT = """
-import speechcal_core.speech.pocketsphinx_backend as backend_module
 from speechcal_core.audio import load_audio
-from speechcal_core.speech import TriggerSpec
+from speechcal_core.speech import TriggerSpec, span_decoding
+from speechcal_core.speech.pocketsphinx_backend import PocketsphinxBackend
 
-backend_module.CHUNK_S, backend_module.MIN_PARALLEL_S = 2.0, 0.0
-backend = backend_module.PocketsphinxBackend(workers=2)
+span_decoding.CHUNK_S, span_decoding.MIN_PARALLEL_S = 2.0, 0.0
+backend = PocketsphinxBackend(workers=2)
 for _ in range(2):
     words = backend.words(load_audio({path!r}), TriggerSpec(("capture",)))
     print(sum(w.word == "capture" for w in words), backend.last_worker_cpu_s)
