@@ -2,19 +2,32 @@
 
 from __future__ import annotations
 
+import gc
 import threading
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
-from PySide6.QtCore import QThreadPool
+from PySide6.QtCore import QCoreApplication, QEvent, QThreadPool
 
 import speechcal_core.export
 from app.main_window import ReviewWindow
 from app.tasks import Cancelled
 from speechcal_core.review.checks import ChecksRequest
 from speechcal_core.review.rescore import RescoreRequest
+
+
+@pytest.fixture(autouse=True)
+def windows_deleted_when_the_test_ends(qapp) -> Iterator[None]:
+    """The windows a test shows are deleted, and their Python wrappers collected, as the
+    test ends. pytest-qt only closes them and asks for a deferred delete; a wrapper the
+    garbage collector met later, inside another test's event loop, destroyed its window
+    from there and hung in QObject's destructor on a Qt mutex (a fresh-clone CI run)."""
+    yield
+    QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
+    gc.collect()
+    QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
 
 
 @pytest.fixture
