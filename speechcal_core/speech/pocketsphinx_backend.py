@@ -58,7 +58,6 @@ from speechcal_core.speech.span_decoding import (
     decode_chunk,
     decode_spans,
     default_workers,
-    warm_up_grammar,
 )
 from speechcal_core.speech.speech_index import Representation
 from speechcal_core.speech.timing import FRICATIVE_BAND_HZ, word_bounds
@@ -404,8 +403,10 @@ class PocketsphinxBackend:
         key = (spec.words, tuple(sorted(spec.pronunciations.items())))
         if self._decoder is None or key != self._key:
             self._decoder = self._new_decoder(spec)
-            self._decoder.add_fsg(WARM_UP_SEARCH, warm_up_grammar(
-                self._decoder.get_logmath(), PHONE_PREFIX + WARM_UP_PHONE.lower()))
+            # one phone: whatever the warm-up decodes, the front end adapts, cheaply
+            self._decoder.add_fsg(WARM_UP_SEARCH, _word_loop(
+                self._decoder.get_logmath(), WARM_UP_SEARCH,
+                [(PHONE_PREFIX + WARM_UP_PHONE.lower(), 0)]))
             self._key = key
             self._sensitivities = set()
         if spec.sensitivity not in self._sensitivities:
@@ -495,16 +496,21 @@ def _spot_grammar(logmath: Any, spec: TriggerSpec, rivals: list[str], confusable
                   phones: list[str], tier: Tier) -> Any:
     """One state looping over triggers (free), rivals and confusable words (at the tier's
     priors; confusables only if it has one) and phones (at a cost each)."""
-    import pocketsphinx
-
     phone_cost = int(logmath.log(10.0) * phone_log10(tier, spec.sensitivity))
-    fsg = pocketsphinx.FsgModel("spot", logmath, 1.0, 2)
     rival_cost = int(logmath.log(10.0) * tier.rival_log10)
     words = [(w, 0) for w in spec.words] + [(w, rival_cost) for w in rivals]
     if tier.confusable_log10 is not None:
         cost = int(logmath.log(10.0) * tier.confusable_log10)
         words += [(w, cost) for w in confusables]
     words += [(w, phone_cost) for w in phones]
+    return _word_loop(logmath, "spot", words)
+
+
+def _word_loop(logmath: Any, name: str, words: list[tuple[str, int]]) -> Any:
+    """A grammar of one state looping over ``words`` (word, log cost), then ending."""
+    import pocketsphinx
+
+    fsg = pocketsphinx.FsgModel(name, logmath, 1.0, 2)
     for w, cost in words:
         fsg.trans_add(0, 0, cost, fsg.word_add(w))
     fsg.null_trans_add(0, 1, 0)

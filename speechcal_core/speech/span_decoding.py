@@ -42,8 +42,8 @@ PEAK_LEVEL = 0.7  # each span is scaled to this peak before 16-bit conversion
 #: benchmark's seeds 1-3 the same at 20, 10 and 5 dB. Not warmed up: 101-124 at 5 dB
 #: 931 / 56; warmed up on 8 s of spans before: 930 / 54, 925 / 63
 CHUNK_S = 15.0
-#: the search a decoder warms up with: a grammar of one phone (``warm_up_grammar``), so
-#: that it costs a tenth of decoding
+#: the search a decoder warms up with: a grammar of one phone (the backend's), so that it
+#: costs a tenth of decoding
 WARM_UP_SEARCH = "warm-up"
 #: below this much speech, starting worker processes costs more than they save (each
 #: takes about 1.5 s to import and build its decoder); workers already up take any
@@ -187,19 +187,6 @@ def decode_span(decoder: Any, samples: np.ndarray, offset_s: float,
         out.append(Word(word, start, end, float(min(1.0, max(0.0, seg.ascore))),
                         "pocketsphinx"))
     return out
-
-
-def warm_up_grammar(logmath: Any, word: str) -> Any:
-    """WARM_UP_SEARCH's grammar: one state looping over ``word`` (one phone); whatever it
-    decodes, the front end adapts."""
-    import pocketsphinx
-
-    fsg = pocketsphinx.FsgModel(WARM_UP_SEARCH, logmath, 1.0, 2)
-    fsg.trans_add(0, 0, 0, fsg.word_add(word))
-    fsg.null_trans_add(0, 1, 0)
-    fsg.set_start_state(0)
-    fsg.set_final_state(1)
-    return fsg
 
 
 #: the backend of a worker process, kept for its decoders between chunks
