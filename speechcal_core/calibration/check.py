@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
@@ -15,6 +14,7 @@ from speechcal_core.calibration.double_sphere import calibrate_double_sphere
 from speechcal_core.calibration.fisheye import calibrate_fisheye
 from speechcal_core.calibration.pinhole import calibrate_pinhole
 from speechcal_core.calibration.views import CalibrationResult, View
+from speechcal_core.processes import usable_cores
 
 MODELS = ("pinhole", "fisheye", "double-sphere")
 #: with ``wide_only`` the fisheye and double-sphere fits run only for lenses whose pinhole
@@ -117,7 +117,7 @@ def check_cameras(
             progress("calibration", done[0] / max(1, len(names)))
         return entry
 
-    pool = ThreadPoolExecutor(max_workers=min(4, os.cpu_count() or 1))
+    pool = ThreadPoolExecutor(max_workers=min(4, usable_cores()))
     try:
         entries = list(pool.map(one, names))
     finally:

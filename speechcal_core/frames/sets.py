@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -23,6 +22,7 @@ from speechcal_core.frames.select import (
     score_camera,
 )
 from speechcal_core.frames.window import CameraWindow, scan_window
+from speechcal_core.processes import usable_cores
 from speechcal_core.session.model import FrameChoice, FrameSet, Trigger
 from speechcal_core.sources.base import COMPRESSED_MSGTYPE
 from speechcal_core.sources.errors import BadFrameError
@@ -160,7 +160,7 @@ def _build(
     nearest = [{s.name: nearest_choice(s.name, stamps[s.name], t) for s in infos} for t in t_ns]
     local = _Detectors(target)
     compressed = {s.name: _is_compressed(s) for s in infos}
-    workers = options.workers or min(4, os.cpu_count() or 1)
+    workers = options.workers or min(4, usable_cores())
 
     with ThreadPoolExecutor(max_workers=workers) as pool:
         if options.search and infos and trig:
