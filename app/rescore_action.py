@@ -127,8 +127,8 @@ class RescoreAction(BackgroundAction):
 
 
 def new_frames_note(set_ids: list[int], most: int = 5) -> str:
-    """"; accepted set #3 now shows other frames: look again" for the accepted sets an
-    offset edit gave other frames than they showed when decided ("" for none)."""
+    """"; accepted set #3 now shows other frames: look again" for the accepted sets
+    re-scoring gave other frames than they showed when decided ("" for none)."""
     if not set_ids:
         return ""
     named = ", ".join(f"#{i}" for i in set_ids[:most]) + (" …" if len(set_ids) > most else "")

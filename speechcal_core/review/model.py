@@ -145,7 +145,8 @@ class ReviewModel:
         #: landed yet (what a decision made before the edit looked at)
         self._shown_before_edit: dict[int, tuple[tuple[str, int], ...]] = {}
         #: ids of the accepted sets the last re-scoring gave other frames than they showed
-        #: before the offset edit (an export would write frames nobody looked at)
+        #: (before the offset edit, or until then for an added set): an export would write
+        #: frames nobody looked at
         self.accepted_with_new_frames: list[int] = []
         self._stamps = (
             {s.name: source.stamps(s.name) for s in source.streams} if source else {}
@@ -755,18 +756,23 @@ class ReviewModel:
 
         A result for another sync than the current one is stale and dropped whole; sets
         removed meanwhile are skipped. Decisions stay as they are now; accepted sets given
-        other frames than they showed before the offset edit are listed in
+        other frames than they showed before the offset edit (or, for sets no offset
+        edit moved, until now: added sets show their nearest frames) are listed in
         :attr:`accepted_with_new_frames`. When the playhead is at the current set it moves
         to the set's new chosen time.
         """
         current = self.current_set
         at_current = current is not None and self.playhead_ns == set_time_ns(current)
+        shown = {s.id: _frame_keys(s) for s in self.session.sets}
         taken = apply_rescore(self.session, result)
         if not taken:
             return []
         self.accepted_with_new_frames = []
         for set_id in taken:
-            before = self._shown_before_edit.pop(set_id, None)
+            # before an offset edit's re-scoring, what the set showed before the edit;
+            # otherwise (a set added with T or by a search, also one left waiting by an
+            # earlier run of the window) the nearest frames it showed until now
+            before = self._shown_before_edit.pop(set_id, None) or shown.get(set_id)
             frame_set = self.session.set_by_id(set_id)
             if before is not None and frame_set.decision == "accepted" \
                     and _frame_keys(frame_set) != before:

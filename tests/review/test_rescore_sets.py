@@ -239,3 +239,39 @@ def test_accepted_sets_given_other_frames_by_an_offset_edit_are_named(
     model.nudge_offset(-600_000_000)
     _rescore(model)
     assert model.accepted_with_new_frames == [third]
+
+
+def test_an_added_set_accepted_before_rescoring_is_named_when_its_frames_change(
+    searched_session_file: Path,
+) -> None:
+    """A set added with T shows its nearest frames until re-scoring lands; accepted on
+    those, it is named when re-scoring gives it others, also in a window opened again
+    on the autosaved file (the operator closed the first before re-scoring landed)."""
+    model = open_model(searched_session_file)
+    a, b = (set_time_ns(s) for s in model.session.sets[1:3])
+    model.set_playhead((a + b) // 2)
+    model.add_set()
+    added = model.current_set
+    shown = [(f.stream, f.index) for f in added.frames]
+    model.advance_after_decision = False
+    model.accept()
+
+    reopened = open_model(searched_session_file)  # the autosave holds the decision
+    assert reopened.rescore_ids() == [added.id]
+    for window_model in (model, reopened):
+        _rescore(window_model)
+        now = [(f.stream, f.index) for f in window_model.session.set_by_id(added.id).frames]
+        assert now != shown  # the nearest frames are not the best still ones here
+        assert window_model.accepted_with_new_frames == [added.id]
+
+
+def test_an_added_set_decided_after_rescoring_is_not_named(
+    searched_session_file: Path,
+) -> None:
+    model = open_model(searched_session_file)
+    a, b = (set_time_ns(s) for s in model.session.sets[1:3])
+    model.set_playhead((a + b) // 2)
+    model.add_set()
+    _rescore(model)
+    model.accept()
+    assert model.accepted_with_new_frames == []
