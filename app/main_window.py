@@ -574,6 +574,8 @@ class ReviewWindow(QMainWindow):
             return
         if self._playing:
             self.toggle_play()
+        if self.model is not None and not self.saver.unsaved:
+            self.model.save_place()  # the session left opens again where it was
         self.player.set_source(inputs.session.audio, inputs.session.audio_channel)
         if self.loader is not None:
             self.loader.shutdown()
@@ -632,8 +634,8 @@ class ReviewWindow(QMainWindow):
         self._update_sync_line()
         self._update_counts()
         self._apply_filter()  # an empty list says why (no_sets_hint)
-        if n:
-            self.model.go_to_set(0)
+        if n:  # where the review was when the session was last saved, else the first
+            self.model.go_to_set(self.model.current)
         else:
             self._refresh_playhead()
         self.rescorer.schedule()  # sets left unscored when the window last closed
@@ -1110,6 +1112,8 @@ class ReviewWindow(QMainWindow):
         if not self._may_drop_unsaved():
             event.ignore()
             return
+        if self.model is not None and not self.saver.unsaved:
+            self.model.save_place()  # the session opens again at the set shown now
         # background work stops and reports nothing more: a late result would change (and
         # save) a session the operator has left, or start more work for it
         for task in self.background_tasks():

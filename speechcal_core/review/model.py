@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -53,7 +53,7 @@ from speechcal_core.review.similar import (
     similar_request,
 )
 from speechcal_core.review.summary import FILTERS, shown_indices
-from speechcal_core.session.model import FrameSet, Session, Trigger
+from speechcal_core.session.model import REVIEW_PLACE_KEY, FrameSet, Session, Trigger
 from speechcal_core.sync.model import SyncModel
 
 if TYPE_CHECKING:
@@ -164,7 +164,11 @@ class ReviewModel:
         #: for the window to run; with the reason when there is nothing to search
         self.similar_wanted: SimilarRequest | None = None
         self.similar_refused = ""
-        self.playhead_ns = set_time_ns(session.sets[0]) if session.sets else self._first_stamp()
+        self._resume_place(session.extra.get(REVIEW_PLACE_KEY))
+        #: where the review was at the last save (a close saves only a move since)
+        self._saved_place = self._place()
+        self.playhead_ns = set_time_ns(session.sets[self.current]) if session.sets \
+            else self._first_stamp()
 
     # -- events -------------------------------------------------------------------------
     def connect(self, event: str, callback: Callable[..., None]) -> None:
@@ -843,7 +847,34 @@ class ReviewModel:
                        for name, st in self._stamps.items())
         return replace(frame_set, t_ns=t_ns, frames=frames or frame_set.frames)
 
+    def _resume_place(self, place: object) -> None:
+        """Start at the set and filter of ``place`` (as saved under REVIEW_PLACE_KEY);
+        a set no longer in the session, or a place not understood, leaves the start."""
+        if not isinstance(place, dict):
+            return
+        if place.get("filter") in FILTERS:
+            self.filter = str(place["filter"])
+        index = next((k for k, s in enumerate(self.session.sets) if s.id == place.get("set")),
+                     None)
+        if index is not None:
+            self.current = index
+
+    def _place(self) -> dict[str, Any] | None:
+        """Where the review is now: the current set's id and the filter."""
+        current = self.current_set
+        return None if current is None else {"set": current.id, "filter": self.filter}
+
+    def save_place(self) -> None:
+        """Save if the current set or the filter changed since the last save (a window
+        closing: moving about saves nothing, so the file keeps its ``.bak`` of the last
+        change)."""
+        if self._place() != self._saved_place:
+            self._save()
+
     def _save(self) -> None:
+        self._saved_place = self._place()
+        if self._saved_place is not None:
+            self.session.extra[REVIEW_PLACE_KEY] = self._saved_place
         if self._autosave is not None:
             self._autosave(self.session)
             self._emit("saved")

@@ -106,6 +106,10 @@ PRONUNCIATIONS_KEY = "trigger_pronunciations"
 #: the session uses, when it was made from some of them (``--stream``, ``--skip-stream``);
 #: absent: all of them
 STREAMS_KEY = "streams"
+#: key of ``Session.extra`` (top-level in the file): where the review was when the session
+#: was last saved, ``{"set": <current set id>, "filter": <the list's filter>}``, so that
+#: the window opens it there again
+REVIEW_PLACE_KEY = "review_place"
 
 
 @dataclass

@@ -279,3 +279,19 @@ def test_leaving_after_a_failed_save_and_a_refused_close_says_so(
     shut_down(window)  # ... but speechcal review is ending
     assert "decisions are not saved" in capfd.readouterr().err
     unblock_saving(session_in_folder)
+
+
+def test_a_closed_window_opens_the_session_again_at_the_set_it_showed(
+    qtbot, open_window, session_in_folder: Path
+) -> None:
+    window = open_window(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_F)  # undecided sets only
+    for _ in range(3):
+        qtbot.keyClick(window, Qt.Key.Key_K)
+    assert window.model.current == 3
+    window.close()
+
+    again = open_window(session_in_folder)
+    assert (again.model.current, again.model.filter) == (3, "undecided")
+    assert again.table.currentRow() == 3
+    assert again.filter_buttons["undecided"].isChecked()

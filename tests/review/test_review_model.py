@@ -238,3 +238,46 @@ def test_chosen_frames_carry_their_corners_and_drag_preview_changes_nothing(
     model.preview_offset(20_000_000)
     assert model.playhead_ns == first.t_ns + 20_000_000
     assert model.session.sync.offset_ns == offset and model.session.sets[0] == first
+
+
+def test_a_session_opens_again_at_the_set_and_filter_of_its_last_save(
+    truth_session_file: Path,
+) -> None:
+    saves: list = []
+    model = open_model(truth_session_file, saves)
+    model.set_filter("undecided")
+    model.go_to_set(2)
+    model.advance_after_decision = False
+    model.reject()  # a save: it keeps where the review is
+    again = open_model(truth_session_file)
+    assert (again.current, again.filter) == (2, "undecided")
+    assert again.playhead_ns == set_time_ns(again.session.sets[2])
+
+    model.go_to_set(3)  # moving about saves nothing ...
+    assert len(saves) == 1 and open_model(truth_session_file).current == 2
+    model.save_place()  # ... until the window closes
+    assert len(saves) == 2 and open_model(truth_session_file).current == 3
+    model.save_place()  # nothing moved since
+    assert len(saves) == 2
+
+
+def test_a_saved_place_whose_set_is_gone_opens_at_the_first_set(
+    truth_session_file: Path,
+) -> None:
+    model = open_model(truth_session_file)
+    model.go_to_set(len(model.session.sets) - 1)
+    model.remove_set()  # the current set goes: the place saved is another set
+    gone = open_model(truth_session_file)
+    assert gone.current == model.current
+    session = load_session(truth_session_file)
+    session.extra["review_place"] = {"set": 9999, "filter": "no such filter"}
+    model = ReviewModel(session, open_recording(session.recording))
+    assert (model.current, model.filter) == (0, "all")
+
+
+def test_opening_without_moving_saves_nothing(truth_session_file: Path) -> None:
+    """A window that only looked (a screenshot) leaves the file as it was."""
+    saves: list = []
+    model = open_model(truth_session_file, saves)
+    model.save_place()
+    assert saves == []
