@@ -301,7 +301,16 @@ class ReviewModel:
             self.go_to_set(shown[-1])
 
     def _step_set(self, direction: int) -> None:
+        """To the next (``direction`` +1) or previous shown set: from the playhead when it
+        was moved off the current set (clicked between sets: the sets around it; past the
+        last one, the last), else from the current set."""
         shown = self.shown()
+        current = self.current_set
+        if shown and current is not None and self.playhead_ns != set_time_ns(current):
+            times = {i: set_time_ns(self.session.sets[i]) for i in shown}
+            around = [i for i in shown if (times[i] - self.playhead_ns) * direction > 0]
+            self.go_to_set(min(around or shown, key=lambda i: abs(times[i] - self.playhead_ns)))
+            return
         ahead = [i for i in shown if (i - self.current) * direction > 0]
         if ahead:
             self.go_to_set(ahead[0] if direction > 0 else ahead[-1])

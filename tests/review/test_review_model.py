@@ -281,3 +281,35 @@ def test_opening_without_moving_saves_nothing(truth_session_file: Path) -> None:
     model = open_model(truth_session_file, saves)
     model.save_place()
     assert saves == []
+
+
+def test_j_and_k_from_a_playhead_moved_between_sets_go_to_the_sets_around_it(
+    truth_session_file: Path,
+) -> None:
+    """A click on the waveform between sets 1 and 2 (0-based) moves the playhead, not the
+    current set (the last): K goes on to set 2, J back to set 1, not from the last set."""
+    model = open_model(truth_session_file)
+    times = [set_time_ns(s) for s in model.session.sets]
+    last = len(times) - 1
+    assert last >= 3
+    between = (times[1] + times[2]) // 2
+    model.go_to_set(last)
+    model.set_playhead(between)
+    model.next_set()
+    assert model.current == 2 and model.playhead_ns == times[2]
+    model.go_to_set(last)
+    model.set_playhead(between)
+    model.previous_set()
+    assert model.current == 1
+    model.next_set()  # at the current set: one on, as before
+    assert model.current == 2
+
+    model.set_filter("rejected")  # none rejected: the filter shows no set to go to
+    model.set_playhead(between)
+    model.next_set()
+    assert model.current == 2 and model.playhead_ns == between
+    model.set_filter("all")
+    model.go_to_set(0)
+    model.set_playhead(times[-1] + 1)  # past the last set: K goes to the last one
+    model.next_set()
+    assert model.current == last
