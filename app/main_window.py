@@ -650,12 +650,25 @@ class ReviewWindow(QMainWindow):
         removing = model.current_set if action == "remove_set" else None
         done, step = {"undo": ("undone", model.undo_label),
                       "redo": ("redone", model.redo_label)}.get(action, ("", ""))
+        n_sets = len(model.session.sets)
+        model.last_decided = None
         model.trigger(action)
+        # each says what it did, which also replaces a message it made untrue ("redone:
+        # decision on set 2" through later decisions, "set #3 removed" after its undo)
         if removing is not None and all(s.id != removing.id for s in model.session.sets):
             # the set may have been off screen (the playhead between sets)
             self.status.say(f"set #{removing.id} removed · Ctrl+Z puts it back")
-        elif step:  # also replaces a message the step made untrue ("set #3 removed")
+        elif step:
             self.status.say(f"{done}: {step}")
+        elif action in ("undo", "redo"):
+            self.status.say(f"nothing to {action}")
+        elif action in ("accept", "reject") and model.last_decided is not None:
+            decided = model.session.set_by_id(model.last_decided)
+            self.status.say(f"set #{decided.id} {decided.decision}")
+        elif action == "add_set" and len(model.session.sets) == n_sets \
+                and model.current_set is not None:
+            self.status.say(f"set #{model.current_set.id} is here already: selected it "
+                            "(T adds a set away from the others)")
 
     def _on_current_set(self) -> None:
         """The waveform marks the new current set and, zoomed in, takes it into view."""

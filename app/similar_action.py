@@ -95,6 +95,13 @@ class SimilarAction(BackgroundAction):
         if model is None:
             self.window.status.end("similar")
             return
+        searched = result.request.set_id
+        if all(s.id != searched for s in model.session.sets):  # removed meanwhile (Del)
+            self.last = (result, [])
+            self.window.status.end("similar", f"set #{searched} was removed while its "
+                                   "search ran: nothing added from it")
+            self.start_if_needed()
+            return
         added = model.apply_similar(result)
         self.last = (result, added)
         self.window.status.end("similar", found_message(result, added))

@@ -164,6 +164,8 @@ class ReviewModel:
         #: for the window to run; with the reason when there is nothing to search
         self.similar_wanted: SimilarRequest | None = None
         self.similar_refused = ""
+        #: the id of the set the last accept or reject was on (it may have moved on since)
+        self.last_decided: int | None = None
         self._resume_place(session.extra.get(REVIEW_PLACE_KEY))
         #: where the review was at the last save (a close saves only a move since)
         self._saved_place = self._place()
@@ -427,6 +429,7 @@ class ReviewModel:
             if at_playhead is not None:
                 current = at_playhead
             self.go_to_set(self._index_of(current.id))
+        self.last_decided = current.id
         if current.decision != decision:
             self._undo.append(("decision", current.id, current.decision))
             self._redo.clear()

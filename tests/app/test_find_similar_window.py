@@ -45,3 +45,35 @@ def test_s_without_speech_near_the_set_says_so(qtbot, open_window, missed_voice_
     qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
     assert "no speech near" in window.status_text.text()
     assert window.table.rowCount() == rows
+
+
+def test_a_set_removed_while_its_search_runs_gets_nothing_added(
+        qtbot, open_window, missed_voice_file, monkeypatch) -> None:
+    """Del on a false trigger while S searches from it: words like a false trigger are
+    not wanted, and the result must not name a set that is gone."""
+    import threading
+
+    from speechcal_core.review.similar import SimilarRequest
+
+    gate = threading.Event()
+    run = SimilarRequest.run
+
+    def gated(self, audio, progress=None):
+        gate.wait(30)
+        return run(self, audio, progress)
+
+    monkeypatch.setattr(SimilarRequest, "run", gated)
+    path, missed = missed_voice_file
+    window = open_window(path)
+    model = window.model
+    model.set_playhead(missed[0]["session_ns"])
+    qtbot.keyClick(window, Qt.Key.Key_T)
+    marked = model.current_set.id
+    qtbot.keyClick(window, Qt.Key.Key_S)
+    qtbot.keyClick(window, Qt.Key.Key_Delete)
+    assert all(s.id != marked for s in model.session.sets)
+    rows = window.table.rowCount()
+    gate.set()
+    qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
+    assert window.table.rowCount() == rows
+    assert f"set #{marked} was removed while its search ran" in window.status_text.text()

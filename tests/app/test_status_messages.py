@@ -122,3 +122,31 @@ def test_the_opening_message_keeps_its_count_of_sets_true(qtbot, open_window,
     text = window.status_text.text()
     assert f"3 cameras, {n - 1} frame sets" in text and f"{n} frame sets" not in text
     assert "exported 2 frame sets" in text
+
+
+def test_decisions_undo_and_a_refused_add_each_say_what_they_did(qtbot, window) -> None:
+    """An earlier message ("redone: …") never stays through later decisions, and a key
+    that did nothing says so."""
+    model = window.model
+    model.advance_after_decision = True
+    first, second = (s.id for s in model.session.sets[:2])
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    assert f"set #{first} accepted" in window.status_text.text()
+    qtbot.waitUntil(window.undo_action.isEnabled)  # the menu follows each step
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    qtbot.waitUntil(window.redo_action.isEnabled)
+    qtbot.keyClick(window, Qt.Key.Key_Z,
+                   Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.ShiftModifier)
+    assert "redone: " in window.status_text.text()
+    qtbot.keyClick(window, Qt.Key.Key_R)  # the redo went back to the first set
+    text = window.status_text.text()
+    assert f"set #{first} rejected" in text and "redone" not in text
+    qtbot.keyClick(window, Qt.Key.Key_A)  # it went on to the second
+    assert f"set #{second} accepted" in window.status_text.text()
+
+    qtbot.keyClick(window, Qt.Key.Key_T)  # at a set: it is selected, nothing added
+    assert "is here already: selected it" in window.status_text.text()
+    while model.undo_label:
+        model.undo()
+    qtbot.keyClick(window, Qt.Key.Key_U)
+    assert "nothing to undo" in window.status_text.text()
