@@ -197,7 +197,15 @@ class Ros1Bag(IndexedFile):
         and uncompressed chunks need only a few small reads each).
         """
         for chunk_pos, total in todo:
-            self._walk_chunk(chunk_pos, collectors, result, learn=False, total=total)
+            try:
+                self._walk_chunk(chunk_pos, collectors, result, learn=False, total=total)
+            except SourceError:
+                if not self.allow_scan:
+                    raise
+                # recovering (--scan): the index still finds every other chunk
+                lost = "its message is" if total == 1 else f"its {total} messages are"
+                result.notes.append(f"{self.path}: chunk at byte {chunk_pos} is damaged; "
+                                    f"{lost} skipped")
 
     def _make_collectors(self, collectors: dict[int, TopicCollector]) -> None:
         for cid, conn in self.conns.items():

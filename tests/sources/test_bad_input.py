@@ -227,3 +227,30 @@ def test_damaged_record_in_a_chunk_is_reported_and_the_rest_is_read(make_bag) ->
         assert src.streams[0].count == 12
         assert any("damaged; 8 of its 20 messages are unreadable" in n for n in src.notes)
         src.frame("/cam0/image_raw", 11)
+
+
+@pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4"])
+def test_a_damaged_chunk_of_an_indexed_bag_is_skipped_by_scanning(make_bag, fmt: str) -> None:
+    """Damage over one chunk's header: the error's advice (--scan) then keeps the other
+    chunks, which the bag's index still finds, and says what was skipped."""
+    path = make_bag(fmt, [Cam("/cam0/image_raw", regular(20))], chunk_bytes=1)
+    bag = Ros1Bag(path)
+    bag.scan()
+    chunks = sorted(pos for pos, _ids, _total in bag.chunk_infos)
+    bag.close()
+    assert len(chunks) == 20  # a chunk per message
+    with path.open("r+b") as fh:
+        fh.seek(chunks[7])
+        fh.write(b"\xab" * 64)
+    with pytest.raises(SourceError) as err:
+        open_recording([path], use_cache=False)
+    assert f"chunk at byte {chunks[7]} is damaged" in str(err.value)
+    assert f"speechcal index {path} --scan" in str(err.value)
+    with open_recording([path], scan=True) as src:
+        assert src.streams[0].count == 19
+        assert list(src.stamps("/cam0/image_raw")) == regular(20)[:7] + regular(20)[8:]
+        assert any(f"chunk at byte {chunks[7]} is damaged; its message is skipped" in n
+                   for n in src.notes)
+        src.frame("/cam0/image_raw", 7)  # the message after the damaged chunk
+    with open_recording([path]) as src:  # the other commands then use the recovered index
+        assert src.streams[0].count == 19
