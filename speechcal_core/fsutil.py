@@ -31,14 +31,16 @@ def _umask() -> int:
 def atomic_write_text(path: str | Path, text: str, *, keep_backup: bool = False) -> None:
     """Write ``text`` to ``path`` atomically (temp file in the same folder, fsync, replace).
 
-    With ``keep_backup`` the previous version, if any, is kept as ``<path>.bak``.
+    With ``keep_backup`` the previous version, if any, is kept as ``<path>.bak``. A file
+    name in ``text`` that is not UTF-8 (Python holds its bytes as lone surrogates) is
+    written as the escape ``\udce9``: in a JSON string that reads back as the same name.
     """
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         mode = path.stat().st_mode & 0o777 if path.exists() else 0o666 & ~_umask()
         os.chmod(tmp, mode)  # mkstemp makes 0600; give the file its usual permissions
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+        with os.fdopen(fd, "w", encoding="utf-8", errors="backslashreplace") as handle:
             handle.write(text)
             handle.flush()
             os.fsync(handle.fileno())

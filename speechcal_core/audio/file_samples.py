@@ -16,6 +16,7 @@ import soundfile as sf
 from scipy.signal import resample_poly
 
 from speechcal_core.audio.errors import AudioError
+from speechcal_core.audio.loader import sound_file
 
 #: decoded before a stretch and dropped: Ogg Vorbis decodes a few hundred samples after a
 #: seek differently (the overlap of the previous block is missing); 4096 was enough on
@@ -74,7 +75,7 @@ class FileSamples:
         b = min(b, self.size_in)
         start = max(0, a - PREROLL)
         try:
-            with sf.SoundFile(str(self.path)) as f:
+            with sound_file(self.path) as f:
                 f.seek(start)
                 got = f.read(b - start, dtype="float32", always_2d=True)
         except (sf.LibsndfileError, RuntimeError, OSError) as exc:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import soundfile as sf
 
-from speechcal_core.audio.loader import header_frames
+from speechcal_core.audio.loader import header_frames, sound_file
 
 #: where a session keeps its audio file's identity (``Session.extra``)
 AUDIO_FILE_KEY = "audio_file"
@@ -21,7 +21,7 @@ def audio_identity(path: str | Path) -> dict | None:
     None when it is no sound file soundfile reads (a bag's audio topic, a missing file)
     or its header does not know its length."""
     try:
-        with sf.SoundFile(str(path)) as f:
+        with sound_file(path) as f:
             frames, rate, channels = header_frames(f), int(f.samplerate), int(f.channels)
     except (OSError, RuntimeError, TypeError, ValueError, sf.LibsndfileError):
         return None

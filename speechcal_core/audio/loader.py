@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import os
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -111,6 +113,24 @@ def decoded_frames(f: sf.SoundFile, path: str | Path) -> int:
     return sum(block.size for block in mono_blocks(f, path))
 
 
+def sound_file(path: str | Path) -> sf.SoundFile:
+    """``path`` opened for reading by soundfile, also where its name is not UTF-8 (a
+    Latin-1 name from a FAT card: libsndfile takes names as text, so such a file is
+    opened by descriptor)."""
+    name = str(path)
+    try:
+        name.encode()
+    except UnicodeEncodeError:
+        fd = os.open(name, os.O_RDONLY)
+        try:
+            return sf.SoundFile(fd, closefd=True)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.close(fd)
+            raise
+    return sf.SoundFile(name)
+
+
 def open_audio(path: str | Path, channel: int | None = None) -> sf.SoundFile:
     """The opened file, after the checks :func:`load_audio` makes (:class:`AudioError`)."""
     p = Path(path)
@@ -121,7 +141,7 @@ def open_audio(path: str | Path, channel: int | None = None) -> sf.SoundFile:
     if p.stat().st_size == 0:
         raise AudioError(f"{p}: the file is empty (0 bytes); record or copy the audio again")
     try:
-        f = sf.SoundFile(str(p))
+        f = sound_file(p)
     except (sf.LibsndfileError, RuntimeError, TypeError) as exc:
         raise AudioError(
             f"{p}: not a readable audio file ({_short(exc)}); convert it to {SUPPORTED}"

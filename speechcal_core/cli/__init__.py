@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import importlib
 import os
 import signal
@@ -34,6 +35,8 @@ COMMANDS: dict[str, str] = {
 #: commands that keep the default handling of SIGTERM and SIGHUP: the window ends at
 #: once (a Python handler would wait for Qt's event loop to hand back control)
 WINDOW_COMMANDS = ("review", "demo")
+#: errors writing the command's output (stdout) that end it with a one-line reason
+UNWRITABLE_OUTPUT = (errno.ENOSPC, errno.EIO, errno.EDQUOT)
 STOP_SIGNALS = ("SIGTERM", "SIGHUP")
 
 
@@ -85,6 +88,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the process exit code."""
+    _file_names_as_given()
     parser = build_parser()
     args, unknown = parser.parse_known_args(argv)
     if unknown:  # the subcommand's usage says which options it does take
@@ -112,6 +116,26 @@ def main(argv: Sequence[str] | None = None) -> int:
         # and Python's own flush of stdout at exit must not fail again
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141  # as a shell reports a process ended by SIGPIPE
+    except OSError as exc:
+        if exc.errno not in UNWRITABLE_OUTPUT:
+            raise
+        # stdout on a full disk (``> /dev/full``); files the command writes say so
+        # themselves, naming the file
+        print(f"speechcal {args._name}: error: could not write the output: "
+              f"{exc.strerror}", file=sys.stderr)
+        with contextlib.suppress(OSError):  # Python's own flush at exit must not fail
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+
+
+def _file_names_as_given() -> None:
+    """Print file names that are not UTF-8 (a Latin-1 name from a FAT card) byte for
+    byte, as ``ls`` does, instead of failing on them."""
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None:
+            with contextlib.suppress(ValueError, OSError):
+                reconfigure(errors="surrogateescape")
 
 
 if __name__ == "__main__":  # pragma: no cover

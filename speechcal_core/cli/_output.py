@@ -8,9 +8,10 @@ from typing import Any
 
 
 def emit_json(document: Any) -> None:
-    """Print exactly one JSON document on stdout."""
-    json.dump(document, sys.stdout, indent=2, ensure_ascii=False)
-    sys.stdout.write("\n")
+    """Print exactly one JSON document on stdout (UTF-8: a file name that is not, held
+    as lone surrogates, is written as their escapes, which read back as the same name)."""
+    text = json.dumps(document, indent=2, ensure_ascii=False)
+    sys.stdout.write(text.encode("utf-8", "backslashreplace").decode("utf-8") + "\n")
     sys.stdout.flush()
 
 

@@ -31,7 +31,7 @@ def cache_paths(path: Path) -> list[Path]:
     """Where the index of ``path`` may be cached: beside it first, then the user cache."""
     path = Path(path).resolve()
     beside = path.parent / f".{path.name}{INDEX_SUFFIX}"
-    digest = hashlib.sha1(str(path).encode()).hexdigest()[:16]
+    digest = hashlib.sha1(os.fsencode(path)).hexdigest()[:16]  # any name the OS has
     return [beside, user_cache_dir() / f"{path.name}.{digest}.npz"]
 
 

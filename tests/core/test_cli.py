@@ -66,3 +66,51 @@ def test_a_reader_that_goes_away_ends_the_command_quietly(tiny_synth) -> None:
     finally:
         os.close(write_end)
     assert done.returncode == 141 and done.stderr == ""
+
+
+def test_file_names_that_are_not_utf8_work_through_index_detect_and_process(
+        tiny_synth, tmp_path) -> None:
+    """A Latin-1 name (from a FAT card or a zip) crashed in soundfile and the index cache;
+    the session file keeps such a name as a JSON escape that reads back as the same name."""
+    import json
+    import os
+    import shutil
+    import subprocess
+    import sys
+
+    from speechcal_core.session.store import load_session
+
+    folder, truth = tiny_synth
+    here = os.fsencode(tmp_path)
+    bag, audio = here + b"/r\xe9c.bag", here + b"/aud\xe9o.ogg"
+    shutil.copy(folder / truth["recording"], os.fsdecode(bag))
+    shutil.copy(folder / "audio.ogg", os.fsdecode(audio))
+
+    def run(*args: bytes) -> subprocess.CompletedProcess:
+        done = subprocess.run([sys.executable, "-m", "speechcal_core.cli", *args],
+                              capture_output=True, timeout=300)
+        assert done.returncode == 0, done.stderr.decode(errors="replace")
+        assert b"Traceback" not in done.stderr
+        return done
+
+    assert json.loads(run(b"index", bag, b"--json").stdout)["streams"]
+    assert json.loads(run(b"detect", audio, b"--json").stdout)
+    session = here + b"/s\xe9ssion.json"
+    run(b"process", bag, b"--audio", audio, b"-o", session)
+    assert b"\\udce9" in open(session, "rb").read()  # valid UTF-8, the name escaped
+    loaded = load_session(os.fsdecode(session))
+    assert loaded.audio == os.fsdecode(audio) and loaded.recording == [os.fsdecode(bag)]
+
+
+def test_output_that_cannot_be_written_gives_a_one_line_reason(tiny_synth) -> None:
+    import subprocess
+    import sys
+
+    folder, truth = tiny_synth
+    with open("/dev/full", "w") as full:
+        done = subprocess.run([sys.executable, "-m", "speechcal_core.cli", "index",
+                               str(folder / truth["recording"]), "--json"],
+                              stdout=full, stderr=subprocess.PIPE, text=True, timeout=120)
+    assert done.returncode == 1
+    assert done.stderr == ("speechcal index: error: could not write the output: "
+                           "No space left on device\n")
