@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from speechcal_core.cli import COMMANDS, build_parser, main
@@ -97,7 +99,7 @@ def test_file_names_that_are_not_utf8_work_through_index_detect_and_process(
     assert json.loads(run(b"detect", audio, b"--json").stdout)
     session = here + b"/s\xe9ssion.json"
     run(b"process", bag, b"--audio", audio, b"-o", session)
-    assert b"\\udce9" in open(session, "rb").read()  # valid UTF-8, the name escaped
+    assert b"\\udce9" in Path(os.fsdecode(session)).read_bytes()  # the name escaped
     loaded = load_session(os.fsdecode(session))
     assert loaded.audio == os.fsdecode(audio) and loaded.recording == [os.fsdecode(bag)]
 
