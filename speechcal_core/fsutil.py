@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import glob
 import os
+import shlex
 import shutil
 import tempfile
 from collections.abc import Callable, Iterator
@@ -26,6 +27,12 @@ def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+def shell_quoted(path: str | Path) -> str:
+    """``path`` as a shell command line takes it (quoted where it holds spaces and the
+    like), for commands an error message tells the user to run."""
+    return shlex.quote(str(path))
 
 
 def atomic_write_text(path: str | Path, text: str, *, keep_backup: bool = False) -> None:

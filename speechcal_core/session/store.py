@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from speechcal_core.errors import SpeechCalError
-from speechcal_core.fsutil import atomic_write_text, folder_write_problem
+from speechcal_core.fsutil import atomic_write_text, folder_write_problem, shell_quoted
 from speechcal_core.session.model import STREAMS_KEY, FrameSet, Session
 from speechcal_core.sync.model import SyncModel
 
@@ -155,7 +155,8 @@ def check_recording_present(session: Session, session_path: str | Path) -> None:
             raise SessionFileError(
                 f"{session_path}: its recording {p} is missing; put it back there, or open "
                 f"it where it is now with this session to keep the review decisions "
-                f"(speechcal review RECORDING --audio AUDIO --session {session_path})")
+                f"(speechcal review RECORDING --audio AUDIO --session "
+                f"{shell_quoted(session_path)})")
 
 
 def load_session(path: str | Path) -> Session:

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from speechcal_core.fsutil import shell_quoted
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sources.filebase import (
     STREAMED,
@@ -95,9 +96,10 @@ class McapFile(IndexedFile):
         if self.truncated and not self.allow_scan:
             raise SourceError(
                 f"{self.path}: MCAP file is truncated (no footer; recording was interrupted); "
-                f"run `speechcal index {self.path} --scan` to read the complete chunks "
+                f"run `speechcal index {shell_quoted(self.path)} --scan` to read the "
+                f"complete chunks "
                 f"(the other commands then use the recovered index), or "
-                f"`mcap recover {self.path} -o fixed.mcap`"
+                f"`mcap recover {shell_quoted(self.path)} -o fixed.mcap`"
             )
         self.f.advise_random()
         result = FileScan(topics=[])

@@ -6,6 +6,7 @@ import struct
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from speechcal_core.fsutil import shell_quoted
 from speechcal_core.sources.errors import SourceError
 from speechcal_core.sources.filebase import (
     STREAMED,
@@ -118,7 +119,8 @@ class Ros1Bag(IndexedFile):
     def _unindexed(self, why: str) -> SourceError:
         return SourceError(
             f"{self.path}: ROS1 bag is not indexed ({why}; recording was interrupted); "
-            f"run `rosbag reindex {self.path}`, or `speechcal index {self.path} --scan` "
+            f"run `rosbag reindex {shell_quoted(self.path)}`, or "
+            f"`speechcal index {shell_quoted(self.path)} --scan` "
             f"(the other commands then use the recovered index)"
         )
 
@@ -257,7 +259,8 @@ class Ros1Bag(IndexedFile):
         if rec is None or rec[0].get("op") != bytes([OP_CHUNK]):
             raise SourceError(
                 f"{self.path}: chunk at byte {chunk_pos} is damaged; "
-                f"run `rosbag reindex {self.path}`, or `speechcal index {self.path} --scan` "
+                f"run `rosbag reindex {shell_quoted(self.path)}`, or "
+            f"`speechcal index {shell_quoted(self.path)} --scan` "
                 f"(the other commands then use the recovered index)"
             )
         fields, dpos, dlen = rec

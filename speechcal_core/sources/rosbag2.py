@@ -40,6 +40,14 @@ def ros2_folder_files(folder: Path, *, scan: bool = False) -> list[MessageFile]:
     return out
 
 
+#: what to do with a sqlite3 bag that cannot be read. A cut-short one cannot be repaired
+#: here: its tables' interior pages lie past the cut, and Debian's sqlite3 3.40
+#: ``.recover`` saved no message of one (a 142 MB bag cut at 50 MB)
+CUT_SHORT_ADVICE = ("if it was cut short (the recorder stopped uncleanly, a copy broke "
+                    "off), copy it again where it is whole; a sqlite3 bag cut short cannot "
+                    "be read, while MCAP storage (ros2 bag record -s mcap) keeps one "
+                    "readable with `speechcal index FILE --scan`")
+
 class Sqlite3File:
     """One rosbag2 ``.db3`` file; the index reads only each blob's first bytes."""
 
@@ -53,16 +61,13 @@ class Sqlite3File:
             self.con = sqlite3.connect(uri, uri=True, check_same_thread=False)
             self.con.execute("SELECT count(*) FROM sqlite_master").fetchone()
         except sqlite3.DatabaseError as exc:
-            raise SourceError(
-                f"{self.path}: not a readable rosbag2 sqlite3 file ({exc}); if it was cut "
-                f"short, try `sqlite3 {self.path} .recover | sqlite3 fixed.db3`") from None
+            raise SourceError(f"{self.path}: not a readable rosbag2 sqlite3 file ({exc}); "
+                              f"{CUT_SHORT_ADVICE}") from None
         self.lock = threading.Lock()
 
     def _err(self, exc: Exception) -> SourceError:
-        return SourceError(
-            f"{self.path}: sqlite3 database is damaged ({exc}); "
-            f"try `sqlite3 {self.path} .recover | sqlite3 fixed.db3`"
-        )
+        return SourceError(f"{self.path}: sqlite3 database is damaged ({exc}); "
+                           f"{CUT_SHORT_ADVICE}")
 
     def scan(self) -> FileScan:
         """Index the image topics."""
@@ -76,7 +81,8 @@ class Sqlite3File:
         con = self.con
         tables = {r[0] for r in con.execute("SELECT name FROM sqlite_master WHERE type='table'")}
         if not {"topics", "messages"} <= tables:
-            raise SourceError(f"{self.path}: not a rosbag2 file (no topics/messages tables)")
+            raise SourceError(f"{self.path}: not a rosbag2 file (no topics/messages "
+                              f"tables); {CUT_SHORT_ADVICE}")
         cols = {r[1] for r in con.execute("PRAGMA table_info(topics)")}
         qos = "offered_qos_profiles" if "offered_qos_profiles" in cols else "''"
         defs: dict[str, str] = {}

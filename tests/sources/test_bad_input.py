@@ -254,3 +254,26 @@ def test_a_damaged_chunk_of_an_indexed_bag_is_skipped_by_scanning(make_bag, fmt:
         src.frame("/cam0/image_raw", 7)  # the message after the damaged chunk
     with open_recording([path]) as src:  # the other commands then use the recovered index
         assert src.streams[0].count == 19
+
+
+def test_commands_in_messages_quote_paths_with_spaces(make_bag, tmp_path: Path) -> None:
+    """The advice is pasted into a shell: a path with spaces must stay one argument."""
+    path = make_bag("ros1", imu=True)
+    spaced = tmp_path / "my data" / "cut bag ü.bag"
+    spaced.parent.mkdir()
+    spaced.write_bytes(path.read_bytes()[:_index_pos(path)])
+    with pytest.raises(SourceError) as err:
+        open_recording([spaced])
+    assert f"`rosbag reindex '{spaced}'`" in str(err.value)
+    assert f"`speechcal index '{spaced}' --scan`" in str(err.value)
+
+
+def test_a_cut_short_sqlite_bag_is_named_as_such_with_what_can_be_done(make_bag) -> None:
+    folder = make_bag("ros2-sqlite3", [Cam("/cam0/image_raw", regular(200))])
+    (db3,) = folder.glob("*.db3")
+    os.truncate(db3, db3.stat().st_size // 2)
+    with pytest.raises(SourceError) as err:
+        open_recording([folder], use_cache=False)
+    message = str(err.value)
+    assert db3.name in message and "cut short" in message
+    assert "copy it again" in message and "ros2 bag record -s mcap" in message
