@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -44,7 +45,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--force", action="store_true",
                    help="replace an existing session file, and no other file (its review "
                         "decisions are lost; the old file is kept as SESSION.json.bak, "
-                        "unless that .bak holds review work and the old file none)")
+                        "unless that .bak holds review work and the old file none; an "
+                        "older .bak holding review work too moves to SESSION.json.bak.1)")
     p.add_argument("--json", action="store_true",
                    help="print what was written as JSON on stdout (session, sets, sync, notes, "
                         "streams: the streams chosen, null for all)")
@@ -91,12 +93,20 @@ def run(args: argparse.Namespace) -> int:
     # a .bak holding review work is not given up for a file that holds none (a second
     # --force would otherwise lose the decisions the first one kept)
     kept = review_work(bak) if replaced and bak.exists() and not review_work(out) else ""
+    # both hold review work: the older .bak moves aside rather than being replaced
+    older_work = review_work(bak) if replaced and not kept and bak.exists() else ""
+    older = _free_name(bak) if older_work else None
+    if older is not None:
+        os.replace(bak, older)
     save_session(session, out, backup=not kept)
     if kept:
         progress(f"{bak} is left as it was: it holds review work ({kept}) and the file "
                  "replaced held none")
     elif replaced:
         progress(f"the file it replaced is kept as {bak}")
+    if older is not None:
+        progress(f"the earlier {bak}, which holds review work too ({older_work}), is kept "
+                 f"as {older}")
     notes = [*session.sync_evidence.get("warnings", []),
              *session.extra.get("detection_notes", [])]
     for note in notes:
@@ -140,6 +150,14 @@ def _refuse_to_replace_other_files(out: Path) -> None:
         raise OutputExistsError(f"{out} exists and --force replaces only a session file, "
                                 f"which this is not ({reason}); choose another -o, or move "
                                 "it away first") from None
+
+
+def _free_name(bak: Path) -> Path:
+    """``SESSION.json.bak.1`` (or .2, …): the first such name no file has."""
+    n = 1
+    while bak.with_name(f"{bak.name}.{n}").exists():
+        n += 1
+    return bak.with_name(f"{bak.name}.{n}")
 
 
 def review_work(path: Path) -> str:

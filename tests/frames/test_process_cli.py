@@ -253,3 +253,40 @@ def test_a_second_force_leaves_the_bak_that_holds_the_review_work(
     kept = load_session(path.with_name("session.json.bak"))
     assert [s.decision for s in kept.sets[:3]] == ["accepted"] * 3
     assert all(s.decision == "undecided" for s in load_session(path).sets)
+
+
+def test_a_force_over_reviewed_files_keeps_the_older_review_work_too(
+        synth, tmp_path: Path, capsys) -> None:
+    """The file replaced and its .bak both hold decisions: the .bak moves aside to
+    .bak.1 (then .bak.2), never replaced by the newer one."""
+    from speechcal_core.session.store import load_session, save_session
+
+    out, truth = synth
+    path = tmp_path / "session.json"
+    run = ["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+           "--offset-ns", str(truth["sync"]["offset_ns"]), "-o", str(path)]
+
+    def review(n: int) -> None:
+        reviewed = load_session(path)
+        reviewed.sets[:n] = [s.with_decision("accepted") for s in reviewed.sets[:n]]
+        save_session(reviewed, path, backup=False)
+
+    assert main(run) == 0
+    review(3)
+    assert main([*run, "--force"]) == 0  # the 3 decisions go to .bak
+    review(2)
+    capsys.readouterr()
+    assert main([*run, "--force"]) == 0
+    err = capsys.readouterr().err
+    assert f"the file it replaced is kept as {path}.bak" in err
+    assert f"the earlier {path}.bak, which holds review work too (3 decisions), is kept " \
+           f"as {path}.bak.1" in err
+
+    def decided(name: str) -> int:
+        return sum(s.decision == "accepted" for s in load_session(tmp_path / name).sets)
+
+    assert (decided("session.json.bak"), decided("session.json.bak.1")) == (2, 3)
+    review(1)
+    assert main([*run, "--force"]) == 0
+    assert (decided("session.json.bak"), decided("session.json.bak.1"),
+            decided("session.json.bak.2")) == (1, 3, 2)
