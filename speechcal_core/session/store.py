@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 from collections.abc import Callable
@@ -143,8 +144,14 @@ def _save_error(path: Path, reason: str) -> SessionFileError:
     if not folder.is_dir():  # missing, or a file: say which
         return SessionFileError(f"{path}: cannot save the session: "
                                 f"{folder_write_problem(folder)}; choose another path")
-    return SessionFileError(f"{path}: cannot save the session ({reason}); "
-                            "free disk space or choose a writable folder")
+    if reason in (os.strerror(errno.EACCES), os.strerror(errno.EPERM),
+                  os.strerror(errno.EROFS)):
+        todo = "choose a folder you can write to (or make this one writable)"
+    elif reason in (os.strerror(errno.ENOSPC), os.strerror(errno.EDQUOT)):
+        todo = "free disk space or choose a folder on another disk"
+    else:
+        todo = "free disk space or choose a writable folder"
+    return SessionFileError(f"{path}: cannot save the session ({reason}); {todo}")
 
 
 def check_recording_present(session: Session, session_path: str | Path) -> None:

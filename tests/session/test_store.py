@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import errno
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -329,3 +331,20 @@ def test_json_with_a_schema_but_no_session_shape_is_not_a_session(tmp_path: Path
     path.write_text(json.dumps(data), encoding="utf-8")
     with pytest.raises(SessionFileError, match="not a SpeechCal session file"):
         load_session(path)
+
+
+@pytest.mark.parametrize("code, advice", [
+    (errno.EACCES, "choose a folder you can write to (or make this one writable)"),
+    (errno.EROFS, "choose a folder you can write to"),
+    (errno.ENOSPC, "free disk space or choose a folder on another disk"),
+])
+def test_a_session_that_cannot_be_saved_gets_advice_for_its_reason(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, code: int, advice: str) -> None:
+    """A read-only folder was told to "free disk space" (root, which these tests run as,
+    writes anywhere: the system's reason is given here as it would come)."""
+    import speechcal_core.session.store as store
+
+    monkeypatch.setattr(store, "folder_write_problem", lambda _folder: os.strerror(code))
+    with pytest.raises(SessionFileError) as err:
+        check_session_target(tmp_path / "session.json")
+    assert f"({os.strerror(code)}); {advice}" in str(err.value)
