@@ -52,7 +52,8 @@ class ImageFolderSource(StreamTable):
             raise SourceError(
                 f"{self.root}: no <stamp_ns>.png/.jpg images in it or its sub-folders "
                 "(expected the Kalibr layout cam0/<stamp_ns>.png, cam1/...)"
-                + (f"; it holds {inside[0].name}: give that file" if inside else "")
+                + (f"; it holds {inside[0].name}: give that "
+                   f"{'ROS2 bag folder' if inside[0].is_dir() else 'file'}" if inside else "")
             )
 
     def _add_folder(self, name: str, folder: Path, items: list[tuple[int, str]]) -> None:
@@ -113,8 +114,10 @@ class ImageFolderSource(StreamTable):
 
 def _recordings_in(folder: Path) -> list[Path]:
     """The recording files directly in ``folder`` (a session's folder given instead of
-    its bag), in name order."""
+    its bag), then its ROS2 bag folders (with their ``metadata.yaml``), in name order."""
     from speechcal_core.sources import VIDEO_SUFFIXES
 
     kinds = {".bag", ".mcap", ".db3", *VIDEO_SUFFIXES}
-    return sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in kinds)
+    items = sorted(folder.iterdir())
+    return [p for p in items if p.is_file() and p.suffix.lower() in kinds] + \
+        [p for p in items if p.is_dir() and (p / "metadata.yaml").is_file()]

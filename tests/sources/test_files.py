@@ -136,3 +136,15 @@ def test_folder_without_stamped_images_is_refused(tmp_path: Path) -> None:
     with pytest.raises(SourceError, match=re.escape("; it holds recording.bag: give that "
                                                     "file")):
         open_recording([tmp_path])
+
+
+def test_a_folder_holding_a_ros2_bag_folder_points_to_it(tmp_path: Path) -> None:
+    """A ROS2 session's folder given instead of its bag folder (synth writes
+    OUT/recording/ with metadata.yaml)."""
+    bag = tmp_path / "recording"
+    bag.mkdir()
+    (bag / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
+    (tmp_path / "audio.ogg").write_bytes(b"x")
+    with pytest.raises(SourceError, match=re.escape("; it holds recording: give that ROS2 "
+                                                    "bag folder")):
+        open_recording([tmp_path])
