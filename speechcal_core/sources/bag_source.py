@@ -35,6 +35,10 @@ if TYPE_CHECKING:
 _MAX_VERIFY = 2000
 
 
+#: words of a scan's notes saying the file is cut short or damaged
+BROKEN_WORDS = ("truncated", "cut off", "damaged", "end early")
+
+
 @dataclass
 class _Stream:
     info: StreamInfo
@@ -125,7 +129,12 @@ class BagSource(ClosingContext):
             names = ", ".join(str(f.path) for f in self._files)
             others = sorted({o for s in scans for o in s.other_topics})
             found = f" (found: {', '.join(others[:8])})" if others else ""
+            broken = [n for n in self.notes if any(w in n for w in BROKEN_WORDS)]
             self.close()
+            if broken and not others:  # cut off before its first image, not a camera-less bag
+                raise SourceError(f"{names}: no image message could be read ("
+                                  f"{'; '.join(broken)}); copy the recording again where "
+                                  "it is whole")
             raise SourceError(
                 f"{names}: no sensor_msgs/Image or CompressedImage topics{found}; "
                 "record the camera image topics"

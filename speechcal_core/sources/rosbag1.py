@@ -222,6 +222,9 @@ class Ros1Bag(IndexedFile):
     def _scan_all(self, collectors: dict[int, TopicCollector], result: FileScan) -> None:
         reader = _Reader(Window(self.f).get)
         pos = self.first_record
+        if pos >= self.f.size:
+            result.notes.append(f"{self.name}: the file ends at byte {self.f.size}, before "
+                                "its first record (truncated)")
         while pos < self.f.size:
             try:
                 rec = reader.record(pos)
@@ -270,6 +273,9 @@ class Ros1Bag(IndexedFile):
         if compression == "none":
             end = min(dpos + dlen, self.f.size)
             seen = self._walk_records(_Reader(window.get), dpos, end, -1, collectors, learn, total)
+            if truncated:
+                result.notes.append(f"{self.name}: last chunk is cut off at byte "
+                                    f"{self.f.size} (truncated); its complete messages are read")
         elif truncated:
             result.notes.append(f"{self.name}: last {compression} chunk is cut off; skipped")
             return

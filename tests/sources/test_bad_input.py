@@ -277,3 +277,16 @@ def test_a_cut_short_sqlite_bag_is_named_as_such_with_what_can_be_done(make_bag)
     message = str(err.value)
     assert db3.name in message and "cut short" in message
     assert "copy it again" in message and "ros2 bag record -s mcap" in message
+
+
+@pytest.mark.parametrize("keep", [3000, 9000])
+def test_a_bag_cut_before_its_first_image_says_so(make_bag, keep: int) -> None:
+    """Cut inside its header (3000 bytes) or its first chunk: --scan said "no image
+    topics; record the camera image topics", as if the cameras had not been recorded."""
+    path = make_bag("ros1", [Cam("/cam0/image_raw", regular(5))])
+    os.truncate(path, keep)
+    with pytest.raises(SourceError) as err:
+        open_recording([path], scan=True, use_cache=False)
+    message = str(err.value)
+    assert "no image message could be read" in message and "truncated" in message
+    assert "copy the recording again where it is whole" in message
