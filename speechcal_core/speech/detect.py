@@ -124,10 +124,22 @@ def detect_triggers(audio_path: str | Path | Audio | None,
     if not found:
         what = f"{audio_path}" if transcript is None else f"{transcript}"
         if duration is not None and not _has_speech(audio, chosen):
-            notes.append(f"{what}: no speech found in {duration:.1f} s of audio")
+            notes.append(f"{what}: no speech found in {duration:.1f} s of audio"
+                         + _channel_hint(audio))
         else:
-            notes.append(f"{what}: no trigger word ({', '.join(spec.words)}) found")
+            notes.append(f"{what}: no trigger word ({', '.join(spec.words)}) found"
+                         + (_channel_hint(audio) if duration is not None else ""))
     return Detection(found, chosen.name, duration, notes)
+
+
+def _channel_hint(audio: object) -> str:
+    """"; its 2 channels were mixed: ..." for audio of several channels heard mixed (the
+    microphone on one, noise or another source on the other), else ""."""
+    channels = getattr(audio, "channels_in_file", 1)
+    if channels <= 1 or getattr(audio, "channel", None) is not None:
+        return ""
+    return (f"; its {channels} channels were mixed: if the microphone is on one of them, "
+            f"pick it with --channel (0..{channels - 1})")
 
 
 def _has_speech(audio: object, backend: SpeechBackend) -> bool:

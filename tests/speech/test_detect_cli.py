@@ -41,6 +41,24 @@ def test_a_note_reaches_stderr_marked_as_one(tmp_path: Path,
     captured = capsys.readouterr()
     assert json.loads(captured.out) == []
     assert f"note: {silent}: no speech found" in captured.err
+    assert "--channel" not in captured.err  # one channel: nothing to pick
+
+
+def test_nothing_found_in_mixed_channels_names_the_channel_option(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A stereo file whose second channel is another source: mixed, the microphone's
+    speech may drown; the note says how to take one channel."""
+    import numpy as np
+    import soundfile as sf
+
+    stereo = tmp_path / "stereo.wav"
+    sf.write(stereo, np.zeros((3 * 16000, 2), np.float32), 16000)
+    assert main(["detect", str(stereo)]) == 0
+    err = capsys.readouterr().err
+    assert f"note: {stereo}: no speech found in 3.0 s of audio; its 2 channels were " \
+           "mixed: if the microphone is on one of them, pick it with --channel (0..1)" in err
+    assert main(["detect", str(stereo), "--channel", "1"]) == 0
+    assert "--channel" not in capsys.readouterr().err  # one was picked
 
 
 def test_audio_too_coarse_for_speech_is_noted(tmp_path: Path,
