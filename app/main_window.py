@@ -44,9 +44,11 @@ from app.tasks import BackgroundTask, start
 from app.waveform import WaveformView
 from speechcal_core.audio import AUDIO_SUFFIXES
 from speechcal_core.audio.playback import RestartThrottle, word_span
+from speechcal_core.errors import SpeechCalError
 from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
+from speechcal_core.review.relocate import MovedRecording, moved_recording, relocated_inputs
 from speechcal_core.review.summary import (
     FILTERS,
     FIND_WORDS,
@@ -165,6 +167,12 @@ class ReviewWindow(QMainWindow):
         #: asks what to do with decisions not saved: "save_as", "discard" or "cancel"
         #: (a dialog; tests put a function here)
         self.ask_unsaved: Callable[[str], str] = self._ask_unsaved
+        #: asks where a session's recording went (a file dialog; tests put a function
+        #: here): one of its files or folders, or None
+        self.ask_recording_place: Callable[[MovedRecording], str | None] = \
+            self._ask_recording_place
+        self._opening_session: str | None = None  # the session file being opened
+        self._moved: MovedRecording | None = None  # its recording, gone from where it was
         self.load_error = ""
         #: the "then next set" box: accept and reject go on to the next set
         self.advance_after_decision = True
@@ -214,6 +222,14 @@ class ReviewWindow(QMainWindow):
         text = QLabel(EMPTY_TEXT)
         text.setAlignment(Qt.AlignmentFlag.AlignCenter)
         layout.addWidget(text)
+        #: why the last opening failed, in full (the status line cuts it short)
+        self.open_problem = QLabel("")
+        self.open_problem.setWordWrap(True)
+        self.open_problem.setAlignment(Qt.AlignmentFlag.AlignCenter)
+        self.open_problem.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.open_problem.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()};")
+        self.open_problem.hide()
+        layout.addWidget(self.open_problem)
         row = QHBoxLayout()
         row.addStretch(1)
         open_button = QPushButton("Open session…")
@@ -222,6 +238,11 @@ class ReviewWindow(QMainWindow):
         self.demo_button = QPushButton("Open the demo session")
         self.demo_button.clicked.connect(self.open_demo)
         row.addWidget(self.demo_button)
+        #: shown when the session opened last has lost its recording
+        self.locate_button = QPushButton("Locate recording…")
+        self.locate_button.clicked.connect(lambda _=False: self.locate_recording())
+        self.locate_button.hide()
+        row.addWidget(self.locate_button)
         row.addStretch(1)
         layout.addLayout(row)
         layout.addStretch(2)
@@ -459,6 +480,7 @@ class ReviewWindow(QMainWindow):
         """Load a session file, or process a recording + audio (its session saved at
         ``new_session_path``, by default beside the recording; ``triggers``, ``channel``,
         ``target`` and ``streams`` as for ``load_for_review``), on a worker thread."""
+        self._opening_session = session_path
         self._start(lambda report: load_for_review(
             session_path=session_path, recording=recording, audio=audio,
             new_session_path=new_session_path, triggers=triggers, channel=channel,
@@ -562,12 +584,50 @@ class ReviewWindow(QMainWindow):
         self.task = None
         self.load_error = message
         self.status.end("open", f"Could not open: {message}")
-        if not self.property("headless"):
+        opening, self._opening_session = self._opening_session, None
+        self._moved = moved_recording(opening) if opening and self.model is None else None
+        if self.model is None:  # the first page says why, whole, and what can be done
+            self.open_problem.setText(f"Could not open: {message}")
+            self.open_problem.show()
+            self.locate_button.setVisible(self._moved is not None)
+        if not self.property("headless") and self._moved is None:
             QMessageBox.warning(self, "SpeechCal", message)
+        if self._moved is not None:
+            self.locate_recording()
+
+    def locate_recording(self) -> None:
+        """Ask where the recording of the session that could not be opened went, and open
+        the session with it there (its review work kept; the session then reads it there)."""
+        moved = self._moved
+        if moved is None:
+            return
+        chosen = self.ask_recording_place(moved)
+        if not chosen:
+            return
+        try:
+            recording, audio = relocated_inputs(moved.session_path, chosen)
+        except SpeechCalError as exc:
+            self.open_problem.setText(f"{exc}")
+            self.status.say(str(exc))
+            return
+        self.open(recording=recording, audio=audio,
+                  new_session_path=str(moved.session_path))
+
+    def _ask_recording_place(self, moved: MovedRecording) -> str | None:
+        """The file dialog behind :attr:`ask_recording_place` (none in a headless window)."""
+        if self.property("headless"):
+            return None
+        chosen, _filter = QFileDialog.getOpenFileName(
+            self, f"Where is {moved.names} now? (a ROS2 bag folder: its metadata.yaml)",
+            str(moved.session_path.parent))
+        return chosen or None
 
     def _on_loaded(self, inputs: ReviewInputs) -> None:
         self.status.end("open")
         self.task = None
+        self._opening_session, self._moved = None, None
+        self.open_problem.hide()
+        self.locate_button.hide()
         if not self._may_drop_unsaved():  # a save failed while it was loading
             inputs.close()
             self.status.say("not opened: the current session's decisions are not saved")

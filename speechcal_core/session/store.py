@@ -160,7 +160,8 @@ def check_recording_present(session: Session, session_path: str | Path) -> None:
     for p in session.recording:
         if not Path(p).exists():
             raise SessionFileError(
-                f"{session_path}: its recording {p} is missing; put it back there, or open "
+                f"{session_path}: its recording {os.path.normpath(p)} is missing; put it "
+                f"back there, or open "
                 f"it where it is now with this session to keep the review decisions "
                 f"(speechcal review RECORDING --audio AUDIO --session "
                 f"{shell_quoted(session_path)})")

@@ -1,0 +1,75 @@
+"""A session whose recording moved away from it, opened in the window: the first page says
+why it cannot open, in full, and "Locate recording…" opens it from where the operator
+shows the recording went, its review work kept."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from app.main_window import ReviewWindow
+from speechcal_core.review.loading import load_for_review
+from speechcal_core.session.store import load_session, save_session
+
+
+@pytest.fixture
+def moved(tiny_synth, tmp_path: Path) -> tuple[Path, Path, str]:
+    """(session file, the folder its recording and audio are in now, the bag's name)."""
+    folder, truth = tiny_synth
+    shutil.copytree(folder, tmp_path / "rec")
+    recording = tmp_path / "rec" / truth["recording"]
+    session_path = tmp_path / "reviews" / "lab.json"
+    session_path.parent.mkdir()
+    load_for_review(recording=[str(recording)], audio=str(tmp_path / "rec" / "audio.ogg"),
+                    new_session_path=session_path).close()
+    reviewed = load_session(session_path)
+    reviewed.replace_set(reviewed.sets[1].with_decision("rejected"))
+    save_session(reviewed, session_path)
+    shutil.move(str(tmp_path / "rec"), tmp_path / "archive")
+    return session_path, tmp_path / "archive", recording.name
+
+
+def _window(qtbot) -> ReviewWindow:
+    win = ReviewWindow()
+    win.setProperty("headless", True)
+    qtbot.addWidget(win)
+    win.show()
+    return win
+
+
+def test_locate_recording_opens_the_session_with_its_decisions(qtbot, moved) -> None:
+    session_path, now_in, bag = moved
+    asked: list = []
+    window = _window(qtbot)
+    window.ask_recording_place = lambda m: asked.append(m.names) or str(now_in / bag)
+    window.open(session_path=str(session_path))
+    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    assert asked == [bag]  # asked at once, naming what to look for
+    assert window.model.session.sets[1].decision == "rejected"
+    assert "its recording moved from" in window.status_text.toolTip() + \
+        window.status_text.text()
+    assert Path(load_session(session_path).recording[0]).resolve() == now_in / bag
+    assert window.open_problem.isHidden() and window.locate_button.isHidden()
+
+
+def test_declined_the_first_page_says_why_and_offers_it_again(qtbot, moved,
+                                                              tmp_path: Path) -> None:
+    session_path, now_in, bag = moved
+    answers = [None, str(tmp_path), str(now_in)]  # no; a folder without it; its folder
+    window = _window(qtbot)
+    window.ask_recording_place = lambda _m: answers.pop(0)
+    window.open(session_path=str(session_path))
+    qtbot.waitUntil(lambda: window.task is None, timeout=30_000)
+    assert window.model is None
+    said = window.open_problem.text()  # whole: the status line cuts it short
+    assert f"its recording {session_path.parent.parent / 'rec' / bag} is missing" in said
+    assert "to keep the review decisions" in said
+    assert window.locate_button.isVisible()
+
+    window.locate_button.click()  # the wrong folder: said, nothing opened
+    assert f"{tmp_path} holds no {bag}" in window.open_problem.text()
+    window.locate_button.click()
+    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    assert window.model.session.sets[1].decision == "rejected"
