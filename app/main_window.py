@@ -48,7 +48,12 @@ from speechcal_core.errors import SpeechCalError
 from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
-from speechcal_core.review.relocate import MovedRecording, moved_recording, relocated_inputs
+from speechcal_core.review.relocate import (
+    MovedRecording,
+    moved_recording,
+    relocated_audio,
+    relocated_inputs,
+)
 from speechcal_core.review.summary import (
     FILTERS,
     FIND_WORDS,
@@ -171,6 +176,8 @@ class ReviewWindow(QMainWindow):
         #: here): one of its files or folders, or None
         self.ask_recording_place: Callable[[MovedRecording], str | None] = \
             self._ask_recording_place
+        #: asks where the session's audio file (its path given) went: a file, or None
+        self.ask_audio_place: Callable[[str], str | None] = self._ask_audio_place
         self._opening_session: str | None = None  # the session file being opened
         self._moved: MovedRecording | None = None  # its recording, gone from where it was
         self.load_error = ""
@@ -286,6 +293,12 @@ class ReviewWindow(QMainWindow):
         self.save_as_action.setEnabled(False)
         self.addAction(self.save_as_action)  # its shortcut works with the menu closed
         menu.addAction(self.save_as_action)
+        self.locate_audio_action = QAction("&Locate audio…", self)
+        self.locate_audio_action.setToolTip("the session's audio file moved: show where it "
+                                            "is now (the session then reads it there)")
+        self.locate_audio_action.triggered.connect(lambda _=False: self.locate_audio())
+        self.locate_audio_action.setEnabled(False)
+        menu.addAction(self.locate_audio_action)
         self.export_button = QPushButton("Export…")
         self.export_button.setToolTip("Write the accepted frame sets for Kalibr, per-camera "
                                       "folders or a bag  (Ctrl+E)")
@@ -455,7 +468,9 @@ class ReviewWindow(QMainWindow):
             self.waveform.set_audio(inputs.pyramid, model.session.sync)
         else:  # the marks still show where the words were heard
             self.waveform.set_sync(model.session.sync)
-            self.waveform.show_message(f"no waveform: {inputs.no_waveform}")
+            gone = bool(inputs.session.audio) and not Path(inputs.session.audio).exists()
+            self.waveform.show_message(f"no waveform: {inputs.no_waveform}" + (
+                " · File ▸ Locate audio… shows where it is now" if gone else ""))
         self.waveform.set_claps(inputs.claps_audio_s)
         self.waveform.clap_moved.connect(model.nudge_offset)
         self.waveform.clap_dragging.connect(model.preview_offset)
@@ -613,6 +628,32 @@ class ReviewWindow(QMainWindow):
         self.open(recording=recording, audio=audio,
                   new_session_path=str(moved.session_path))
 
+    def locate_audio(self) -> None:
+        """Ask where the session's audio file went, and open the session again with it
+        there (its review work is saved; the session then reads the audio there)."""
+        inputs = self.inputs
+        if inputs is None or inputs.session_path is None or not inputs.session.audio:
+            return
+        chosen = self.ask_audio_place(inputs.session.audio)
+        if not chosen:
+            return
+        try:
+            audio = relocated_audio(inputs.session_path, chosen)
+        except SpeechCalError as exc:
+            self.status.say(str(exc))
+            return
+        self.open(recording=list(inputs.session.recording), audio=audio,
+                  new_session_path=str(inputs.session_path))
+
+    def _ask_audio_place(self, audio: str) -> str | None:
+        """The file dialog behind :attr:`ask_audio_place` (none in a headless window)."""
+        if self.property("headless"):
+            return None
+        name = Path(audio).name
+        chosen, _filter = QFileDialog.getOpenFileName(
+            self, f"Where is {name} now?", str(Path(audio).parent), f"{name} ({name})")
+        return chosen or None
+
     def _ask_recording_place(self, moved: MovedRecording) -> str | None:
         """The file dialog behind :attr:`ask_recording_place` (none in a headless window)."""
         if self.property("headless"):
@@ -652,6 +693,8 @@ class ReviewWindow(QMainWindow):
         self.saver.reset(inputs.session_path, inputs.session_stamp)
         self.status.end("save")
         self.save_as_action.setEnabled(True)
+        self.locate_audio_action.setEnabled(
+            bool(inputs.session.audio) and not Path(inputs.session.audio).exists())
         self.detect_action.setEnabled(bool(inputs.session.audio))
         self._update_saved_label()
         self.model = ReviewModel(inputs.session, inputs.source, autosave=self._autosave)

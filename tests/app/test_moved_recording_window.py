@@ -73,3 +73,34 @@ def test_declined_the_first_page_says_why_and_offers_it_again(qtbot, moved,
     window.locate_button.click()
     qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
     assert window.model.session.sets[1].decision == "rejected"
+
+
+def test_locate_audio_reads_the_moved_audio_and_keeps_the_review(
+        qtbot, open_window, tiny_synth, tmp_path: Path) -> None:
+    from truth_sessions import truth_session
+
+    folder, truth = tiny_synth
+    copy = tmp_path / "session"
+    shutil.copytree(folder, copy)
+    save_session(truth_session(copy, truth), tmp_path / "review.json")
+    session = load_session(tmp_path / "review.json")
+    session.replace_set(session.sets[0].with_decision("accepted"))
+    save_session(session, tmp_path / "review.json")
+    audio = Path(session.audio)
+    (tmp_path / "usb").mkdir()
+    audio.rename(tmp_path / "usb" / audio.name)
+    window = open_window(tmp_path / "review.json")
+    assert window.inputs.pyramid is None and window.locate_audio_action.isEnabled()
+    assert "File ▸ Locate audio…" in window.waveform.message.text()
+
+    window.ask_audio_place = lambda _gone: str(tmp_path / "usb" / "other.ogg")
+    window.locate_audio()  # another file: refused, said
+    assert f"is not {audio.name}, the session's audio" in window.status_text.toolTip() + \
+        window.status_text.text()
+    window.ask_audio_place = lambda _gone: str(tmp_path / "usb" / audio.name)
+    old = window.model
+    window.locate_audio()
+    qtbot.waitUntil(lambda: window.model is not old, timeout=30_000)
+    assert window.inputs.pyramid is not None and not window.locate_audio_action.isEnabled()
+    assert window.model.session.sets[0].decision == "accepted"
+    assert Path(load_session(tmp_path / "review.json").audio) == tmp_path / "usb" / audio.name
