@@ -574,6 +574,8 @@ class ReviewWindow(QMainWindow):
         following = self._action_button("▶▶", "next_set", "next frame set  (K)")
         row.addWidget(following)
         self.transport_buttons = (previous, self.play_button, following)
+        for button in (previous, following):  # two glyphs: the line beside them needs the room
+            button.setMaximumWidth(6 * button.fontMetrics().horizontalAdvance("◀"))
         self.info_line = ElidedLabel("")  # never widens the window; the tooltip has it whole
         row.addWidget(self.info_line, 1)
         return row
