@@ -31,6 +31,20 @@ def windows_deleted_when_the_test_ends(qapp) -> Iterator[None]:
 
 
 @pytest.fixture
+def new_window(qtbot) -> Callable[[], ReviewWindow]:
+    """Makes a shown, headless window with nothing opened in it."""
+
+    def make() -> ReviewWindow:
+        win = ReviewWindow()
+        win.setProperty("headless", True)
+        qtbot.addWidget(win)
+        win.show()
+        return win
+
+    return make
+
+
+@pytest.fixture
 def open_window(qtbot) -> Callable[[Path], ReviewWindow]:
     """Opens a session file in a shown window and waits for every tile's frame."""
 

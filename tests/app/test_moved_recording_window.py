@@ -9,7 +9,6 @@ from pathlib import Path
 
 import pytest
 
-from app.main_window import ReviewWindow
 from speechcal_core.review.loading import load_for_review
 from speechcal_core.session.store import load_session, save_session
 
@@ -31,18 +30,11 @@ def moved(tiny_synth, tmp_path: Path) -> tuple[Path, Path, str]:
     return session_path, tmp_path / "archive", recording.name
 
 
-def _window(qtbot) -> ReviewWindow:
-    win = ReviewWindow()
-    win.setProperty("headless", True)
-    qtbot.addWidget(win)
-    win.show()
-    return win
-
-
-def test_locate_recording_opens_the_session_with_its_decisions(qtbot, moved) -> None:
+def test_locate_recording_opens_the_session_with_its_decisions(qtbot, new_window,
+                                                               moved) -> None:
     session_path, now_in, bag = moved
     asked: list = []
-    window = _window(qtbot)
+    window = new_window()
     window.ask_recording_place = lambda m: asked.append(m.names) or str(now_in / bag)
     window.open(session_path=str(session_path))
     qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
@@ -54,11 +46,11 @@ def test_locate_recording_opens_the_session_with_its_decisions(qtbot, moved) -> 
     assert window.open_problem.isHidden() and window.locate_button.isHidden()
 
 
-def test_declined_the_first_page_says_why_and_offers_it_again(qtbot, moved,
+def test_declined_the_first_page_says_why_and_offers_it_again(qtbot, new_window, moved,
                                                               tmp_path: Path) -> None:
     session_path, now_in, bag = moved
     answers = [None, str(tmp_path), str(now_in)]  # no; a folder without it; its folder
-    window = _window(qtbot)
+    window = new_window()
     window.ask_recording_place = lambda _m: answers.pop(0)
     window.open(session_path=str(session_path))
     qtbot.waitUntil(lambda: window.task is None, timeout=30_000)

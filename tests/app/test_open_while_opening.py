@@ -10,7 +10,6 @@ from pathlib import Path
 import pytest
 
 import app.main_window
-from app.main_window import ReviewWindow
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 
 
@@ -55,18 +54,11 @@ def held(items: list, item: object) -> bool:
     return any(i is item for i in items)
 
 
-def new_window(qtbot) -> ReviewWindow:
-    win = ReviewWindow()
-    win.setProperty("headless", True)
-    qtbot.addWidget(win)
-    win.show()
-    return win
-
-
 def test_a_second_open_gives_up_the_first_and_closes_the_recording_it_opens_anyway(
-        qtbot, slow_first, truth_session_file: Path, searched_session_file: Path) -> None:
+        qtbot, new_window, slow_first, truth_session_file: Path,
+        searched_session_file: Path) -> None:
     running, gate, opened, closed = slow_first
-    win = new_window(qtbot)
+    win = new_window()
     win.open(session_path=str(truth_session_file))
     assert running.wait(30)
     win.open(session_path=str(searched_session_file))
@@ -82,9 +74,9 @@ def test_a_second_open_gives_up_the_first_and_closes_the_recording_it_opens_anyw
 
 
 def test_a_window_closed_while_opening_closes_the_recording_opened_after(
-        qtbot, slow_first, truth_session_file: Path) -> None:
+        qtbot, new_window, slow_first, truth_session_file: Path) -> None:
     running, gate, opened, closed = slow_first
-    win = new_window(qtbot)
+    win = new_window()
     win.open(session_path=str(truth_session_file))
     assert running.wait(30)
     win.close()

@@ -116,17 +116,9 @@ def test_a_moved_recording_says_how_to_keep_the_decisions(tiny_synth, tmp_path: 
 
 
 def test_a_moved_recording_given_with_the_session_is_followed_and_the_review_kept(
-        tiny_synth, tmp_path: Path) -> None:
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    session_path = tmp_path / "reviews" / "lab.json"
-    session_path.parent.mkdir()
-    load_for_review(recording=[recording], audio=audio, new_session_path=session_path).close()
-    reviewed = load_session(session_path)
-    reviewed.replace_set(reviewed.sets[0].with_decision("accepted"))
-    save_session(reviewed, session_path)
-    moved = tmp_path / "archive" / "rec"
-    shutil.move(str(Path(recording).parent), moved)
-    new_recording, new_audio = moved / Path(recording).name, moved / Path(audio).name
+        moved_session) -> None:
+    session_path, moved, bag, audio = moved_session
+    new_recording, new_audio = moved / bag, moved / audio
     inputs = load_for_review(recording=[str(new_recording)], audio=str(new_audio),
                              new_session_path=session_path)
     inputs.close()

@@ -3,32 +3,13 @@ with once the operator shows where they went (the window's "Locate recording…"
 
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
 import pytest
-from test_loading import _copy_of
 
 from speechcal_core.errors import UsageError
 from speechcal_core.review.loading import load_for_review
 from speechcal_core.review.relocate import moved_recording, relocated_inputs
-from speechcal_core.session.store import load_session, save_session
-
-
-@pytest.fixture
-def moved_session(tiny_synth, tmp_path: Path) -> tuple[Path, Path, str, str]:
-    """A reviewed session in its own folder whose recording folder (bag and audio) moved:
-    (session file, the folder it is in now, the bag's name, the audio's name)."""
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    session_path = tmp_path / "reviews" / "lab.json"
-    session_path.parent.mkdir()
-    load_for_review(recording=[recording], audio=audio, new_session_path=session_path).close()
-    reviewed = load_session(session_path)
-    reviewed.replace_set(reviewed.sets[0].with_decision("accepted"))
-    save_session(reviewed, session_path)
-    moved = tmp_path / "archive" / "rec"
-    shutil.move(str(Path(recording).parent), moved)
-    return session_path, moved, Path(recording).name, Path(audio).name
 
 
 def test_what_is_missing_is_named(moved_session, tiny_synth) -> None:
