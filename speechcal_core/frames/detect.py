@@ -148,9 +148,15 @@ class TargetDetector:
             return None
         points, ids, win = best
         win = max(2, round(win))
-        refined = cv2.cornerSubPix(gray, points.reshape(-1, 1, 2).astype(np.float32),
-                                   (win, win), (-1, -1), _SUBPIX).reshape(-1, 2)
-        points = refined.astype(np.float64)
+        start = points.reshape(-1, 1, 2).astype(np.float32)
+        refined = cv2.cornerSubPix(gray, start.copy(), (win, win), (-1, -1),
+                                   _SUBPIX).reshape(-1, 2)
+        # OpenCV hands back the start of a corner whose refinement ran out of its window:
+        # a raw marker corner that far off is no corner to calibrate on (2-5 px off)
+        lost = np.all(refined == start.reshape(-1, 2), axis=1)
+        if self._dictionary is not None:  # the whole tag goes: grid_fill may place it again
+            lost = np.isin(ids // 4, ids[lost] // 4)
+        points, ids = refined[~lost].astype(np.float64), ids[~lost]
         if self._dictionary is not None:
             assert isinstance(self.target, TargetSpec)
             points, ids = fill_missing_tags(gray, points, ids, self.object_points,
