@@ -32,9 +32,26 @@ def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
         if fmt == "folders" and not no_corners:
             notes.append(assumed_board_note(
                 session, spec, target_from, "corners.json and corners.vnl place the corners on"))
+            notes.append(other_board_note(session, spec, target_from))
     if fmt in ("rosbag1", "rosbag2"):
         notes.append(approx_sync_note(plan.sets))
+        if target_from == "given":
+            notes.append("a bag holds the frames only: --target is not used (it describes "
+                         "the board in kalibr and folders exports)")
     return [note for note in notes if note]
+
+
+def other_board_note(session: Session, spec: TargetSpec, target_from: str) -> str:
+    """That the corners files keep the board the session's frames were checked against,
+    when the given ``spec`` lays out another ("" when it does not)."""
+    stored, assumed = TargetSpec.from_session(session.extra)
+    if target_from != "given" or stored is None or \
+            (stored.kind, stored.rows, stored.cols) == (spec.kind, spec.rows, spec.cols):
+        return ""
+    checked = ("assumed " if assumed else "") + stored.describe()
+    return (f"corners.json and corners.vnl place the corners on the {checked} the "
+            f"session's frames were checked against, not on the given {spec.describe()}: "
+            "process the recording again with this --target to find its corners")
 
 
 def left_out_note(fmt: str, plan: Plan) -> str:

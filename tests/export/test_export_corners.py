@@ -144,6 +144,21 @@ def test_a_measured_size_for_the_same_board_scales_the_object_points(processed,
     assert doc["target"]["kind"] == "aprilgrid"
 
 
+def test_a_target_of_another_layout_is_named_in_every_format(processed, tmp_path) -> None:
+    """--target with a checkerboard for a session checked against the AprilGrid: the
+    folders and bag exports used to say nothing."""
+    path, _truth = processed
+    other = TargetSpec("checkerboard", 6, 8, 0.045)
+    folders = export_session_file(path, "folders", tmp_path / "folders", target=other)
+    assert any("corners.json and corners.vnl place the corners on the assumed 6x6 AprilGrid" in n
+               and "not on the given" in n and "process the recording again" in n
+               for n in folders.notes)
+    bag = export_session_file(path, "rosbag1", tmp_path / "bag", target=other)
+    assert any("--target is not used" in n for n in bag.notes)
+    kalibr = export_session_file(path, "kalibr", tmp_path / "kalibr", target=other)
+    assert any("target.yaml describes the given" in n for n in kalibr.notes)
+
+
 @pytest.mark.skipif(shutil.which("mrcal-calibrate-cameras") is None,
                     reason="mrcal is not installed (Debian: apt-get install mrcal)")
 def test_mrcal_calibrates_from_corners_vnl(exported, tmp_path: Path) -> None:
