@@ -304,13 +304,15 @@ class ReviewModel:
 
     def _step_set(self, direction: int) -> None:
         """To the next (``direction`` +1) or previous shown set: from the playhead when it
-        was moved off the current set (clicked between sets: the sets around it; past the
-        last one, the last), else from the current set."""
+        was moved off the current set (clicked between sets: the sets around it, the
+        current one aside, so that a frame stepped back from it and K still go on; past
+        the last one, the last), else from the current set."""
         shown = self.shown()
         current = self.current_set
         if shown and current is not None and self.playhead_ns != set_time_ns(current):
             times = {i: set_time_ns(self.session.sets[i]) for i in shown}
-            around = [i for i in shown if (times[i] - self.playhead_ns) * direction > 0]
+            around = [i for i in shown if (times[i] - self.playhead_ns) * direction > 0
+                      and i != self.current]
             self.go_to_set(min(around or shown, key=lambda i: abs(times[i] - self.playhead_ns)))
             return
         ahead = [i for i in shown if (i - self.current) * direction > 0]

@@ -313,3 +313,20 @@ def test_j_and_k_from_a_playhead_moved_between_sets_go_to_the_sets_around_it(
     model.set_playhead(times[-1] + 1)  # past the last set: K goes to the last one
     model.next_set()
     assert model.current == last
+
+
+def test_j_and_k_after_stepping_frames_off_the_set_go_on_from_it(
+    truth_session_file: Path,
+) -> None:
+    """A frame back from set 2 and K: set 3, not set 2 again (the set after the
+    playhead); a frame on from it and J: set 1."""
+    model = open_model(truth_session_file)
+    model.go_to_set(2)
+    model.previous_frame()
+    assert model.playhead_ns < set_time_ns(model.session.sets[2])
+    model.next_set()
+    assert model.current == 3
+    model.go_to_set(2)
+    model.next_frame()
+    model.previous_set()
+    assert model.current == 1
