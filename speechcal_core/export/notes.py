@@ -32,6 +32,7 @@ def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
         if fmt == "folders" and not no_corners:
             notes.append(assumed_board_note(
                 session, spec, target_from, "corners.json and corners.vnl place the corners on"))
+        if not no_corners:
             notes.append(other_board_note(session, spec, target_from))
     if fmt in ("rosbag1", "rosbag2"):
         notes.append(approx_sync_note(plan.sets))

@@ -157,6 +157,8 @@ def test_a_target_of_another_layout_is_named_in_every_format(processed, tmp_path
     assert any("--target is not used" in n for n in bag.notes)
     kalibr = export_session_file(path, "kalibr", tmp_path / "kalibr", target=other)
     assert any("target.yaml describes the given" in n for n in kalibr.notes)
+    assert any("corners.json and corners.vnl place the corners on the assumed" in n
+               for n in kalibr.notes)
 
 
 @pytest.mark.skipif(shutil.which("mrcal-calibrate-cameras") is None,
