@@ -63,7 +63,7 @@ from speechcal_core.review.summary import (
 )
 from speechcal_core.session.store import SessionChangedError, SessionFileError, load_session
 from speechcal_core.sync.estimate import clap_off
-from speechcal_core.text import counted
+from speechcal_core.text import counted, shown_name
 
 if TYPE_CHECKING:
     from speechcal_core.sources.selection import StreamChoice
@@ -724,8 +724,9 @@ class ReviewWindow(QMainWindow):
         self._update_edit_menu()
         self.model.connect("checks", self._update_check_line)
         self.model.connect("similar", self.similar.ask)
-        title = " + ".join(Path(p).name for p in [*inputs.session.recording,
-                                                   inputs.session.audio or ""] if p)
+        title = " + ".join(shown_name(Path(p).name)
+                           for p in [*inputs.session.recording, inputs.session.audio or ""]
+                           if p)
         self.setWindowTitle(f"SpeechCal — {title}")
         self.stack.setCurrentWidget(self.review_page)
         self.export_button.setEnabled(True)

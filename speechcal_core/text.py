@@ -21,3 +21,9 @@ def new_undecided(n: int, with_count: bool = True) -> tuple[str, str]:
 def listed(names: list[str], at_most: int = 3) -> str:
     """The first ``at_most`` names, comma-separated, "…" when there are more."""
     return ", ".join(names[:at_most]) + (", …" if len(names) > at_most else "")
+
+
+def shown_name(name: str) -> str:
+    """A file name as a window can show it: bytes that are not UTF-8 (held as lone
+    surrogates) become "�" instead of vanishing."""
+    return name.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
