@@ -771,10 +771,11 @@ class ReviewWindow(QMainWindow):
         elif action in ("accept", "reject") and model.last_decided is not None:
             decided = model.session.set_by_id(model.last_decided)
             self.status.say(f"set #{decided.id} {decided.decision}")
-        elif action == "add_set" and len(model.session.sets) == n_sets \
-                and model.current_set is not None:
-            self.status.say(f"set #{model.current_set.id} is here already: selected it "
-                            "(T adds a set away from the others)")
+        elif action == "add_set" and model.current_set is not None:
+            added = len(model.session.sets) > n_sets
+            self.status.say(f"set #{model.current_set.id} added · Ctrl+Z takes it back"
+                            if added else f"set #{model.current_set.id} is here already: "
+                            "selected it (T adds a set away from the others)")
 
     def _on_current_set(self) -> None:
         """The waveform marks the new current set and, zoomed in, takes it into view."""

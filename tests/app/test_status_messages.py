@@ -10,6 +10,7 @@ import pytest
 from PySide6.QtCore import Qt
 
 from app.status_line import QUIET_S
+from speechcal_core.review.model import set_time_ns
 from speechcal_core.review.similar import SIMILAR_SOURCE
 
 
@@ -146,6 +147,11 @@ def test_decisions_undo_and_a_refused_add_each_say_what_they_did(qtbot, window) 
 
     qtbot.keyClick(window, Qt.Key.Key_T)  # at a set: it is selected, nothing added
     assert "is here already: selected it" in window.status_text.text()
+    sets = model.session.sets
+    model.set_playhead((set_time_ns(sets[2]) + set_time_ns(sets[3])) // 2)
+    qtbot.keyClick(window, Qt.Key.Key_T)
+    assert f"set #{model.current_set.id} added · Ctrl+Z takes it back" in \
+        window.status_text.text()
     while model.undo_label:
         model.undo()
     qtbot.keyClick(window, Qt.Key.Key_U)
