@@ -45,14 +45,22 @@ def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
 def other_board_note(session: Session, spec: TargetSpec, target_from: str) -> str:
     """That the corners files keep the board the session's frames were checked against,
     when the given ``spec`` lays out another ("" when it does not)."""
+    checked = _checked_board_unlike(session, spec, target_from)
+    if not checked:
+        return ""
+    return (f"corners.json and corners.vnl place the corners on the {checked} the "
+            f"session's frames were checked against, not on the given {spec.describe()}: "
+            "process the recording again with this --target to find its corners")
+
+
+def _checked_board_unlike(session: Session, spec: TargetSpec, target_from: str) -> str:
+    """The board the session's frames were checked against, described ("assumed 6x6
+    AprilGrid …"), when a given ``spec`` lays out another; "" otherwise."""
     stored, assumed = TargetSpec.from_session(session.extra)
     if target_from != "given" or stored is None or \
             (stored.kind, stored.rows, stored.cols) == (spec.kind, spec.rows, spec.cols):
         return ""
-    checked = ("assumed " if assumed else "") + stored.describe()
-    return (f"corners.json and corners.vnl place the corners on the {checked} the "
-            f"session's frames were checked against, not on the given {spec.describe()}: "
-            "process the recording again with this --target to find its corners")
+    return ("assumed " if assumed else "") + stored.describe()
 
 
 def left_out_note(fmt: str, plan: Plan) -> str:
@@ -107,11 +115,9 @@ def target_note(session: Session, spec: TargetSpec, target_from: str) -> str:
     against (their corner counts are for that one); "" when neither."""
     if target_from == "default":
         return assumed_board_note(session, spec, target_from, "target.yaml describes")
-    stored, assumed = TargetSpec.from_session(session.extra)
-    if target_from != "given" or stored is None or \
-            (stored.kind, stored.rows, stored.cols) == (spec.kind, spec.rows, spec.cols):
+    checked = _checked_board_unlike(session, spec, target_from)
+    if not checked:
         return ""
-    checked = ("assumed " if assumed else "") + stored.describe()
     return (f"target.yaml describes the given {spec.describe()}, but the session's frames "
             f"were checked against the {checked}: the manifest's corner counts are for "
             "that board; process the recording again with this --target to check the "

@@ -60,19 +60,13 @@ def test_empty_scene_gives_no_detection() -> None:
 
 
 def test_aprilgrid_on_synthetic_frames_matches_truth_projection() -> None:
-    from speechcal_core.synth.camera_model import project_points
-    from speechcal_core.synth.render import renderer_for
-
     timeline = plan_session(SynthOptions(cameras=1, duration=12, seed=5))
-    renderer = renderer_for(timeline)
     hold = timeline.holds[0]
     t = (hold.start_ns + hold.end_ns) // 2
     img = render_frame(timeline, 0, t)
     det = TargetDetector(timeline.target).detect(img)
     assert det is not None and det.count >= 100
-    rot, trans = renderer._target_in_camera(renderer._state(0), t)
-    pts = (rot @ timeline.target.object_points()[det.ids].T).T + trans
-    err = np.linalg.norm(project_points(timeline.cameras[0], pts) - det.points, axis=1)
+    err = _off_truth(timeline, 0, t, det)
     assert err.mean() < 0.3 and err.max() < 1.0
 
 
@@ -84,19 +78,12 @@ def test_marker_corners_whose_refinement_fails_are_not_kept_where_the_marker_put
     export put them into corners.json (an OpenCV calibration's cx moved by 7 px). Their
     tags are now left to the fill from the tags around them: every corner of the board
     is found, within a pixel of the truth."""
-    from speechcal_core.synth.camera_model import project_points
-    from speechcal_core.synth.render import renderer_for
-
     timeline = plan_session(SynthOptions(cameras=2, duration=60, seed=0))
     span = timeline.holds[hold]
     t = (span.start_ns + span.end_ns) // 2
     det = TargetDetector(timeline.target).detect(render_frame(timeline, 1, t))
     assert det is not None and det.count == 144
-    renderer = renderer_for(timeline)
-    rot, trans = renderer._target_in_camera(renderer._state(1), t)
-    pts = (rot @ timeline.target.object_points()[det.ids].T).T + trans
-    err = np.linalg.norm(project_points(timeline.cameras[1], pts) - det.points, axis=1)
-    assert err.max() < 1.0
+    assert _off_truth(timeline, 1, t, det).max() < 1.0
 
 
 @pytest.mark.parametrize("t_ns", [1700000007282756096, 1700000004957338624])
@@ -105,9 +92,7 @@ def test_small_jpeg_frames_give_the_whole_grid_from_one_tag_or_from_several(t_ns
     searched around that tag only (the board's other 35 tags lay outside it); and the fill
     from several tags could stall where one slightly off tag tilted the joint map. Both
     held still boards of seed 11 now give all 144 corners within a pixel of the truth."""
-    from speechcal_core.synth.camera_model import project_points
     from speechcal_core.synth.image_messages import JPEG_QUALITY
-    from speechcal_core.synth.render import renderer_for
 
     timeline = plan_session(SynthOptions(cameras=2, duration=30, seed=11, width=320,
                                          height=240))
@@ -115,11 +100,7 @@ def test_small_jpeg_frames_give_the_whole_grid_from_one_tag_or_from_several(t_ns
     _ok, buf = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
     det = TargetDetector(timeline.target).detect(cv2.imdecode(buf, cv2.IMREAD_GRAYSCALE))
     assert det is not None and det.count == 144
-    renderer = renderer_for(timeline)
-    rot, trans = renderer._target_in_camera(renderer._state(0), t_ns)
-    pts = (rot @ timeline.target.object_points()[det.ids].T).T + trans
-    err = np.linalg.norm(project_points(timeline.cameras[0], pts) - det.points, axis=1)
-    assert err.max() < 1.0
+    assert _off_truth(timeline, 0, t_ns, det).max() < 1.0
 
 
 def test_a_12_bit_camera_in_16_bit_images_is_seen_at_full_contrast() -> None:
@@ -166,3 +147,14 @@ def test_a_16_bit_streams_frames_share_one_scale() -> None:
     np.testing.assert_array_equal(to_gray(dark, 12), np.full((4, 4), 56))
     np.testing.assert_array_equal(to_gray(dark), np.full((4, 4), 225))
 
+
+def _off_truth(timeline, camera: int, t_ns: int, det) -> np.ndarray:
+    """How far (px) each corner of ``det`` lies from where camera ``camera`` of
+    ``timeline`` sees it at ``t_ns``."""
+    from speechcal_core.synth.camera_model import project_points
+    from speechcal_core.synth.render import renderer_for
+
+    renderer = renderer_for(timeline)
+    rot, trans = renderer._target_in_camera(renderer._state(camera), t_ns)
+    pts = (rot @ timeline.target.object_points()[det.ids].T).T + trans
+    return np.linalg.norm(project_points(timeline.cameras[camera], pts) - det.points, axis=1)
