@@ -525,6 +525,7 @@ class ReviewWindow(QMainWindow):
             recording, audio = ensure_demo_session(progress=report)
             return load_for_review(recording=[recording], audio=audio, progress=report)
 
+        self._opening_session = None  # no session file of the operator's is opened
         self._start(work, "preparing the demo session…")
 
     def _build_filter_row(self) -> QHBoxLayout:
