@@ -38,15 +38,17 @@ def moved_recording(session_path: str | Path) -> MovedRecording | None:
 def relocated_inputs(session_path: str | Path, chosen: str | Path) -> tuple[list[str],
                                                                             str | None]:
     """The recording and audio to open the session at ``session_path`` with, its recording
-    now where ``chosen`` shows: one of its files or folders (a ROS2 bag folder), or the
-    folder holding them. Files of the same names there are taken; the audio too where the
-    session's is gone and one of its name lies beside them (else the session's own).
-    UsageError naming what is not there."""
+    now where ``chosen`` shows: one of its files or folders (a ROS2 bag folder, or a file
+    in it such as its ``metadata.yaml``), or the folder holding them. Files of the same
+    names there are taken; the audio too where the session's is gone and one of its name
+    lies beside them (else the session's own). UsageError naming what is not there."""
     session = load_session(session_path)
     chosen = Path(chosen)
     names = [Path(p).name for p in session.recording]
     if chosen.name in names:
         folder = chosen.parent
+    elif chosen.parent.name in names:  # a file inside a ROS2 bag folder (metadata.yaml)
+        folder = chosen.parent.parent
     elif chosen.is_dir():
         folder = chosen
     else:

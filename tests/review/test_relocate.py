@@ -42,3 +42,20 @@ def test_a_folder_without_the_recording_is_refused_naming_it(moved_session,
         relocated_inputs(session_path, elsewhere)
     assert f"{elsewhere} holds no {bag}: choose the session's recording ({bag})" \
         in str(refused.value)
+
+
+def test_a_ros2_bag_folder_is_found_from_its_metadata_file(tmp_path: Path) -> None:
+    """The window's dialog picks files: a ROS2 bag folder is shown by its metadata.yaml."""
+    from speechcal_core.session.model import Session
+    from speechcal_core.session.store import save_session
+    from speechcal_core.sync.model import SyncModel
+
+    session_path = tmp_path / "reviews" / "lab.json"
+    session_path.parent.mkdir()
+    save_session(Session(recording=[str(tmp_path / "gone" / "take1")], audio=None,
+                         sync=SyncModel(0)), session_path)
+    bag = tmp_path / "disk" / "take1"
+    bag.mkdir(parents=True)
+    (bag / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
+    assert relocated_inputs(session_path, bag / "metadata.yaml") == ([str(bag)], None)
+    assert relocated_inputs(session_path, bag) == ([str(bag)], None)
