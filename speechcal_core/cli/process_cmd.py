@@ -92,9 +92,10 @@ def run(args: argparse.Namespace) -> int:
     bak = out.with_name(out.name + ".bak")
     # a .bak holding review work is not given up for a file that holds none (a second
     # --force would otherwise lose the decisions the first one kept)
-    kept = review_work(bak) if replaced and bak.exists() and not review_work(out) else ""
+    bak_work = review_work(bak) if replaced and bak.exists() else ""
+    kept = bak_work if bak_work and not review_work(out) else ""
     # both hold review work: the older .bak moves aside rather than being replaced
-    older_work = review_work(bak) if replaced and not kept and bak.exists() else ""
+    older_work = bak_work if not kept else ""
     older = _free_name(bak) if older_work else None
     if older is not None:
         os.replace(bak, older)
