@@ -641,7 +641,7 @@ class ReviewWindow(QMainWindow):
         if not chosen:
             return
         try:
-            audio = relocated_audio(inputs.session_path, chosen)
+            audio = relocated_audio(inputs.session.audio, chosen)
         except SpeechCalError as exc:
             self.status.say(str(exc))
             return

@@ -64,14 +64,11 @@ def relocated_inputs(session_path: str | Path, chosen: str | Path) -> tuple[list
     return [str(p) for p in recording], audio
 
 
-def relocated_audio(session_path: str | Path, chosen: str | Path) -> str:
-    """The audio file to open the session at ``session_path`` with, its audio now at
-    ``chosen`` (the same file name: another file would be another recording, to be
-    processed into a session of its own). UsageError saying what to choose."""
-    session = load_session(session_path)
-    if not session.audio:
-        raise UsageError(f"{session_path}: this session has no audio file to locate")
-    name = Path(session.audio).name
+def relocated_audio(audio: str, chosen: str | Path) -> str:
+    """The audio file to open a session with, its audio ``audio`` now at ``chosen`` (the
+    same file name: another file would be another recording, to be processed into a
+    session of its own). UsageError saying what to choose."""
+    name = Path(audio).name
     if Path(chosen).name != name:
         raise UsageError(f"{chosen} is not {name}, the session's audio: choose {name} where "
                          "it is now (another audio file is processed into a new session)")
