@@ -329,6 +329,7 @@ class ReviewWindow(QMainWindow):
     def _build_edit_menu(self) -> None:
         """Edit ▸ Undo / Redo, named after the step they revert (U undoes too)."""
         self.edit_menu = self.menuBar().addMenu("&Edit")
+        self._idle_edit_keys: list[tuple[QAction, QShortcut]] = []
         self.undo_action = QAction("&Undo", self)
         self.redo_action = QAction("&Redo", self)
         for action, name, keys in ((self.undo_action, "undo", UNDO_KEYS),
@@ -337,6 +338,12 @@ class ReviewWindow(QMainWindow):
             action.triggered.connect(lambda _=False, a=name: self.run_action(a))
             self.addAction(action)  # the shortcut works with the menu closed
             self.edit_menu.addAction(action)
+            # a disabled entry's shortcut does nothing: these stand in for it and say
+            # "nothing to undo", as U does
+            for key in keys:
+                stand_in = QShortcut(QKeySequence(key), self)
+                stand_in.activated.connect(lambda a=name: self.run_action(a))
+                self._idle_edit_keys.append((action, stand_in))
         self.edit_menu.addSeparator()
         self.detect_action = QAction(f"{FIND_WORDS}…", self)
         self.detect_action.setShortcut(QKeySequence(FIND_WORDS_KEY))
@@ -358,6 +365,8 @@ class ReviewWindow(QMainWindow):
                 (self.redo_action, "Redo", model.redo_label if model else "")):
             action.setText(f"&{verb} {label}" if label else f"&{verb}")
             action.setEnabled(bool(label))
+        for action, stand_in in self._idle_edit_keys:
+            stand_in.setEnabled(not action.isEnabled())  # never both: Qt would find it ambiguous
         if self.undo_button is not None:  # the review page's button says the same
             self.undo_button.setEnabled(self.undo_action.isEnabled())
             self.undo_button.setToolTip(self.undo_action.text().replace("&", ""))

@@ -156,3 +156,12 @@ def test_decisions_undo_and_a_refused_add_each_say_what_they_did(qtbot, window) 
         model.undo()
     qtbot.keyClick(window, Qt.Key.Key_U)
     assert "nothing to undo" in window.status_text.text()
+    window.status.say("")
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert "nothing to undo" in window.status_text.text()  # the menu entry is off
+    while model.redo_label:
+        model.redo()
+    qtbot.keyClick(window, Qt.Key.Key_Y, Qt.KeyboardModifier.ControlModifier)
+    assert "nothing to redo" in window.status_text.text()
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert "undone: " in window.status_text.text()  # the entry is on again: it undoes
