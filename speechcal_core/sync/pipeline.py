@@ -75,7 +75,7 @@ def heard_claps(audio: Audio) -> tuple[list[ClapCandidate], list[str]]:
         n = audio.channels_in_file
         if audio.channel is None and n > 1:  # channels of opposite polarity cancel
             raise SyncError(f"{name}: its {n} channels mixed are silent ({level}); channels "
-                            f"of opposite polarity cancel: pick one with --channel (0-{n - 1})"
+                            f"of opposite polarity cancel: pick one with --channel (0..{n - 1})"
                             f", or check the microphone, or {BY_HAND}")
         raise SyncError(f"{name}: the audio is silent ({level}); "
                         f"check the microphone and the channel, or {BY_HAND}")

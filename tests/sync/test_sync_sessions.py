@@ -111,7 +111,7 @@ def test_bad_audio_gives_one_line_reasons_and_manual_path_works(
     cases = [(tmp_path / "missing.ogg", "not found"), (silent, "silent (every sample is zero)"),
              (noise, "no clap found"),
              (opposite, "its 2 channels mixed are silent (peak -96 dBFS); channels of "
-                        "opposite polarity cancel: pick one with --channel (0-1)")]
+                        "opposite polarity cancel: pick one with --channel (0..1)")]
     for path, words in cases:
         assert main(["sync", rec, "--audio", str(path), "--json"]) == 1
         captured = capsys.readouterr()
