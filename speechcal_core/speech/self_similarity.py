@@ -98,6 +98,11 @@ CLEAR_VOICE_BOOST = 1.3
 # no phone loop, scored by the better path: at 5 dB (seeds 101-112) half of the
 # search's finds got no path within the decoder's beams, and among the rest, dropping
 # those where a neighbour scored better took 2 of 8 false alarms and 4 of 112 triggers.
+# The spans the recogniser heard as a near-homophone, as counter-templates (a find
+# dropped where one matches it closer than its seed does): at 5 dB (seeds 101-124) a
+# session holds about one, 170 of 392 true finds and 13 of 28 raptures had none to
+# compare with, and the rest overlap (cost over the seed's, 5th percentile: triggers
+# 1.26, raptures 1.02); at a ratio of 1.1 it dropped 6 triggers and no false alarm.
 
 
 def expand_by_similarity(samples: np.ndarray, rate: int, seeds: list[Word],
