@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from PySide6.QtCore import Qt, QTimer
-from PySide6.QtGui import QAction, QKeySequence, QShortcut
+from PySide6.QtGui import QAction, QIcon, QKeySequence, QShortcut
 from PySide6.QtWidgets import (
     QButtonGroup,
     QCheckBox,
@@ -45,6 +45,7 @@ from app.waveform import WaveformView
 from speechcal_core.audio import AUDIO_SUFFIXES
 from speechcal_core.audio.playback import RestartThrottle, word_span
 from speechcal_core.errors import SpeechCalError
+from speechcal_core.resources import resource
 from speechcal_core.review.checks import check_summary
 from speechcal_core.review.loading import ReviewInputs, load_for_review
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
@@ -88,6 +89,7 @@ MOVING_WORDS_TIP = (
     "handle on the waveform onto the clap, or move the audio with { } (±1 frame) until "
     "the words fall where the board stops.")
 #: the Edit menu's keys (a QShortcut on them too would be ambiguous)
+APP_ICON = "speechcal.svg"  # in resources/icons; the desktop entry names it too
 UNDO_KEYS, REDO_KEYS = ("Ctrl+Z",), ("Ctrl+Shift+Z", "Ctrl+Y")
 #: the waveform is never squeezed below this (pixels): at the window's least height it
 #: was 30 px high, its labels cut off
@@ -163,6 +165,7 @@ class ReviewWindow(QMainWindow):
     def __init__(self) -> None:
         super().__init__()
         self.setWindowTitle("SpeechCal")
+        self.setWindowIcon(QIcon(str(resource("icons", APP_ICON))))  # dialogs take it too
         self.resize(1400, 900)
         self.model: ReviewModel | None = None
         self.inputs: ReviewInputs | None = None

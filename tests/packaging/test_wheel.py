@@ -28,6 +28,7 @@ def test_the_wheel_holds_both_packages_the_resources_and_the_command(wheel: Path
     assert "speechcal_core/cli/__init__.py" in names
     assert "app/main_window.py" in names
     assert "speechcal_core/_resources/voices/index.json" in names
+    assert "speechcal_core/_resources/icons/speechcal.svg" in names  # the window's icon
     index = json.loads(zipfile.ZipFile(wheel).read("speechcal_core/_resources/voices/index.json"))
     clips = {f"speechcal_core/_resources/voices/{c['file']}" for c in index["clips"]}
     assert clips <= names, "every clip the index lists is packed"
