@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -308,9 +309,9 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str |
                 f"{', '.join(recording)} is not the recording this session was made from, "
                 f"though its name is the same ({problem}); give the session's own "
                 "recording, or process this one into another session file (--session)")
-        session.recording = [str(Path(r).absolute()) for r in recording]
-        said.append(f"its recording moved from {Path(old[0]).parent} and is now read from "
-                    f"{Path(recording[0]).absolute().parent}")
+        session.recording = [_plain_absolute(r) for r in recording]
+        said.append(f"its recording moved from {os.path.normpath(Path(old[0]).parent)} and "
+                    f"is now read from {Path(session.recording[0]).parent}")
     if (audio and session.audio and not Path(session.audio).exists()
             and Path(session.audio).name == Path(audio).name):
         problem = audio_differs(session, audio)
@@ -321,9 +322,14 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str |
                 f"{audio} is not the audio this session was made from, though its name is "
                 f"the same ({problem}); give the session's own audio, or process this one "
                 "into another session file (--session)")
-        said.append(f"its audio is now read from {Path(audio).absolute()}")
-        session.audio = str(Path(audio).absolute())
+        session.audio = _plain_absolute(audio)
+        said.append(f"its audio is now read from {session.audio}")
     return "; ".join(said), source
+
+
+def _plain_absolute(path: str | Path) -> str:
+    """``path`` made absolute, without "." or ".." steps (links are left as they are)."""
+    return os.path.normpath(Path(path).absolute())
 
 
 def audio_differs(session: Session, audio: str | Path) -> str:

@@ -216,14 +216,14 @@ def load_session(path: str | Path) -> Session:
         known = {"schema", "recording", "audio", "audio_channel", "trigger_words", "sync",
                  "sets", "calibration"}
         return Session(
-            recording=[str(base / p) for p in data["recording"]],
-            audio=str(base / data["audio"]) if data.get("audio") else None,
+            recording=[_absolute(p, base) for p in data["recording"]],
+            audio=_absolute(data["audio"], base) if data.get("audio") else None,
             audio_channel=_channel(data.get("audio_channel")),
             sync=SyncModel.from_dict(data["sync"]),
             sync_evidence=_with_audio_path(
                 {k: v for k, v in data["sync"].items()
                  if k not in ("offset_ns", "drift", "source")},
-                lambda a: str(base / a)),
+                lambda a: _absolute(a, base)),
             sets=[_frame_set(path, k, s) for k, s in enumerate(data.get("sets", []))],
             triggers_word=list(data.get("trigger_words", ["capture"])),
             calibration=dict(data.get("calibration", {})),
@@ -326,6 +326,13 @@ def _with_audio_path(evidence: dict[str, Any], convert: Callable[[str], str]
     if not isinstance(audio, dict) or not isinstance(audio.get("path"), str):
         return evidence
     return {**evidence, "audio": {**audio, "path": convert(audio["path"])}}
+
+
+def _absolute(stored: str, base: Path) -> str:
+    """A stored path (relative to the session file's folder ``base``) as a plain absolute
+    one: "reviews/../rec" is "rec", as ``_relative`` made it from (both work on the
+    names alone, not on where links lead)."""
+    return os.path.normpath(base / stored)
 
 
 def _relative(path: str, base: Path) -> str:

@@ -119,14 +119,19 @@ def test_a_moved_recording_given_with_the_session_is_followed_and_the_review_kep
         moved_session) -> None:
     session_path, moved, bag, audio = moved_session
     new_recording, new_audio = moved / bag, moved / audio
-    inputs = load_for_review(recording=[str(new_recording)], audio=str(new_audio),
+    roundabout = moved.parent / ".." / moved.parent.name / moved.name  # as typed
+    inputs = load_for_review(recording=[str(roundabout / bag)], audio=str(roundabout / audio),
                              new_session_path=session_path)
     inputs.close()
     assert "(1 decision kept)" in inputs.note and "its recording moved from" in inputs.note
     assert f"now read from {moved}" in inputs.note and "not of" not in inputs.note
+    # the paths are said and kept plainly, not as the session file's ../rec
+    assert f"moved from {session_path.parent.parent / 'rec'} and" in inputs.note
+    assert ".." not in inputs.note
     saved = load_session(session_path)
     assert [Path(p).resolve() for p in saved.recording] == [new_recording]
     assert Path(saved.audio).resolve() == new_audio and saved.sets[0].decision == "accepted"
+    assert ".." not in Path(saved.audio).parts
 
 
 def test_another_recording_of_the_same_name_is_not_taken_for_the_moved_one(
