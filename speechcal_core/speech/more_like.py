@@ -27,7 +27,7 @@ from scipy.ndimage import uniform_filter1d
 from speechcal_core.speech.backend import Word
 from speechcal_core.speech.features import HOP_S
 from speechcal_core.speech.query_by_example import subsequence_dtw
-from speechcal_core.speech.self_similarity import MAX_STRETCH
+from speechcal_core.speech.self_similarity import fits_template
 from speechcal_core.speech.speech_index import SpeechIndex
 from speechcal_core.speech.timing import word_bounds
 from speechcal_core.speech.vad import VoiceActivity
@@ -107,6 +107,7 @@ def find_more_like(index: SpeechIndex, start_s: float, end_s: float, word: str,
     limit = min(CLOSEST_FACTOR * closest, MEDIAN_RATIO * float(np.median(cost)))
     out = []
     taken = [*own, *blocked]
+    words = list(taken)  # the example's and the triggers' spans: a hit's bounds keep off them
     for ts, te, c in _spans(index, cost, first, order, len(template), taken):
         if c >= limit:
             break
@@ -114,6 +115,9 @@ def find_more_like(index: SpeechIndex, start_s: float, end_s: float, word: str,
                              index.activity.floor_at((ts + te) / 2))
         if bounds.runs_on:
             continue  # the template matched the start of a longer word ("captured it?")
+        if any(bounds.start_s < b and bounds.end_s > a for a, b in words):
+            continue  # its sound reaches into a word already there
+        words.append((bounds.start_s, bounds.end_s))
         out.append(Word(word, bounds.start_s, bounds.end_s, float(max(0.0, 1.0 - c / limit)),
                         source))
     return sorted(out, key=lambda w: w.start_s)
@@ -124,7 +128,7 @@ def _spans(index: SpeechIndex, cost: np.ndarray, first: np.ndarray, order: np.nd
     """Non-overlapping matches (start s, end s, cost), cheapest first; ``taken`` grows."""
     for j in order:
         s_frame, e_frame = int(index.frames[first[j]]), int(index.frames[j]) + 1
-        if not 0 < e_frame - s_frame <= MAX_STRETCH * length:
+        if not fits_template(e_frame - s_frame, length):
             continue
         ts, te = s_frame * HOP_S, e_frame * HOP_S
         if any(ts < b and te > a for a, b in taken):

@@ -26,6 +26,10 @@ COST_FACTOR = 1.1
 MIN_SEEDS = 2
 SEED_END_TOLERANCE = 10  # frames: where another seed's match may end
 MAX_STRETCH = 1.6  # a match may be at most this much longer than its template
+#: ... and at least this share of it: vertical DTW steps squeeze a template (a 0.42 s
+#: "capture" matched 0.09 s of a door's echo). At 5 dB (seeds 101-124) the search's true
+#: finds lie at 0.55-1.6 times their template, 12 of 392 below 1 / MAX_STRETCH
+MIN_SQUEEZE = 0.5
 #: searches; >1 makes found instances templates too (little gain, more false: 5 dB,
 #: seeds 101-124, found / false alarms 930 / 52 -> 939 / 87)
 ROUNDS = 1
@@ -221,6 +225,12 @@ def _seed_matches(index: SpeechIndex, seeds: list[Word]
     return matches, pair.min(axis=1) if seeds else np.zeros(0)
 
 
+def fits_template(frames: int, template_frames: int) -> bool:
+    """Whether a match of ``frames`` frames may be the template's word said slower or
+    faster (MIN_SQUEEZE to MAX_STRETCH times as long)."""
+    return MIN_SQUEEZE * template_frames <= frames <= MAX_STRETCH * template_frames
+
+
 class _Limit:
     """The accepted cost for a span: the seeds' mutual cost times a factor that grows as
     the span is heard less clearly than the seeds."""
@@ -278,13 +288,14 @@ def _pick(best: _BestMatch, idx: np.ndarray, limit: _Limit, taken: list[tuple[fl
     a ``doubtful`` span, times CLEAR_SHARE where heard at least ``clear_from_db`` above the
     noise floor, that times the matched seed's entry of ``boosts``), best first; ``taken``
     grows with them."""
-    out = []
+    out: list[Word] = []
+    words = list(taken)  # the seeds' and other words' spans: a find's bounds keep off them
     for j in np.argsort(best.cost):
         c = float(best.cost[j])
         if c >= limit.highest:
             break
         s_frame, e_frame = int(idx[best.start[j]]), int(idx[j]) + 1
-        if not 0 < e_frame - s_frame <= MAX_STRETCH * best.length[j]:
+        if not fits_template(e_frame - s_frame, int(best.length[j])):
             continue
         ts, te = s_frame * HOP_S, e_frame * HOP_S
         if any(ts < b and te > a for a, b in taken):
@@ -299,6 +310,9 @@ def _pick(best: _BestMatch, idx: np.ndarray, limit: _Limit, taken: list[tuple[fl
         bounds = word_bounds(samples, rate, ts, te, activity.floor_at((ts + te) / 2))
         if bounds.runs_on:
             continue  # the template matched the start of a longer word ("captured it?")
+        if any(bounds.start_s < b and bounds.end_s > a for a, b in words):
+            continue  # its sound reaches into a word already there
+        words.append((bounds.start_s, bounds.end_s))
         out.append(Word(word, bounds.start_s, bounds.end_s, max(0.0, 1.0 - c),
                         "pocketsphinx+similarity"))
     return out
