@@ -62,7 +62,10 @@ class Detection:
         return int(self.ids.size)
 
     def hull(self) -> np.ndarray:
-        """Convex hull of the corners (M x 2 int32), for masks and overlays."""
+        """Convex hull of the corners (M x 2 int32, none for no corners), for masks and
+        overlays."""
+        if self.count == 0:
+            return np.zeros((0, 2), np.int32)  # OpenCV's hull of no points is None
         return cv2.convexHull(self.points.astype(np.float32)).reshape(-1, 2).astype(np.int32)
 
 
@@ -161,6 +164,8 @@ class TargetDetector:
             assert isinstance(self.target, TargetSpec)
             points, ids = fill_missing_tags(gray, points, ids, self.object_points,
                                             self.target.pitch, self._dictionary, win)
+        if ids.size == 0:
+            return None  # every tag found had a corner refinement lost, none placed again
         return Detection(points, ids.astype(np.int32))
 
     def _unseen_reach(self, found: _Found, seen: np.ndarray) -> np.ndarray:

@@ -158,3 +158,20 @@ def _off_truth(timeline, camera: int, t_ns: int, det) -> np.ndarray:
     rot, trans = renderer._target_in_camera(renderer._state(camera), t_ns)
     pts = (rot @ timeline.target.object_points()[det.ids].T).T + trans
     return np.linalg.norm(project_points(timeline.cameras[camera], pts) - det.points, axis=1)
+
+
+def test_a_grid_whose_every_corner_refinement_fails_is_no_detection(monkeypatch) -> None:
+    # OpenCV hands back a corner's start where its refinement runs out of its window; the
+    # tags holding such corners are dropped, and where that was every tag found nothing is
+    # left: no detection, not an empty one whose outline OpenCV cannot draw (process
+    # stopped with a traceback on such a frame of a 12-camera session)
+    import speechcal_core.frames.detect as detect
+
+    target = TargetSpec()
+    rvec, tvec = facing_pose(target, 0.7, (0.3, -0.2), (0.02, 0.01), 0.2)
+    img = render_view(target, K, rvec, tvec, (640, 480))
+    monkeypatch.setattr(detect.cv2, "cornerSubPix",
+                        lambda gray, start, *rest: start.copy())
+    assert TargetDetector(target).detect(img) is None
+    empty = detect.Detection(np.zeros((0, 2)), np.zeros(0, np.int32))
+    assert empty.hull().shape == (0, 2)
