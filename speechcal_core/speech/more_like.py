@@ -88,11 +88,13 @@ def word_near(activity: VoiceActivity, t_s: float) -> tuple[float, float] | None
 
 def find_more_like(index: SpeechIndex, start_s: float, end_s: float, word: str,
                    blocked: Sequence[tuple[float, float]] = (),
-                   source: str = "similar") -> list[Word]:
+                   source: str = "similar",
+                   closest_factor: float = CLOSEST_FACTOR) -> list[Word]:
     """Spans that sound like ``start_s``..``end_s``, in time order.
 
     Nothing overlapping the example itself or a span of ``blocked`` (the triggers the
     session already has) is returned; each hit's bounds move to its word's energy.
+    ``closest_factor`` replaces CLOSEST_FACTOR (a looser or stricter search).
     """
     template = index.span(start_s, end_s)
     if template.shape[0] < MIN_TEMPLATE_FRAMES or index.seq.shape[0] == 0:
@@ -104,7 +106,7 @@ def find_more_like(index: SpeechIndex, start_s: float, end_s: float, word: str,
                                                list(own))), None)
     if closest is None:
         return []
-    limit = min(CLOSEST_FACTOR * closest, MEDIAN_RATIO * float(np.median(cost)))
+    limit = min(closest_factor * closest, MEDIAN_RATIO * float(np.median(cost)))
     out = []
     taken = [*own, *blocked]
     words = list(taken)  # the example's and the triggers' spans: a hit's bounds keep off them
