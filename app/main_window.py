@@ -88,8 +88,9 @@ MOVING_WORDS_TIP = (
     "moves. Is the audio this recording's? If it is, the offset is off: drag the clap "
     "handle on the waveform onto the clap, or move the audio with { } (±1 frame) until "
     "the words fall where the board stops.")
-#: the Edit menu's keys (a QShortcut on them too would be ambiguous)
 APP_ICON = "speechcal.svg"  # in resources/icons; the desktop entry names it too
+#: the Edit menu's keys (a QShortcut on them stands in only while the entry is off: both on
+#: would be ambiguous)
 UNDO_KEYS, REDO_KEYS = ("Ctrl+Z",), ("Ctrl+Shift+Z", "Ctrl+Y")
 #: the waveform is never squeezed below this (pixels): at the window's least height it
 #: was 30 px high, its labels cut off

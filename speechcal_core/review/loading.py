@@ -310,8 +310,8 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str |
                 f"though its name is the same ({problem}); give the session's own "
                 "recording, or process this one into another session file (--session)")
         session.recording = [_plain_absolute(r) for r in recording]
-        said.append(f"its recording moved from {os.path.normpath(Path(old[0]).parent)} and "
-                    f"is now read from {Path(session.recording[0]).parent}")
+        said.append(f"its recording moved from {Path(old[0]).parent} and is now read from "
+                    f"{Path(session.recording[0]).parent}")  # both plain: see load_session
     if (audio and session.audio and not Path(session.audio).exists()
             and Path(session.audio).name == Path(audio).name):
         problem = audio_differs(session, audio)
