@@ -93,12 +93,32 @@ class FrameReferences:
 
 
 class _Detectors(threading.local):
-    """One detector per thread (OpenCV detectors and the corner-order memory are stateful)."""
+    """One detector per thread (OpenCV detectors and the corner-order memory are stateful),
+    made on the thread's first use: none on the thread that only builds this (a Qt pool
+    thread in the window). A detector in that thread's slot outliving its task is freed
+    as PySide tears the thread's Python state down, and OpenCV's clean-up then crashes
+    the process (seen while a stack sampler held the frame that held this)."""
 
     def __init__(self, target: Target | None) -> None:
         self.target = target
-        self.preview: TargetDetector | None = TargetDetector(target) if target else None
-        self.full: TargetDetector | None = TargetDetector(target) if target else None
+        self._made: tuple[TargetDetector, TargetDetector] | None = None
+
+    def _detectors(self) -> tuple[TargetDetector, TargetDetector] | None:
+        if self._made is None and self.target is not None:
+            self._made = (TargetDetector(self.target), TargetDetector(self.target))
+        return self._made
+
+    @property
+    def preview(self) -> TargetDetector | None:
+        """This thread's detector for the reduced frames of the still search."""
+        made = self._detectors()
+        return made[0] if made else None
+
+    @property
+    def full(self) -> TargetDetector | None:
+        """This thread's detector for full-resolution frames."""
+        made = self._detectors()
+        return made[1] if made else None
 
 
 def build_frame_sets(
