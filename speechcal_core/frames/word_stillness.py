@@ -9,7 +9,9 @@ in a move about as often as in a hold. On synthetic sessions (holds 0.8-2.5 s, m
 audio (21 sessions) and 0.25-0.68 with another session's (13 pairs): too close for a
 share to tell them apart in a short session. The count is judged by how much likelier
 it is from words placed at random than from words said at a held board; 20 times
-likelier flagged 9 of the 13 pairs and none of the 21 sessions.
+likelier flagged 9 of the 13 pairs and none of the 21 sessions. (Those shares count
+"at" alone; a word inside the chosen stretch named "after" it counts too since a
+12-camera session's words were mostly so: see ``_inside``.)
 """
 
 from __future__ import annotations
