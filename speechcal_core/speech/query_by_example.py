@@ -17,6 +17,7 @@ from speechcal_core.speech.errors import SpeechUsageError
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio
     from speechcal_core.speech.matching import TriggerSpec
+    from speechcal_core.speech.speech_index import SpeechIndex
 
 RATE = 16000
 VERTICAL_PENALTY = 0.1  # cost added when the template stretches over one audio frame
@@ -43,9 +44,11 @@ class QueryByExampleBackend:
 
     def words(self, audio: Audio, spec: TriggerSpec) -> list[Word]:
         """Hits for every example, strongest first where two overlap."""
-        found: list[Word] = []
+        x = _samples(audio)
         for ex in self.examples:
-            found.extend(find_similar(audio, ex, sensitivity=spec.sensitivity))
+            _check(ex, x.size / RATE)
+        index = _index(x)  # once for every example
+        found = [w for ex in self.examples for w in _like(index, ex, spec.sensitivity)]
         found.sort(key=lambda w: -w.score)
         kept: list[Word] = []
         for w in found:
@@ -64,11 +67,17 @@ def find_similar(audio: Audio, example: Example, *, sensitivity: float = 0.5) ->
     101-112), the same voice's other triggers found, fixed limit / this search, at
     sensitivity 0.5: 20 dB 0.60 (8 false of 275 hits) / 0.75 (2 of 336), 10 dB (seeds
     101-106) 0.04 / 0.91 (11 of 231), 5 dB 0.00 / 0.89 (39 of 542)."""
-    from speechcal_core.speech.more_like import find_more_like
-    from speechcal_core.speech.speech_index import SpeechIndex
+    x = _samples(audio)
+    _check(example, x.size / RATE)
+    return _like(_index(x), example, sensitivity)
 
-    x = audio.resampled(RATE).samples if audio.rate != RATE else audio.samples
-    duration = x.size / RATE
+
+def _samples(audio: Audio) -> np.ndarray:
+    return audio.resampled(RATE).samples if audio.rate != RATE else audio.samples
+
+
+def _check(example: Example, duration: float) -> None:
+    """Refuse an example outside the audio's ``duration`` (s) or too short to search with."""
     if not 0.0 <= example.start_s < example.end_s <= duration + 1e-6:
         raise SpeechUsageError(
             f"example {example.start_s:.2f}-{example.end_s:.2f} s lies outside the audio "
@@ -76,7 +85,18 @@ def find_similar(audio: Audio, example: Example, *, sensitivity: float = 0.5) ->
         )
     if example.end_s - example.start_s < 0.1:
         raise SpeechUsageError("example is shorter than 0.1 s; mark the whole word")
-    index = SpeechIndex.build(x, RATE)
+
+
+def _index(x: np.ndarray) -> SpeechIndex:
+    from speechcal_core.speech.speech_index import SpeechIndex
+
+    return SpeechIndex.build(x, RATE)
+
+
+def _like(index: SpeechIndex, example: Example, sensitivity: float) -> list[Word]:
+    """The example and the spans of ``index`` like it, in time order."""
+    from speechcal_core.speech.more_like import find_more_like
+
     found = find_more_like(index, example.start_s, example.end_s, example.word,
                            source="example", closest_factor=closest_factor(sensitivity))
     marked = Word(example.word, example.start_s, example.end_s, 1.0, "example")
