@@ -287,10 +287,16 @@ def _swap_in(staging: Path, target: Path) -> Path | None:
     return old
 
 
+def plain_absolute(path: str | Path) -> Path:
+    """``path`` made absolute without "." or ".." steps, by its names alone (links are
+    left as they are)."""
+    return Path(os.path.normpath(Path(path).absolute()))
+
+
 def _spellings(path: Path, *, follow_last: bool) -> set[Path]:
     """``path`` made absolute without ``..``, and with links resolved (all of them, or
     all but the last part): the ways one file may be named."""
-    plain = Path(os.path.normpath(path.absolute()))
+    plain = plain_absolute(path)
     real = plain.resolve() if follow_last else plain.parent.resolve() / plain.name
     return {plain, real}
 

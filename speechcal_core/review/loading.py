@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -10,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.frames.nearest import stamped_index
-from speechcal_core.fsutil import same_file
+from speechcal_core.fsutil import plain_absolute, same_file
 from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY, review_work
 from speechcal_core.session.model import SENSITIVITY_KEY, Session
 from speechcal_core.session.store import (
@@ -309,7 +308,7 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str |
                 f"{', '.join(recording)} is not the recording this session was made from, "
                 f"though its name is the same ({problem}); give the session's own "
                 "recording, or process this one into another session file (--session)")
-        session.recording = [_plain_absolute(r) for r in recording]
+        session.recording = [str(plain_absolute(r)) for r in recording]
         said.append(f"its recording moved from {Path(old[0]).parent} and is now read from "
                     f"{Path(session.recording[0]).parent}")  # both plain: see load_session
     if (audio and session.audio and not Path(session.audio).exists()
@@ -322,14 +321,9 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str |
                 f"{audio} is not the audio this session was made from, though its name is "
                 f"the same ({problem}); give the session's own audio, or process this one "
                 "into another session file (--session)")
-        session.audio = _plain_absolute(audio)
+        session.audio = str(plain_absolute(audio))
         said.append(f"its audio is now read from {session.audio}")
     return "; ".join(said), source
-
-
-def _plain_absolute(path: str | Path) -> str:
-    """``path`` made absolute, without "." or ".." steps (links are left as they are)."""
-    return os.path.normpath(Path(path).absolute())
 
 
 def audio_differs(session: Session, audio: str | Path) -> str:

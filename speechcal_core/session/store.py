@@ -10,7 +10,12 @@ from pathlib import Path
 from typing import Any
 
 from speechcal_core.errors import SpeechCalError
-from speechcal_core.fsutil import atomic_write_text, folder_write_problem, shell_quoted
+from speechcal_core.fsutil import (
+    atomic_write_text,
+    folder_write_problem,
+    plain_absolute,
+    shell_quoted,
+)
 from speechcal_core.session.model import STREAMS_KEY, FrameSet, Session
 from speechcal_core.sync.model import SyncModel
 
@@ -332,7 +337,7 @@ def _absolute(stored: str, base: Path) -> str:
     """A stored path (relative to the session file's folder ``base``) as a plain absolute
     one: "reviews/../rec" is "rec", as ``_relative`` made it from (both work on the
     names alone, not on where links lead)."""
-    return os.path.normpath(base / stored)
+    return str(plain_absolute(base / stored))
 
 
 def _relative(path: str, base: Path) -> str:
