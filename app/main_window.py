@@ -767,7 +767,7 @@ class ReviewWindow(QMainWindow):
         model = self.model
         if model is None:
             return
-        removing = model.current_set if action == "remove_set" else None
+        removing = model.acting_set() if action == "remove_set" else None
         done, step = {"undo": ("undone", model.undo_label),
                       "redo": ("redone", model.redo_label)}.get(action, ("", ""))
         n_sets = len(model.session.sets)
@@ -830,7 +830,7 @@ class ReviewWindow(QMainWindow):
             wanted.append((tile.stream, tile.index))
             self._pending_tiles.add(tile.stream)
         self.loader.request(wanted)
-        acting = model.current_set
+        acting = model.acting_set()
         self.grid.set_word(current.trigger.word if current else "",
                            current.decision if current else None,
                            current.trigger.source if current else "",

@@ -253,13 +253,27 @@ class ReviewModel:
         return shown_indices(self.session.sets, self.filter)
 
     def set_at_playhead(self, tolerance_ns: int = 50_000_000) -> FrameSet | None:
-        """The frame set whose time is within ``tolerance_ns`` of the playhead."""
+        """The frame set whose time is within ``tolerance_ns`` of the playhead (of sets at
+        the same time, such as a false trigger that took a real set's frames, the current
+        one)."""
         best, best_d = None, tolerance_ns + 1
-        for s in self.session.sets:
+        sets = self.session.sets
+        # while listeners hear of a changed list, ``current`` may not be set yet
+        first = [sets[self.current]] if 0 <= self.current < len(sets) else []
+        for s in first + sets:
             d = abs(set_time_ns(s) - self.playhead_ns)
             if d < best_d:
                 best, best_d = s, d
         return best
+
+    def acting_set(self) -> FrameSet | None:
+        """The set the keys A, R, Del and S act on: the current set, unless the playhead
+        was moved off it onto another set (clicked there, or playback stopped there): then
+        that one, the set the grid and the line under it show."""
+        current = self.current_set
+        if current is not None and self.playhead_ns != set_time_ns(current):
+            return self.set_at_playhead() or current
+        return current
 
     # -- navigation actions -------------------------------------------------------------
     def set_playhead(self, t_ns: int) -> None:
@@ -423,13 +437,10 @@ class ReviewModel:
         current (also when the set had that decision already); after the last one the
         decided set stays current.
         """
-        current = self.current_set
+        current = self.acting_set()
         if current is None:
             return
-        if self.playhead_ns != set_time_ns(current):
-            at_playhead = self.set_at_playhead()
-            if at_playhead is not None:
-                current = at_playhead
+        if self.playhead_ns != set_time_ns(current) or current is not self.current_set:
             self.go_to_set(self._index_of(current.id))
         self.last_decided = current.id
         if current.decision != decision:
@@ -569,7 +580,7 @@ class ReviewModel:
         search for in :attr:`similar_wanted` (or why not in :attr:`similar_refused`) and
         tells ``"similar"`` listeners; :meth:`apply_similar` takes the words found.
         """
-        current = self.current_set
+        current = self.acting_set()
         self.similar_wanted, self.similar_refused = None, ""
         if current is None:
             self.similar_refused = ("no frame set to search from: put the playhead on a "
@@ -577,7 +588,7 @@ class ReviewModel:
         elif not self.session.audio:
             self.similar_refused = "this session has no audio file to search"
         else:
-            self.similar_wanted = self.similar_request()
+            self.similar_wanted = self.similar_request(current.id)
         self._emit("similar", self.similar_wanted)
 
     def similar_request(self, set_id: int | None = None) -> SimilarRequest | None:
@@ -638,11 +649,12 @@ class ReviewModel:
         return ids
 
     def remove_set(self) -> None:
-        """Remove the current frame set (a false trigger); undo brings it back."""
-        current = self.current_set
+        """Remove the set the keys act on (:meth:`acting_set`: a false trigger); undo
+        brings it back."""
+        current = self.acting_set()
         if current is None:
             return
-        index = self.current
+        index = self._index_of(current.id)
         details = self._drop_set(index)
         self._undo.append(("remove", current, index, details))
         self._redo.clear()

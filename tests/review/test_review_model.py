@@ -51,6 +51,37 @@ def test_a_decision_off_the_set_lands_on_the_set_shown_decided(truth_session_fil
     assert model.playhead_ns == set_time_ns(sets[2])
 
 
+def test_del_and_s_act_on_the_set_a_would_decide(truth_session_file) -> None:
+    """Playback stopped on the next set's frames (the list still marks the set it
+    started from): A decided the set shown, Del removed the one the list marked."""
+    model = open_model(truth_session_file)
+    sets = model.session.sets
+    model.go_to_set(1)
+    shown = sets[2]
+    model.set_playhead(set_time_ns(shown) + 10_000_000)
+    assert model.current == 1 and model.acting_set() is shown
+    model.find_similar()
+    assert model.similar_wanted is not None and model.similar_wanted.set_id == shown.id
+    model.remove_set()
+    assert shown.id not in [s.id for s in model.session.sets]
+    assert sets[1].id in [s.id for s in model.session.sets]
+    model.undo()
+    assert model.current_set.id == shown.id
+
+
+def test_of_two_sets_at_one_time_the_current_one_is_at_the_playhead(
+        truth_session_file) -> None:
+    """A false trigger that took a real set's frames sits at its time: W played the
+    other set's word, as the first of the two in the list."""
+    model = open_model(truth_session_file)
+    sets = model.session.sets
+    sets.insert(2, replace(sets[1], id=99))  # the same frames and time as sets[1]
+    model.go_to_set(2)
+    assert model.set_at_playhead() is sets[2] and model.acting_set() is sets[2]
+    model.go_to_set(1)
+    assert model.set_at_playhead() is sets[1]
+
+
 def test_a_click_on_a_sets_word_goes_to_the_set_then_within_its_word(
         truth_session_file) -> None:
     """A set's time is its stillest frame, often after the word: a click on the word's
