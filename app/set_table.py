@@ -18,8 +18,16 @@ from PySide6.QtWidgets import (
 
 from app.style import DECISION_SYMBOLS, DECISION_TEXT_COLOURS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from speechcal_core.frames.sets import BLURRED_BELOW, MIN_CORNERS
-from speechcal_core.review.summary import camera_lines, summarize, trigger_line, word_text
+from speechcal_core.review.summary import (
+    camera_lines,
+    listed_ids,
+    same_frames_line,
+    summarize,
+    trigger_line,
+    word_text,
+)
 from speechcal_core.session.model import FrameSet
+from speechcal_core.session.same_frames import same_frames
 
 #: (header, header tooltip) per column
 COLUMNS = (
@@ -39,7 +47,7 @@ COLUMNS = (
     ("decision", "accepted, rejected or undecided"),
 )
 HEADERS = tuple(h for h, _tip in COLUMNS)
-SHARP, CORNERS, SKEW, FRAMES, DECISION = 3, 4, 5, 6, 7
+WORD, SHARP, CORNERS, SKEW, FRAMES, DECISION = 2, 3, 4, 5, 6, 7
 MISSING = "–"  # a figure no camera has
 PENDING = "…"  # a figure the re-scoring of the set (after an offset edit) will bring
 PENDING_TIP = ("re-scoring: the frames nearest the trigger are shown until the best still "
@@ -102,6 +110,7 @@ class SetTable(QTableWidget):
         self._origin_ns = 0
         self._updating = False
         self._rows: list[tuple] = []  # what each row shows, to skip rows that stay alike
+        self._same: dict[int, tuple[int, ...]] = {}  # set id -> sets showing its frames
         self.itemSelectionChanged.connect(self._selection_changed)
         #: whether the last mouse press changed the selection (and so chose a set)
         self._press_chose = False
@@ -114,6 +123,7 @@ class SetTable(QTableWidget):
         if origin_ns != self._origin_ns:
             self._rows = []  # every time changes
         self._origin_ns = origin_ns
+        self._same = same_frames(sets)
         self.setUpdatesEnabled(False)
         try:
             self.setRowCount(len(sets))
@@ -143,15 +153,19 @@ class SetTable(QTableWidget):
         missing = PENDING if pending else MISSING
         sharp = missing if q.worst_sharpness is None else f"{q.worst_sharpness:.2f}"
         corners = missing if q.fewest_corners is None else str(q.fewest_corners)
-        values = (str(s.id), clock_text(rel), word_text(s),
+        same = self._same.get(s.id, ())
+        word = word_text(s) + (f" · same as {listed_ids(same)}" if same else "")
+        values = (str(s.id), clock_text(rel), word,
                   sharp, corners,
                   # one camera (or one frame found): no two frames to lie apart
                   f"{s.skew_ns / 1e6:.1f}" if q.frames_found > 1 else MISSING,
                   f"{q.frames_found}/{q.frames_total}",
                   f"{DECISION_SYMBOLS[s.decision]} {s.decision}")
-        warned = {SHARP: q.sharpness_warned, CORNERS: q.corners_warned,
+        warned = {WORD: bool(same), SHARP: q.sharpness_warned, CORNERS: q.corners_warned,
                   SKEW: q.skew_warned, FRAMES: q.frames_warned}
         details = f"{trigger_line(s)}\n{camera_lines(s)}"
+        if same:
+            details = f"{same_frames_line(same)}\n{details}"
         if pending:
             details = f"{PENDING_TIP}\n{details}"
         shown = (values, tuple(sorted(warned.items())), s.decision, details)

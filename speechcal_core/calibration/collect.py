@@ -16,15 +16,18 @@ def views_from_sets(
     detections: Mapping[tuple[int, str], Detection],
     object_points: np.ndarray,
 ) -> dict[str, list[View]]:
-    """``{stream: [View]}`` from every set not rejected, in set order."""
+    """``{stream: [View]}`` from every set not rejected, in set order; a frame two sets
+    chose (two trigger words in one still hold) is one view."""
     out: dict[str, list[View]] = {}
+    seen: set[tuple[str, int]] = set()
     for fs in sets:
         if fs.decision == "rejected":
             continue
         for f in fs.frames:
             det = detections.get((fs.id, f.stream))
-            if f.index < 0 or det is None:
+            if f.index < 0 or det is None or (f.stream, f.index) in seen:
                 continue
+            seen.add((f.stream, f.index))
             out.setdefault(f.stream, []).append(
                 View(fs.id, object_points[det.ids], det.points))
     return out

@@ -33,6 +33,7 @@ from speechcal_core.fsutil import (
     overlap,
     staged_directory,
 )
+from speechcal_core.session.same_frames import first_of_same_frames
 from speechcal_core.session.store import check_recording_present
 from speechcal_core.sources.bag_source import twin_notes
 from speechcal_core.target import TargetSpec
@@ -217,6 +218,7 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     report = progress or _noop
     where = str(session_path) if session_path else "the session"
     report("checking the chosen frames", 0.0)
+    sets, repeated = first_of_same_frames(sets)
     plan = make_plan(source, sets, where)
     spec, target_from = export_target(session, target)
     yaml_board = spec if fmt == "kalibr" else None  # what its target.yaml will describe
@@ -245,6 +247,8 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     report("done", 1.0)
     skipped = [f"set {s.id}: no camera has a frame at its time"
                for s in frameless_sets(session, include_undecided=include_undecided)]
+    skipped += [f"set {sid}: the same frames as set {kept} (two trigger words in one still "
+                "hold): written once" for sid, kept in repeated.items()]
     skipped += [f"set {sid} {stream}: {why}" for (sid, stream), why in outcome.skipped.items()]
     twins = twin_notes(source, plan.streams)
     return ExportResult(out, fmt, len(plan.sets), len(outcome.files), len(outcome.written),

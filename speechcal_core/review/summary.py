@@ -59,6 +59,18 @@ def word_text(frame_set: FrameSet) -> str:
     return f"{frame_set.trigger.word} · {mark}" if mark else frame_set.trigger.word
 
 
+def listed_ids(ids: Sequence[int]) -> str:
+    """Set ids as the list's # column shows them: "#10", "#10, #12"."""
+    return ", ".join(f"#{i}" for i in ids)
+
+
+def same_frames_line(ids: Sequence[int]) -> str:
+    """Why a set whose frames sets ``ids`` show too is marked, and what to do (tooltip)."""
+    return (f"▲ the same frames as set {listed_ids(ids)}: two trigger words in one still "
+            "hold, one of them likely heard by mistake (W plays each set's word). The "
+            "calibration check and exports count these frames once")
+
+
 def trigger_line(frame_set: FrameSet) -> str:
     """Where the trigger came from and where it lies in the audio, for a tooltip."""
     t = frame_set.trigger

@@ -65,6 +65,26 @@ def test_skew_needs_two_frames(qtbot, truth_session_file: Path) -> None:
     assert table.item(0, column("skew ms")).text() == "–"
     assert table.item(1, column("skew ms")).text() == f"{second.skew_ns / 1e6:.1f}"
 
+def test_sets_showing_the_same_frames_say_so_in_the_word_column(
+        qtbot, truth_session_file: Path) -> None:
+    """A false trigger in a real set's still hold takes its frames: the two rows looked
+    alike, with nothing to say that they are one view."""
+    from app.set_table import SetTable
+
+    first, second, third = load_session(truth_session_file).sets[:3]
+    twin = replace(third, frames=second.frames)
+    table = SetTable()
+    qtbot.addWidget(table)
+    table.set_sets([first, second, twin], first.t_ns)
+    word = column("word")
+    assert table.item(0, word).text() == "capture"
+    assert table.item(1, word).text() == f"▲ capture · same as #{twin.id}"
+    assert table.item(2, word).text() == f"▲ capture · same as #{second.id}"
+    assert table.item(2, word).foreground().color() == WARNING_TEXT_COLOUR
+    assert table.item(2, word).toolTip().startswith(
+        f"▲ the same frames as set #{second.id}: two trigger words in one still hold")
+
+
 def test_filter_buttons_and_f_hide_and_show_rows(qtbot, window) -> None:
     n = window.table.rowCount()
     window.advance_box.setChecked(False)  # the decided set stays current

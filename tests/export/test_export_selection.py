@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from dataclasses import replace
 from pathlib import Path
 
@@ -62,3 +63,24 @@ def test_a_session_from_another_recording_is_refused_before_writing(
 def replace_stamp(frame_set):
     f = frame_set.frames[0]
     return replace(frame_set, frames=(replace(f, stamp_ns=f.stamp_ns + 1), *frame_set.frames[1:]))
+
+
+@pytest.mark.parametrize("fmt", ["kalibr", "rosbag1"])
+def test_two_accepted_sets_with_the_same_frames_are_written_once(
+        session_file, tmp_path: Path, fmt: str) -> None:
+    """A false trigger in the same still hold took the real set's frames: accepting both
+    wrote the same images under two names (two views of one for the calibration), and a
+    bag export counted six frames where it held three."""
+    from speechcal_core.session.store import save_session
+
+    path = session_file()
+    session = load_session(path)
+    first, third = session.sets[0], session.sets[2]
+    session.replace_set(replace(third, frames=first.frames))
+    save_session(session, path)
+    result = export_session_file(path, fmt, tmp_path / fmt)
+    assert result.sets == 2
+    assert result.skipped == [
+        "set 3: the same frames as set 1 (two trigger words in one still hold): written once"]
+    manifest = json.loads((tmp_path / fmt / "manifest.json").read_text())
+    assert [s["id"] for s in manifest["sets"]] == [1, 5]
