@@ -377,7 +377,8 @@ def band_text(word: str, state: str | None, source: str = "",
     set added by hand without quotes (nothing was heard there); between sets, which set
     A / R / Del still act on (``decides``, the current set's id) and how to go to one."""
     if not word:
-        acting = f"A / R / Del act on set #{decides} · " if decides is not None else ""
-        return f"between frame sets · {acting}J / K go to one"
+        if decides is None:  # no set at all
+            return "no frame sets · T adds one at the playhead"
+        return f"between frame sets · A / R / Del act on set #{decides} · J / K go to one"
     text = f"{word.upper()} · added by hand" if source == "manual" else f"“{word.upper()}”"
     return f"{DECISION_SYMBOLS[state]} {text}" if state else text

@@ -960,7 +960,7 @@ class ReviewWindow(QMainWindow):
         for name, button in self.filter_buttons.items():
             button.setChecked(name == model.filter)
         total = len(model.session.sets)
-        hint = no_sets_hint(model.session)
+        hint = no_sets_hint(model.session, model.removed_here)
         if not hint and not shown:  # the filter hides every set
             hint = (f"no {model.filter} sets: “all” (or F, which steps through the "
                     "filters) shows every set")

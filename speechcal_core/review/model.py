@@ -459,6 +459,11 @@ class ReviewModel:
             self._undo.append(self._revert(self._redo.pop()))
 
     @property
+    def removed_here(self) -> bool:
+        """Whether a set removed in this review could still be put back (undo)."""
+        return any(step[0] == "remove" for step in self._undo)
+
+    @property
     def undo_label(self) -> str:
         """What :meth:`undo` would take back, in words ("" when nothing), for a menu."""
         return _step_label(self._undo[-1]) if self._undo else ""

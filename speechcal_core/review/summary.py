@@ -162,15 +162,19 @@ FIND_WORDS = "Find trigger words"
 FIND_WORDS_KEY = "Ctrl+F"
 
 
-def no_sets_hint(session: Session) -> str:
+def no_sets_hint(session: Session, removed: bool = False) -> str:
     """Why a session has no frame sets and what the operator can do ("" when it has some):
-    the detector's notes (no speech, no trigger word found, ...) and the ways to sets."""
+    the detector's notes (no speech, no trigger word found, ...), or that the operator
+    ``removed`` them, and the ways to sets."""
     if session.sets:
         return ""
     notes = [str(n).rstrip() for n in session.extra.get("detection_notes") or []]
     words = ", ".join(f"“{w}”" for w in session.triggers_word) or "trigger word"
-    said = " ".join(n if n.endswith((".", "?", "!")) else f"{n}." for n in notes if n) \
-        or f"No {words} was found in the audio."
+    if removed:
+        said = f"No frame sets left: every {words} was removed (Ctrl+Z puts the last back)."
+    else:
+        said = " ".join(n if n.endswith((".", "?", "!")) else f"{n}." for n in notes if n) \
+            or f"No {words} was found in the audio."
     other = f" Said another word? Edit ▸ {FIND_WORDS}… ({FIND_WORDS_KEY}) looks for it." \
         if session.audio else ""
     return (f"{said}{other} Or put the playhead on a spoken trigger, press T to add a set, "

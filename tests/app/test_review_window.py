@@ -11,6 +11,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QLabel
 
+from app.frame_grid import band_text
 from app.main_window import ReviewWindow
 from app.set_table import column
 from speechcal_core.review.model import set_time_ns
@@ -260,6 +261,20 @@ def test_between_sets_the_band_names_the_set_the_keys_act_on(qtbot, window) -> N
     window.redo_action.trigger()  # as the menu entry or Ctrl+Y
     assert all(s.id != kept for s in model.session.sets)
     assert window.status_text.text() == f"redone: removing set {kept}"
+
+
+def test_with_every_set_removed_the_list_and_band_say_so(qtbot, window) -> None:
+    """The empty list said no trigger word was found in the audio, and the word band
+    "J / K go to one", though the operator had just removed them all."""
+    while window.model.session.sets:
+        qtbot.keyClick(window, Qt.Key.Key_Delete)
+    assert window.no_sets_label.isVisible()
+    assert window.no_sets_label.text().startswith(
+        "▲ No frame sets left: every “capture” was removed (Ctrl+Z puts the last back).")
+    assert band_text(window.grid.word_band.word, None, "", window.grid.word_band.decides) \
+        == "no frame sets · T adds one at the playhead"
+    qtbot.keyClick(window, Qt.Key.Key_U)
+    assert window.table.rowCount() == 1 and not window.no_sets_label.isVisible()
 
 
 def test_add_and_remove_buttons_do_what_t_and_delete_do(qtbot, window) -> None:

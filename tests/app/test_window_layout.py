@@ -88,7 +88,7 @@ def test_word_band_says_what_was_heard_and_what_was_added_by_hand() -> None:
 
     assert band_text("capture", "accepted") == "✔ “CAPTURE”"
     assert band_text("capture", "undecided", "manual") == "? CAPTURE · added by hand"
-    assert band_text("", None) == "between frame sets · J / K go to one"
+    assert band_text("", None) == "no frame sets · T adds one at the playhead"
     assert band_text("", None, "", 10) == \
         "between frame sets · A / R / Del act on set #10 · J / K go to one"
 

@@ -233,6 +233,9 @@ def test_an_empty_session_says_why_and_how_to_get_sets() -> None:
     session.audio = "mic.ogg"
     session.extra = {}  # a session from elsewhere, without the detector's notes
     assert no_sets_hint(session).startswith("No “capture” was found in the audio.")
+    # every set found removed in the review (the hint said none was found)
+    assert no_sets_hint(session, removed=True).startswith(
+        "No frame sets left: every “capture” was removed (Ctrl+Z puts the last back).")
     session.sets = [frame_set(1)]
     assert no_sets_hint(session) == ""
 
