@@ -53,7 +53,13 @@ from speechcal_core.review.similar import (
     similar_request,
 )
 from speechcal_core.review.summary import FILTERS, shown_indices
-from speechcal_core.session.model import REVIEW_PLACE_KEY, FrameSet, Session, Trigger
+from speechcal_core.session.model import (
+    FRAMES_BEFORE_EDIT_KEY,
+    REVIEW_PLACE_KEY,
+    FrameSet,
+    Session,
+    Trigger,
+)
 from speechcal_core.sync.model import SyncModel
 
 if TYPE_CHECKING:
@@ -143,7 +149,8 @@ class ReviewModel:
         self._redo: list[tuple] = []
         #: per set, the frames it showed before an offset edit whose re-scoring has not
         #: landed yet (what a decision made before the edit looked at)
-        self._shown_before_edit: dict[int, tuple[tuple[str, int], ...]] = {}
+        self._shown_before_edit = _read_frames_before_edit(
+            session.extra.get(FRAMES_BEFORE_EDIT_KEY), set(rescore_ids(session)))
         #: ids of the accepted sets the last re-scoring gave other frames than they showed
         #: (before the offset edit, or until then for an added set): an export would write
         #: frames nobody looked at
@@ -906,6 +913,11 @@ class ReviewModel:
         self._saved_place = self._place()
         if self._saved_place is not None:
             self.session.extra[REVIEW_PLACE_KEY] = self._saved_place
+        if self._shown_before_edit:  # a closing before re-scoring lands keeps them
+            self.session.extra[FRAMES_BEFORE_EDIT_KEY] = {
+                str(i): [list(k) for k in keys] for i, keys in self._shown_before_edit.items()}
+        else:
+            self.session.extra.pop(FRAMES_BEFORE_EDIT_KEY, None)
         if self._autosave is not None:
             self._autosave(self.session)
             self._emit("saved")
@@ -929,6 +941,25 @@ class ReviewModel:
     def trigger(self, action: str) -> None:
         """Run a named action (what a key binding maps to)."""
         getattr(self, action)()
+
+
+def _read_frames_before_edit(stored: object, waiting: set[int]
+                             ) -> dict[int, tuple[tuple[str, int], ...]]:
+    """The frames sets showed before an offset edit, as saved under
+    FRAMES_BEFORE_EDIT_KEY, for the sets still ``waiting`` for re-scoring (an export may
+    have re-scored the others since); anything not understood is left out."""
+    out: dict[int, tuple[tuple[str, int], ...]] = {}
+    if not isinstance(stored, dict):
+        return out
+    for key, pairs in stored.items():
+        try:
+            set_id = int(key)
+            keys = tuple((str(stream), int(index)) for stream, index in pairs)
+        except (TypeError, ValueError):
+            continue
+        if set_id in waiting:
+            out[set_id] = keys
+    return out
 
 
 def _frame_keys(frame_set: FrameSet) -> tuple[tuple[str, int], ...]:

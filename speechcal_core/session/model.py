@@ -110,6 +110,10 @@ STREAMS_KEY = "streams"
 #: was last saved, ``{"set": <current set id>, "filter": <the list's filter>}``, so that
 #: the window opens it there again
 REVIEW_PLACE_KEY = "review_place"
+#: key of ``Session.extra`` (top-level in the file): per set id waiting for re-scoring
+#: after an offset edit, the ``[stream, frame index]`` pairs it showed before the edit
+#: (what a decision made then looked at), for a review that goes on after a reopening
+FRAMES_BEFORE_EDIT_KEY = "frames_before_offset_edit"
 
 
 @dataclass

@@ -241,6 +241,28 @@ def test_accepted_sets_given_other_frames_by_an_offset_edit_are_named(
     assert model.accepted_with_new_frames == [third]
 
 
+def test_a_window_closed_before_rescoring_landed_names_the_same_sets_when_reopened(
+    searched_session_file: Path,
+) -> None:
+    """Closed after an offset edit, before re-scoring landed: the reopened review
+    compared the re-scored frames with the nearest frames the edit left, and named
+    accepted sets whose frames were the same as when they were accepted."""
+    model = open_model(searched_session_file)
+    first, _second, third = (s.id for s in model.session.sets[:3])
+    for index, decide in ((0, model.accept), (1, model.reject), (2, model.accept)):
+        model.go_to_set(index)
+        decide()
+    model.nudge_offset(-600_000_000)
+    assert set(load_session(searched_session_file).extra["frames_before_offset_edit"]) \
+        >= {str(first), str(third)}
+
+    reopened = open_model(searched_session_file)  # the autosave after the edit
+    assert first in reopened.rescore_ids()
+    _rescore(reopened)
+    assert reopened.accepted_with_new_frames == [third]  # as in the window left open
+    assert "frames_before_offset_edit" not in load_session(searched_session_file).extra
+
+
 def test_an_added_set_accepted_before_rescoring_is_named_when_its_frames_change(
     searched_session_file: Path,
 ) -> None:
