@@ -22,11 +22,12 @@ def leave_out_streams(session: Session, names: Sequence[str], kept: Sequence[str
     from speechcal_core.frames.analysis import checks_basis
 
     gone = set(names)
+    extra = session.extra
+    checks_current = extra.get("checks_basis") == checks_basis(session.sets)
     session.sets = [replace(s, frames=tuple(f for f in s.frames if f.stream not in gone))
                     for s in session.sets]
     for name in gone:
         session.calibration.pop(name, None)
-    extra = session.extra
     for key in PER_STREAM_KEYS:
         if isinstance(extra.get(key), dict):
             extra[key] = {k: v for k, v in extra[key].items() if k not in gone}
@@ -38,6 +39,7 @@ def leave_out_streams(session: Session, names: Sequence[str], kept: Sequence[str
         for key in DETAIL_PER_STREAM_KEYS:
             if isinstance(detail, dict) and isinstance(detail.get(key), dict):
                 detail[key] = {s: x for s, x in detail[key].items() if s not in gone}
-    if "checks_basis" in extra:  # the other cameras' checks stand as they were
+    if checks_current:  # the other cameras' checks stand as they were
         extra["checks_basis"] = checks_basis(session.sets)
+    # checks made before a decision they wait for (still due) stay due
     extra[STREAMS_KEY] = list(kept)
