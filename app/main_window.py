@@ -85,9 +85,22 @@ END_SLACK_NS = 100_000_000
 #: the sync line's tooltip when few words fall at a still board (see word_stillness)
 MOVING_WORDS_TIP = (
     "The board is held still at each trigger word, yet here many words fall while it "
-    "moves. Is the audio this recording's? If it is, the offset is off: drag the clap "
-    "handle on the waveform onto the clap, or move the audio with { } (±1 frame) until "
-    "the words fall where the board stops.")
+    "moves. Is the audio this recording's? If it is, the offset is off: another sound "
+    "may have been taken for the clap. Find the real clap on the waveform (the wheel "
+    "zooms out to the whole audio: it may lie before the first frame), click it and "
+    "press C; or move the audio with { } (±1 frame) until the words fall where the "
+    "board stops.")
+#: the status line after C in a session whose cameras saw no clap
+NO_CAMERA_CLAP = ("the cameras saw no clap in this session (its offset was given): move "
+                  "the audio with [ ] { } or drag the clap handle")
+
+
+def clap_moved_text(shift_ns: int) -> str:
+    """The status line after C: how far the audio moved to put the clap at the playhead."""
+    return (f"the clap is at the playhead: audio moved {shift_ns / 1e9:+.3f} s · "
+            "Ctrl+Z takes it back")
+
+
 APP_ICON = "speechcal.svg"  # in resources/icons; the desktop entry names it too
 #: the Edit menu's keys (a QShortcut on them stands in only while the entry is off: both on
 #: would be ambiguous)
@@ -106,7 +119,8 @@ HINTS_TIP = (
     "(Shift: of every camera) · "
     "J/K previous / next set · F next filter · A/R/U accept / reject / undo\n"
     "T add a set at the playhead · Del remove the set · S find more like this\n"
-    "[ ] audio ±1 ms, { } audio ±1 frame, or drag the clap handle on the waveform\n"
+    "[ ] audio ±1 ms, { } audio ±1 frame, or drag the clap handle on the waveform; C: "
+    "the clap is the sound at the playhead (another sound was taken for it)\n"
     "double-click a camera (or press its number 1-9) to show it alone, Esc back to the "
     "grid\n"
     "waveform: the wheel (or = and -) zooms, a drag pans, a click moves the playhead (a "
@@ -479,6 +493,7 @@ class ReviewWindow(QMainWindow):
         self.waveform.audio_unreadable.connect(lambda text: self.status.end("waveform", text))
         if inputs.pyramid is not None:
             self.waveform.set_audio(inputs.pyramid, model.session.sync)
+            model.audio_duration_s = inputs.pyramid.size / inputs.pyramid.rate
         else:  # the marks still show where the words were heard
             self.waveform.set_sync(model.session.sync)
             gone = bool(inputs.session.audio) and not Path(inputs.session.audio).exists()
@@ -771,6 +786,7 @@ class ReviewWindow(QMainWindow):
         done, step = {"undo": ("undone", model.undo_label),
                       "redo": ("redone", model.redo_label)}.get(action, ("", ""))
         n_sets = len(model.session.sets)
+        offset_ns = model.session.sync.offset_ns
         model.last_decided = None
         model.trigger(action)
         # each says what it did, which also replaces a message it made untrue ("redone:
@@ -782,6 +798,9 @@ class ReviewWindow(QMainWindow):
             self.status.say(f"{done}: {step}")
         elif action in ("undo", "redo"):
             self.status.say(f"nothing to {action}")
+        elif action == "clap_at_playhead":
+            self.status.say(clap_moved_text(model.session.sync.offset_ns - offset_ns)
+                            if model.camera_clap_ns() is not None else NO_CAMERA_CLAP)
         elif action in ("accept", "reject") and model.last_decided is not None:
             decided = model.session.set_by_id(model.last_decided)
             self.status.say(f"set #{decided.id} {decided.decision}")
@@ -920,6 +939,7 @@ class ReviewWindow(QMainWindow):
         model = self.model
         assert model is not None
         self.waveform.set_sync(sync)
+        self.waveform.set_claps(model.session.claps_audio_s())  # C may name another sound
         self.waveform.set_sets(model.session.sets)
         self.table.set_sets(model.session.sets, model.time_range_ns()[0], self._rescore_marks())
         self._apply_filter()

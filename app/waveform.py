@@ -151,6 +151,7 @@ class WaveformView(pg.PlotWidget):
         self.show_message("")
         peak = max(1e-6, float(np.max(np.abs(pyramid.levels[-1][1:]))) if pyramid.levels else 1)
         self._scale = 1.0 / peak
+        self._limit_to_whole()
         self.redraw()
 
     def show_message(self, text: str) -> None:
@@ -174,6 +175,7 @@ class WaveformView(pg.PlotWidget):
         drawn = self._drawn_sync
         self.sync = sync
         self.set_claps(self._claps_audio_s)
+        self._limit_to_whole()  # the audio moved
         if drawn is None or sync.drift != drawn.drift:
             self.redraw()
             return
@@ -304,15 +306,28 @@ class WaveformView(pg.PlotWidget):
         return v0 > w0 + tolerance or v1 < w1 - tolerance
 
     def _limit_to_whole(self) -> None:
-        """Keep zoom and pan within the whole view, and zooming in to MIN_SPAN_S."""
+        """Keep zoom and pan within the whole view and the audio (a clap the wrong sound
+        was taken for may put the real one before the first frame: the operator must see
+        it to drag the handle onto it), and zooming in to MIN_SPAN_S."""
         if self.whole is None:
             return
         lo, hi = self.whole
+        audio = self._audio_x()
+        if audio is not None:
+            lo, hi = min(lo, audio[0]), max(hi, audio[1])
         if hi - lo < MIN_SPAN_S:  # a session of one instant: room for the narrowest view
             mid = (lo + hi) / 2
             lo, hi = mid - MIN_SPAN_S / 2, mid + MIN_SPAN_S / 2
         self.getViewBox().setLimits(xMin=lo, xMax=hi, minXRange=MIN_SPAN_S,
                                     maxXRange=hi - lo)
+
+    def _audio_x(self) -> tuple[float, float] | None:
+        """Where the current sync puts the audio's first and last sample (x, seconds)."""
+        if self.pyramid is None or self.sync is None or self.pyramid.size == 0:
+            return None
+        end_s = self.pyramid.size / self.pyramid.rate
+        return (self._to_x(int(self.sync.to_session(0.0))),
+                self._to_x(int(self.sync.to_session(end_s))))
 
     def extent(self) -> tuple[float, float]:
         """The x range from the first to the last of the frames and marks (claps, words)."""

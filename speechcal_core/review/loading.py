@@ -175,8 +175,7 @@ def load_for_review(
             source.close()
             raise
         note = "; ".join(filter(None, [note, said, *twin_notes(source)]))
-    claps = tuple(float(c["audio_s"]) for c in session.sync_evidence.get("claps") or []
-                  if isinstance(c, dict) and isinstance(c.get("audio_s"), (int, float)))
+    claps = session.claps_audio_s()
     if session.audio and sound is None and Path(session.audio).exists():
         changed = audio_differs(session, session.audio)
         if changed:

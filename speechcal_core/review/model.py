@@ -14,6 +14,7 @@ same way (:meth:`ReviewModel.checks_request`, :meth:`ReviewModel.apply_checks`),
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
@@ -101,6 +102,7 @@ KEY_BINDINGS: dict[str, str] = {
     "]": "offset_plus_ms",
     "{": "offset_minus_frame",
     "}": "offset_plus_frame",
+    "C": "clap_at_playhead",
 }
 
 
@@ -141,7 +143,8 @@ class ReviewModel:
         self._autosave = autosave
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
         # undo/redo entries: ("decision", set id, decision to restore),
-        # ("sync", sync model, sets, {MEASURED_FOR_SYNC key: value}) for an offset edit,
+        # ("sync", sync model, sets, {MEASURED_FOR_SYNC key: value}, sync evidence) for
+        # an offset edit,
         # ("add", set id) and ("remove", set, its index, its frame details or None),
         # ("add_many", set ids) and ("remove_many", [(set, index, details)...]) for the
         # sets one search added
@@ -171,6 +174,9 @@ class ReviewModel:
         #: for the window to run; with the reason when there is nothing to search
         self.similar_wanted: SimilarRequest | None = None
         self.similar_refused = ""
+        #: the audio's length (seconds) once the window has read it: the playhead may go
+        #: wherever there is audio too
+        self.audio_duration_s = 0.0
         #: the id of the set the last accept or reject was on (it may have moved on since)
         self.last_decided: int | None = None
         self._resume_place(session.extra.get(REVIEW_PLACE_KEY))
@@ -284,7 +290,13 @@ class ReviewModel:
 
     # -- navigation actions -------------------------------------------------------------
     def set_playhead(self, t_ns: int) -> None:
+        """Move the playhead to ``t_ns``, within the frames and the audio (the real clap
+        may lie before the first frame, see :meth:`clap_at_playhead`)."""
         lo, hi = self.time_range_ns()
+        if self.audio_duration_s:
+            sync = self.session.sync
+            lo = min(lo, int(sync.to_session(0.0)))
+            hi = max(hi, int(sync.to_session(self.audio_duration_s)))
         self.playhead_ns = int(min(max(t_ns, lo), hi)) if hi > lo else int(t_ns)
         self._emit("playhead", self.playhead_ns)
 
@@ -392,6 +404,28 @@ class ReviewModel:
             return
         self.set_sync(self.session.sync.with_offset(self.session.sync.offset_ns + int(delta_ns)))
 
+    def camera_clap_ns(self) -> int | None:
+        """Where the cameras saw the first clap (session clock); None for a session
+        without one (its offset given by hand)."""
+        claps = self.session.sync_evidence.get("claps")
+        first = claps[0] if isinstance(claps, list) and claps else None
+        value = first.get("session_ns") if isinstance(first, dict) else None
+        return int(value) if isinstance(value, (int, float)) else None
+
+    def clap_at_playhead(self) -> None:
+        """Key C: the sound under the playhead is the clap. The offset moves so that it
+        lands where the cameras saw the clap: the fix when another sound (a knock, a
+        door) was taken for it. Nothing without a camera clap (see :meth:`camera_clap_ns`)."""
+        seen = self.camera_clap_ns()
+        if seen is None:
+            return
+        heard_s = self.session.sync.to_audio(self.playhead_ns)
+        self.nudge_offset(seen - self.playhead_ns)  # undo restores the clap heard too
+        first = self.session.sync_evidence["claps"][0]
+        first["audio_s"], first["audio_source"] = float(heard_s), "manual"
+        self._emit("sync", self.session.sync)  # the clap handle goes to that sound
+        self._save()
+
     def nudge_offset_frame(self, direction: int) -> None:
         """Shift the offset by one frame period of the fastest camera."""
         periods = [p for p in self._periods.values() if p > 0]
@@ -416,7 +450,8 @@ class ReviewModel:
         measured for it (undoing an edit needs no re-scoring)."""
         measured = {key: dict(value) for key in MEASURED_FOR_SYNC
                     if isinstance(value := self.session.extra.get(key), dict)}
-        return ("sync", self.session.sync, list(self.session.sets), measured)
+        return ("sync", self.session.sync, list(self.session.sets), measured,
+                copy.deepcopy(self.session.sync_evidence))
 
     def _change_sync(self, sync: SyncModel) -> None:
         self.session.sync = sync
@@ -484,8 +519,9 @@ class ReviewModel:
         """Undo one stack entry; returns the entry that undoes this in turn."""
         kind = entry[0]
         if kind == "sync":
-            _kind, sync, sets, measured = entry
+            _kind, sync, sets, measured, evidence = entry
             now = self._sync_state()
+            self.session.sync_evidence = copy.deepcopy(evidence)  # a clap C moved
             # the stack holds no later step, so the same sets are in: only their frames
             # (and figures) differ, measured for the other sync
             by_id = {s.id: s for s in sets}

@@ -132,6 +132,13 @@ class Session:
     sync_evidence: dict[str, Any] = field(default_factory=dict)
     extra: dict[str, Any] = field(default_factory=dict)
 
+    def claps_audio_s(self) -> tuple[float, ...]:
+        """The claps heard in the audio (audio seconds, from ``sync_evidence``): the first
+        sets the offset, a second (at the end of the recording) the drift."""
+        claps = self.sync_evidence.get("claps") or []
+        return tuple(float(c["audio_s"]) for c in claps
+                     if isinstance(c, dict) and isinstance(c.get("audio_s"), (int, float)))
+
     def stream_choice(self) -> StreamChoice | None:
         """The recording's streams the session uses (None: all of them)."""
         names = self.extra.get(STREAMS_KEY)

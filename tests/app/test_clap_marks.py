@@ -244,3 +244,23 @@ def test_sync_line_warns_while_many_words_fall_in_a_move_until_the_offset_is_rig
     qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
     assert not window.sync_line.text().startswith("▲") and not window.sync_line.styleSheet()
     assert window.model.word_stillness().judged == len(truth["triggers"])
+
+
+def test_c_moves_the_audio_so_the_sound_at_the_playhead_is_the_clap(
+        qtbot, open_window, truth_session_file: Path) -> None:
+    window = open_window(truth_session_file)
+    model = window.model
+    seen = model.camera_clap_ns()
+    taken = window.waveform.clap.value()  # the sound taken for the clap
+    model.set_playhead(seen - 1_250_000_000)
+    qtbot.keyClick(window, Qt.Key.Key_C)
+    assert model.session.sync.source == "manual"
+    assert window.status_text.text() == \
+        "the clap is at the playhead: audio moved +1.250 s · Ctrl+Z takes it back"
+    # the clap handle marks the sound named the clap, now where the cameras saw it
+    assert window.waveform.clap.value() == pytest.approx(window.waveform._to_x(seen),
+                                                         abs=0.001)
+    assert model.session.sync_evidence["claps"][0]["audio_source"] == "manual"
+    qtbot.keyClick(window, Qt.Key.Key_U)  # the handle goes back to the sound taken before
+    assert window.waveform.clap.value() == pytest.approx(taken, abs=0.001)
+    assert model.session.sync_evidence["claps"][0].get("audio_source") != "manual"

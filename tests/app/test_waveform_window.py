@@ -214,3 +214,19 @@ def test_zoomed_in_the_loudest_sound_in_view_fills_the_height(window) -> None:
     wave.setXRange(a - 0.2, b + 0.2, padding=0)
     zoomed = max(wave._upper.yData.max(), -wave._lower.yData.min())
     assert zoomed == pytest.approx(1.0, abs=1e-3) and zoomed > 1.5 * whole
+
+
+def test_the_view_reaches_audio_before_the_first_frame(window, qtbot) -> None:
+    """A knock taken for the clap put the real clap seconds before the first frame: the
+    view stopped at the frames, so the operator could not see the clap to drag the
+    handle onto it."""
+    wave = window.waveform
+    window.model.nudge_offset(-6_000_000_000)  # the audio 6 s earlier than it was
+    audio_start, _ = wave._audio_x()
+    assert audio_start < wave.whole[0] - 1.0  # the whole view stays the frames' and marks'
+    wave.setXRange(audio_start, audio_start + 4.0, padding=0)
+    x0 = wave.getViewBox().viewRange()[0][0]
+    assert x0 == pytest.approx(audio_start, abs=0.01)
+    assert wave.zoomed_in()  # the "whole session" button takes the view back
+    wave.show_whole()
+    assert wave.getViewBox().viewRange()[0] == pytest.approx(wave.whole)

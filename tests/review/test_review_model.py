@@ -208,6 +208,27 @@ def test_offset_nudge_moves_sets_marks_sync_manual_and_saves(truth_session_file:
                 assert abs(f.stamp_ns - s.t_ns) <= 1e9 / 15 / 2 + 1
 
 
+def test_c_puts_the_sound_at_the_playhead_where_the_cameras_saw_the_clap(
+        truth_session_file: Path) -> None:
+    """A knock taken for the clap: the operator clicks the real clap on the waveform and
+    presses C; the audio moves so that it lands on the cameras' clap."""
+    model = open_model(truth_session_file)
+    seen = model.camera_clap_ns()
+    assert seen is not None
+    before = model.session.sync
+    model.set_playhead(seen + 2_500_000_000)  # the real clap, heard 2.5 s later
+    heard_s = before.to_audio(model.playhead_ns)
+    model.clap_at_playhead()
+    assert abs(model.session.sync.to_session(heard_s) - seen) <= 1
+    assert model.session.sync.source == "manual"
+    model.undo()
+    assert model.session.sync == before
+
+    model.session.sync_evidence = {}  # an offset given by hand: no clap seen to go by
+    model.clap_at_playhead()
+    assert model.session.sync == before and model.undo_label == ""
+
+
 def test_an_offset_edit_is_undone_and_redone_in_turn_with_decisions(
         truth_session_file: Path) -> None:
     model = open_model(truth_session_file)
