@@ -63,7 +63,7 @@ from speechcal_core.review.summary import (
     no_sets_hint,
 )
 from speechcal_core.session.store import SessionChangedError, SessionFileError, load_session
-from speechcal_core.sync.estimate import clap_off
+from speechcal_core.sync.estimate import clap_misread, clap_off
 from speechcal_core.text import counted, shown_name
 
 if TYPE_CHECKING:
@@ -1043,10 +1043,15 @@ class ReviewWindow(QMainWindow):
         residuals = [abs(c.get("residual_ns") or 0) for c in cams]
         # the residuals are the automatic sync's: an edited offset has none to show
         shown = residuals and sync.source != "manual"
-        off = [c for c in cams if shown and clap_off(c)]
+        # a camera that timed the first clap wrongly but the second well: its clock is
+        # right, and with three or more cameras the others set the offset
+        misread = [c for c in cams if len(cams) >= 3 and clap_misread(c)]
+        off = [c for c in cams if shown and clap_off(c) and c not in misread]
         alerts = [f"{c.get('name')} clap {(c.get('residual_ns') or 0) / 1e6:+.1f} ms off the "
                   "others" for c in off]
-        notes = [str(w) for w in session.sync_evidence.get("warnings") or []] if off else []
+        notes = [str(w) for w in session.sync_evidence.get("warnings") or []] \
+            if off or misread else []
+        residuals = [abs(c.get("residual_ns") or 0) for c in cams if c not in misread]
         stillness = self.model.word_stillness()
         if stillness.doubtful:
             alerts.insert(0, f"only {stillness.still} of {stillness.judged} words at a still "
@@ -1054,7 +1059,7 @@ class ReviewWindow(QMainWindow):
             notes.insert(0, MOVING_WORDS_TIP)
         # one camera has nothing to differ from; one clap measures no drift
         worst = f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms" \
-            if shown and not off and len(cams) > 1 else ""
+            if shown and residuals and not off and len(cams) > 1 else ""
         claps = session.sync_evidence.get("claps") or []
         drift = ("drift not measured (one clap)" if len(claps) < 2 and sync.drift == 0
                  else f"drift {sync.drift * 1e6:.1f} ppm")

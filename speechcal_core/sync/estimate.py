@@ -178,8 +178,9 @@ def build_result(claps: list[Clap], warnings: list[str] | None = None,
         notes.append(f"drift {model.drift * 1e6:.0f} ppm is implausible; "
                      "check that both claps were matched (set them by hand)")
     result = SyncResult(model, ordered, (), dict(extra or {}))
-    for cam in result.residuals():
-        notes.extend(_residual_warning(cam))
+    cams = result.residuals()
+    for cam in cams:
+        notes.extend(_residual_warning(cam, len(cams)))
     return replace(result, warnings=tuple(dict.fromkeys(notes)))
 
 
@@ -190,11 +191,21 @@ def clap_off(cam: Mapping[str, Any]) -> bool:
     return abs(cam.get("residual_ns") or 0) > period / 2
 
 
-def _residual_warning(cam: dict) -> list[str]:
+def clap_misread(cam: Mapping[str, Any]) -> bool:
+    """Whether a camera's first clap sits more than half a frame off (:func:`clap_off`)
+    while a later clap is in line: the first was timed wrongly, its clock is not off."""
+    period = cam.get("period_ns") or 33_333_333
+    later = (cam.get("residuals_ns") or [])[1:]
+    return clap_off(cam) and any(abs(r) <= period / 2 for r in later)
+
+
+def _residual_warning(cam: dict, cameras: int) -> list[str]:
     """A note for a camera whose clap sits more than half a frame off the others.
 
-    Seen at two claps with the same offset, the camera's clock is off; otherwise its clap
-    may as well have been timed wrongly, and the operator should look at it.
+    Seen at two claps with the same offset, the camera's clock is off; in line at the
+    other clap (of three cameras or more, whose median sets the offset), it timed the
+    first clap wrongly and there is nothing to do; otherwise either, and the operator
+    should look.
     """
     period = cam["period_ns"] or 33_333_333
     res = cam["residuals_ns"]
@@ -203,5 +214,9 @@ def _residual_warning(cam: dict) -> list[str]:
     head = f"{cam['name']}: clap {cam['residual_ns'] / 1e6:+.1f} ms off the other cameras"
     if len(res) >= 2 and max(res) - min(res) < period / 4:
         return [f"{head} at both claps; its clock is off by that much"]
+    if clap_misread(cam) and cameras >= 3:  # two cameras apart: which one is wrong?
+        return [f"{head} at the first clap but in line at the second: it did not time the "
+                "first clap well, its clock is right; the other cameras set the offset, "
+                "nothing to do"]
     return [f"{head}; its clock may be off, or its clap was not seen clearly "
             "(check the clap in the review)"]

@@ -59,6 +59,30 @@ def test_one_clap_or_one_camera_is_not_shown_as_measured(
     assert "drift not measured (one clap)" in text and "residuals" not in text
 
 
+def test_a_camera_that_timed_only_the_first_clap_wrongly_is_no_alarm(
+        open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    """In line at the second clap, its clock is right and the others set the offset:
+    the amber "clap +105.5 ms off the others" asked for a fix there was none to make."""
+    session = load_session(truth_session_file)
+    period = 66_666_667
+    session.sync_evidence["cameras"] = [
+        {"name": f"/cam{k}/image_raw", "residual_ns": r0, "residuals_ns": [r0, r1],
+         "period_ns": period}
+        for k, (r0, r1) in enumerate([(1_800_000, 2_700_000), (105_500_000, -800_000),
+                                      (0, 300_000)])]
+    note = ("/cam1/image_raw: clap +105.5 ms off the other cameras at the first clap but "
+            "in line at the second: it did not time the first clap well, its clock is "
+            "right; the other cameras set the offset, nothing to do")
+    session.sync_evidence["warnings"] = [note]
+    path = tmp_path / "misread.json"
+    save_session(session, path)
+    window = open_window(path)
+    text = window.sync_line.text()
+    assert not text.startswith("▲") and "color" not in window.sync_line.styleSheet()
+    assert "camera residuals ≤ 1.8 ms" in text
+    assert note in window.sync_line.toolTip()
+
+
 def test_sync_line_names_a_camera_whose_clap_sits_a_frame_off_in_amber(
         qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
     """A camera clap timed wrongly (or a clock that is off) was a neutral "residuals
