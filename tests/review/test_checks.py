@@ -174,3 +174,22 @@ def test_a_board_seen_in_too_few_sets_is_named_as_the_reason_not_the_board(
     assert summary.line.endswith(f"(a fit needs the target in {MIN_VIEWS} sets or more; "
                                  f"no camera saw it in more than {MIN_VIEWS - 1})")
     assert "--target" not in summary.line
+
+
+def test_a_camera_that_saw_the_board_only_near_its_centre_is_warned_about(
+        searched_session_file: Path) -> None:
+    """Fisheye cameras whose views all lay near the image centre passed as "4 of 4
+    cameras fit, RMS ≤ 0.13 px": their lens toward the edges is barely measured."""
+    session = load_session(searched_session_file)
+    fitted = [name for name in session.extra["coverage"] if name in session.calibration]
+    summary = check_summary(session, fitted)
+    assert summary is not None and not summary.warning
+    assert "centre" not in summary.line
+    progress = session.extra["coverage"][fitted[0]]["progress"]
+    progress["x"], progress["y"] = 0.15, 0.18
+    summary = check_summary(session, fitted)
+    assert summary.warning
+    assert summary.line.endswith("; 1 camera saw the board only near the image centre")
+    assert "▲ the board stayed near the image centre" in summary.cameras[0]
+    progress["y"] = 0.5  # spread down the image: not only near the centre
+    assert not check_summary(session, fitted).warning
