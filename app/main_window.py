@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -77,6 +78,18 @@ EMPTY_TEXT = (
     "&lt;stamp_ns&gt;.png images per camera) and its audio file here,<br>"
     "or open a session file (SESSION.json).</p>"
 )
+
+
+def opening_text(stage: str, fraction: float) -> str:
+    """The first page while a session opens or a recording is processed: the stage
+    ("finding the trigger words") and how far it is."""
+    done = f" ({fraction:.0%})" if 0.0 < fraction < 1.0 else ""
+    return (f"<h2>Opening…</h2><p>{html.escape(stage)}{done}</p>"
+            "<p>A recording opened for the first time is processed first (sync, trigger "
+            "words, best still frames):<br>a minute or two for a few minutes of recording. "
+            "The status line below has Cancel.</p>")
+
+
 #: the play button's text and tooltip, stopped and playing
 PLAY_STATES = {False: ("▶ play", "play from the playhead, with the sound  (Space)"),
                True: ("❚❚ pause", "pause  (Space)")}
@@ -244,9 +257,10 @@ class ReviewWindow(QMainWindow):
         page = QWidget()
         layout = QVBoxLayout(page)
         layout.addStretch(1)
-        text = QLabel(EMPTY_TEXT)
-        text.setAlignment(Qt.AlignmentFlag.AlignCenter)
-        layout.addWidget(text)
+        #: what to open; while an opening runs, what it is doing
+        self.empty_text = QLabel(EMPTY_TEXT)
+        self.empty_text.setAlignment(Qt.AlignmentFlag.AlignCenter)
+        layout.addWidget(self.empty_text)
         #: why the last opening failed, in full (the status line cuts it short)
         self.open_problem = QLabel("")
         self.open_problem.setWordWrap(True)
@@ -257,9 +271,9 @@ class ReviewWindow(QMainWindow):
         layout.addWidget(self.open_problem)
         row = QHBoxLayout()
         row.addStretch(1)
-        open_button = QPushButton("Open session…")
-        open_button.clicked.connect(self.choose_session)
-        row.addWidget(open_button)
+        self.open_button = QPushButton("Open session…")
+        self.open_button.clicked.connect(self.choose_session)
+        row.addWidget(self.open_button)
         self.demo_button = QPushButton("Open the demo session")
         self.demo_button.clicked.connect(self.open_demo)
         row.addWidget(self.demo_button)
@@ -280,6 +294,7 @@ class ReviewWindow(QMainWindow):
         self.progress = QProgressBar()
         self.progress.setMaximumWidth(220)
         self.progress.setRange(0, 1000)
+        self.progress.setTextVisible(False)  # the status text says what it is doing
         self.progress.hide()
         self.cancel_button = QPushButton("Cancel")
         self.cancel_button.hide()
@@ -540,10 +555,29 @@ class ReviewWindow(QMainWindow):
         self.task = BackgroundTask(work, owner=self, discard=ReviewInputs.close)
         self.task.signals.progress.connect(
             lambda t, f: self.status.report("open", t, f))
+        self.task.signals.progress.connect(lambda t, f: self._show_opening(t, f))
         self.task.signals.finished.connect(self._on_loaded)
         self.task.signals.failed.connect(self._on_failed)
         self.status.begin("open", text)
+        self._show_opening(text, 0.0)
         start(self.task)
+
+    def _show_opening(self, text: str, fraction: float) -> None:
+        """The first page, while an opening runs: what it is doing (it said "Open a
+        calibration session" through a minute of processing), its buttons off."""
+        if self.model is not None or self.task is None:
+            return
+        self.empty_text.setText(opening_text(text, fraction))
+        self.open_problem.hide()
+        self.locate_button.hide()
+        for button in (self.open_button, self.demo_button):
+            button.setEnabled(False)
+
+    def _show_empty(self) -> None:
+        """The first page as it is before anything is opened."""
+        self.empty_text.setText(EMPTY_TEXT)
+        for button in (self.open_button, self.demo_button):
+            button.setEnabled(True)
 
     def open_demo(self) -> None:
         """Make (once) and open the synthetic demo session, off the UI thread."""
@@ -628,6 +662,11 @@ class ReviewWindow(QMainWindow):
 
     def _on_failed(self, message: str) -> None:
         self.task = None
+        self._show_empty()
+        if message == "cancelled":  # the operator's Cancel: nothing went wrong
+            self._opening_session = None
+            self.status.end("open", "opening cancelled")
+            return
         self.load_error = message
         self.status.end("open", f"Could not open: {message}")
         opening, self._opening_session = self._opening_session, None
@@ -697,6 +736,7 @@ class ReviewWindow(QMainWindow):
     def _on_loaded(self, inputs: ReviewInputs) -> None:
         self.status.end("open")
         self.task = None
+        self._show_empty()
         self._opening_session, self._moved = None, None
         self.open_problem.hide()
         self.locate_button.hide()

@@ -212,10 +212,35 @@ def test_demo_button_opens_the_demo_session_and_processes_it(
     qtbot.addWidget(win)
     win.show()
     qtbot.mouseClick(win.demo_button, Qt.MouseButton.LeftButton)
+    # while it is processed, the first page says so (it said "Open a calibration
+    # session", its buttons on, through a minute of processing)
+    assert win.empty_text.text().startswith("<h2>Opening…</h2>")
+    assert not win.demo_button.isEnabled() and not win.open_button.isEnabled()
     qtbot.waitUntil(lambda: win.task is None, timeout=120_000)
     assert win.load_error == ""
+    assert "Open a calibration session" in win.empty_text.text() and win.demo_button.isEnabled()
     assert win.model is not None and len(win.model.session.sets) >= 1
     assert (tmp_path / "speechcal" / "demo" / "recording.speechcal.json").exists()
+
+
+def test_a_cancelled_opening_gives_the_first_page_back_with_no_problem_named(
+        qtbot, tiny_synth, tmp_path: Path) -> None:
+    """Cancel while a recording was processed said "Could not open: cancelled" in amber
+    on the first page, as if something had gone wrong."""
+    folder, truth = tiny_synth
+    win = ReviewWindow()
+    win.setProperty("headless", True)
+    qtbot.addWidget(win)
+    win.show()
+    win.open(recording=[str(folder / truth["recording"])], audio=str(folder / "audio.ogg"),
+             new_session_path=str(tmp_path / "s.json"))
+    assert not win.open_button.isEnabled()
+    win.cancel_task()
+    qtbot.waitUntil(lambda: win.task is None, timeout=60_000)
+    assert win.model is None and win.load_error == ""
+    assert win.status_text.text() == "opening cancelled"
+    assert not win.open_problem.isVisible() and win.open_button.isEnabled()
+    assert "Open a calibration session" in win.empty_text.text()
 
 
 def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
