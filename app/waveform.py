@@ -77,8 +77,10 @@ class WaveformView(pg.PlotWidget):
         self.setYRange(-1, 1, padding=0.05)
         #: every set's word mark (extent and label)
         self.marks = WordMarks(self)
+        # hovered, a bolder line of its own colour (pyqtgraph's red is "rejected" here)
         self.playhead = pg.InfiniteLine(0, movable=True,
-                                        pen=pg.mkPen(PLAYHEAD_COLOUR, width=2))
+                                        pen=pg.mkPen(PLAYHEAD_COLOUR, width=2),
+                                        hoverPen=pg.mkPen(PLAYHEAD_COLOUR, width=4))
         self.playhead.setZValue(20)
         self.playhead.sigDragged.connect(
             lambda line: self.playhead_moved.emit(self._to_ns(line.value())))

@@ -84,6 +84,15 @@ def test_dragging_the_playhead_line_moves_the_playhead(window) -> None:
     assert abs(window.model.playhead_ns - (waveform.origin_ns + round(target_x * 1e9))) <= 1
 
 
+def test_a_hovered_playhead_keeps_its_colour(window) -> None:
+    """Hovered, the playhead turned pyqtgraph's red, the colour of a rejected set."""
+    from app.style import PLAYHEAD_COLOUR
+
+    line = window.waveform.playhead
+    assert line.hoverPen.color() == PLAYHEAD_COLOUR
+    assert line.hoverPen.widthF() > line.pen.widthF()
+
+
 def _with_a_word_close_after_the_first(window):
     """The waveform marking the sets plus set 99, 0.15 s after the first set's word."""
     from dataclasses import replace
