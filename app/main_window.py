@@ -64,6 +64,7 @@ from speechcal_core.review.summary import (
     no_sets_hint,
 )
 from speechcal_core.session.store import SessionChangedError, SessionFileError, load_session
+from speechcal_core.sync.errors import SyncError
 from speechcal_core.sync.estimate import clap_misread, clap_off
 from speechcal_core.text import counted, shown_name
 
@@ -210,6 +211,9 @@ class ReviewWindow(QMainWindow):
         #: asks where the session's audio file (its path given) went: a file, or None
         self.ask_audio_place: Callable[[str], str | None] = self._ask_audio_place
         self._opening_session: str | None = None  # the session file being opened
+        #: the arguments of a recording being opened, and of one whose clap was not found
+        self._opening_recording: dict | None = None
+        self._failed_recording: dict | None = None
         self._moved: MovedRecording | None = None  # its recording, gone from where it was
         self.load_error = ""
         #: the "then next set" box: accept and reject go on to the next set
@@ -277,6 +281,14 @@ class ReviewWindow(QMainWindow):
         self.demo_button = QPushButton("Open the demo session")
         self.demo_button.clicked.connect(self.open_demo)
         row.addWidget(self.demo_button)
+        #: shown when no clap was found in a recording opened last
+        self.no_clap_button = QPushButton("Open without a clap (set the offset here)")
+        self.no_clap_button.setToolTip("Process the recording with its audio taken to start "
+                                       "with the first frame; then move the audio with { } "
+                                       "and [ ] until the words fall where the board stops")
+        self.no_clap_button.clicked.connect(lambda _=False: self.open_without_clap())
+        self.no_clap_button.hide()
+        row.addWidget(self.no_clap_button)
         #: shown when the session opened last has lost its recording
         self.locate_button = QPushButton("Locate recording…")
         self.locate_button.clicked.connect(lambda _=False: self.locate_recording())
@@ -539,10 +551,22 @@ class ReviewWindow(QMainWindow):
         ``new_session_path``, by default beside the recording; ``triggers``, ``channel``,
         ``target`` and ``streams`` as for ``load_for_review``), on a worker thread."""
         self._opening_session = session_path
-        self._start(lambda report: load_for_review(
-            session_path=session_path, recording=recording, audio=audio,
-            new_session_path=new_session_path, triggers=triggers, channel=channel,
-            target=target, streams=streams, progress=report), "opening…")
+        args = {"session_path": session_path, "recording": recording, "audio": audio,
+                "new_session_path": new_session_path, "triggers": triggers,
+                "channel": channel, "target": target, "streams": streams}
+        #: a recording's opening, to try again without a clap (see open_without_clap)
+        self._opening_recording = args if recording and session_path is None else None
+        self._start(lambda report: load_for_review(**args, progress=report), "opening…")
+
+    def open_without_clap(self) -> None:
+        """Process the recording whose clap was not found again, its audio taken to start
+        with the first frame (the offset is then set in the review)."""
+        args = self._failed_recording
+        if args is None:
+            return
+        self._opening_recording = None
+        self._start(lambda report: load_for_review(**args, audio_at_start=True,
+                                                   progress=report), "opening…")
 
     def _start(self, work, text: str) -> None:
         if not self._may_drop_unsaved():
@@ -570,6 +594,7 @@ class ReviewWindow(QMainWindow):
         self.empty_text.setText(opening_text(text, fraction))
         self.open_problem.hide()
         self.locate_button.hide()
+        self.no_clap_button.hide()
         for button in (self.open_button, self.demo_button):
             button.setEnabled(False)
 
@@ -588,6 +613,7 @@ class ReviewWindow(QMainWindow):
             return load_for_review(recording=[recording], audio=audio, progress=report)
 
         self._opening_session = None  # no session file of the operator's is opened
+        self._opening_recording = None
         self._start(work, "preparing the demo session…")
 
     def _build_filter_row(self) -> QHBoxLayout:
@@ -661,8 +687,14 @@ class ReviewWindow(QMainWindow):
         self.detector.cancel()
 
     def _on_failed(self, message: str) -> None:
-        self.task = None
+        failed, self.task = self.task, None
         self._show_empty()
+        # no clap found: the first page offers to go on without one
+        self._failed_recording = self._opening_recording \
+            if failed is not None and isinstance(failed.error, SyncError) else None
+        self._opening_recording = None
+        self.no_clap_button.setVisible(self._failed_recording is not None
+                                       and self.model is None)
         if message == "cancelled":  # the operator's Cancel: nothing went wrong
             self._opening_session = None
             self.status.end("open", "opening cancelled")
@@ -738,8 +770,10 @@ class ReviewWindow(QMainWindow):
         self.task = None
         self._show_empty()
         self._opening_session, self._moved = None, None
+        self._opening_recording = self._failed_recording = None
         self.open_problem.hide()
         self.locate_button.hide()
+        self.no_clap_button.hide()
         if not self._may_drop_unsaved():  # a save failed while it was loading
             inputs.close()
             self.status.say("not opened: the current session's decisions are not saved")

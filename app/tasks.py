@@ -65,6 +65,8 @@ class BackgroundTask(QRunnable):
         self._cancel = threading.Event()
         self._abandoned = False  # UI thread only
         self.done = threading.Event()
+        #: the exception the work raised (set before ``failed`` is sent), else None
+        self.error: Exception | None = None
         self._owner = owner
         if owner is not None:
             owner.destroyed.connect(self.cancel)
@@ -130,6 +132,7 @@ class BackgroundTask(QRunnable):
         except Cancelled:
             self._worker.failed.emit("cancelled")
         except Exception as exc:  # shown to the operator, never swallowed
+            self.error = exc  # read by the owner once ``failed`` reaches it
             message = str(exc) or type(exc).__name__
             if not getattr(exc, "__module__", "").startswith("speechcal_core"):
                 traceback.print_exc()

@@ -83,6 +83,7 @@ def load_for_review(
     target: TargetSpec | None = None,
     progress: Progress | None = None,
     streams: StreamChoice | None = None,
+    audio_at_start: bool = False,
 ) -> ReviewInputs:
     """Open a session file, or process ``recording`` + ``audio`` into a new session.
 
@@ -91,6 +92,8 @@ def load_for_review(
     ``triggers`` (default: "capture" at the default sensitivity) in the audio's
     ``channel`` (0-based; None mixes them), looks for the board ``target`` (default:
     Kalibr's 6x6 AprilGrid) and uses the recording's ``streams`` (default: all).
+    ``audio_at_start`` takes no clap: the audio starts with the first frame (a recording
+    without a clap heard, to align in the review).
     """
     from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
@@ -146,7 +149,14 @@ def load_for_review(
                 report("reading the audio", 0.1)
                 sound = load_audio(audio, channel=channel)
                 spec = triggers or TriggerSpec()
+                offset_ns = None
+                if audio_at_start:
+                    from speechcal_core.sources.base import header_span_ns
+
+                    span = header_span_ns(source)
+                    offset_ns = span[0] if span is not None else 0
                 session = process_loaded(source, sound, list(recording), audio,
+                                         offset_ns=offset_ns,
                                          trigger_words=spec.words,
                                          sensitivity=spec.sensitivity,
                                          pronunciations=spec.pronunciations,
@@ -159,6 +169,8 @@ def load_for_review(
                 raise
             made_new = True
             note = f"new session saved as {path.name}"
+            if audio_at_start:
+                note += f"; {AUDIO_AT_START_NOTE}"
             if session.sets:  # without sets the list itself says why (no_sets_hint)
                 note += "".join(f"; {n}" for n in session.extra.get("detection_notes", []))
     else:
@@ -193,6 +205,13 @@ def load_for_review(
         source.close()
         raise
     return ReviewInputs(session, source, pyramid, path, claps, note, stamp, problem)
+
+
+#: what the window says of a session opened with ``audio_at_start``
+AUDIO_AT_START_NOTE = (
+    "no clap: the audio is taken to start with the first frame; move it with { } (a "
+    "frame; held down, it repeats) and [ ] (1 ms) until the words fall where the board "
+    "stops (the line under the waveform counts them)")
 
 
 def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,

@@ -243,6 +243,38 @@ def test_a_cancelled_opening_gives_the_first_page_back_with_no_problem_named(
     assert "Open a calibration session" in win.empty_text.text()
 
 
+def test_a_recording_whose_clap_is_not_heard_opens_with_the_audio_at_its_start(
+        qtbot, tiny_synth, tmp_path: Path) -> None:
+    """Audio started after the clap: the window said so and sent the operator to the
+    command line (sync --audio-clap, process --offset-ns). The first page now offers to
+    open it anyway, the offset to be set in the review."""
+    import soundfile as sf
+
+    folder, truth = tiny_synth
+    samples, rate = sf.read(str(folder / "audio.ogg"))
+    start = int((truth["claps"][0]["audio_s"] + 0.5) * rate)  # cut after the clap
+    cut = tmp_path / "late.flac"
+    sf.write(str(cut), samples[start:], rate)
+    win = ReviewWindow()
+    win.setProperty("headless", True)
+    qtbot.addWidget(win)
+    win.show()
+    win.open(recording=[str(folder / truth["recording"])], audio=str(cut),
+             new_session_path=str(tmp_path / "s.json"))
+    qtbot.waitUntil(lambda: win.task is None, timeout=60_000)
+    assert win.model is None and "no clap found in the audio" in win.open_problem.text()
+    assert win.no_clap_button.isVisible()
+    qtbot.mouseClick(win.no_clap_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: win.task is None, timeout=120_000)
+    assert win.model is not None and win.load_error == ""
+    sync = win.model.session.sync
+    assert sync.source == "manual" and sync.offset_ns == win.model.time_range_ns()[0]
+    assert "no clap: the audio is taken to start with the first frame" \
+        in win.status_text.toolTip() + win.status_text.text()
+    assert not win.no_clap_button.isVisible()
+    assert load_session(tmp_path / "s.json").sync.offset_ns == sync.offset_ns
+
+
 def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
     qtbot, window, truth_session_file
 ) -> None:
