@@ -200,7 +200,9 @@ class ReviewWindow(QMainWindow):
         self.inputs: ReviewInputs | None = None
         self.loader: FrameLoader | None = None
         self.task: BackgroundTask | None = None
-        self.saver = SessionSaver()
+        self.saver = SessionSaver(self)
+        self.saver.saved.connect(self._on_saved)
+        self._save_warned = False  # the status line warns that the last save failed
         #: asks what to do with decisions not saved: "save_as", "discard" or "cancel"
         #: (a dialog; tests put a function here)
         self.ask_unsaved: Callable[[str], str] = self._ask_unsaved
@@ -797,6 +799,7 @@ class ReviewWindow(QMainWindow):
         self.inputs = inputs
         self.saver.reset(inputs.session_path, inputs.session_stamp)
         self.status.end("save")
+        self._save_warned = False
         self.save_as_action.setEnabled(True)
         self.locate_audio_action.setEnabled(
             bool(inputs.session.audio) and not Path(inputs.session.audio).exists())
@@ -1145,13 +1148,18 @@ class ReviewWindow(QMainWindow):
         self.sync_line.setToolTip("\n".join([text, *notes]))  # in full, however narrow
 
     def _autosave(self, session) -> None:
-        """Save after every change; a failure is warned about, never raised."""
-        was_unsaved = self.saver.unsaved
-        if self.saver.save(session):
-            if was_unsaved:
-                self.status.end("save")
-        else:
+        """Save after every change (off the UI thread: :meth:`_on_saved` says how it
+        went); a failure is warned about, never raised."""
+        self.saver.save(session)
+
+    def _on_saved(self) -> None:
+        """A save ended: a failure is warned about, a success after one clears it."""
+        if self.saver.error is not None:
             self.status.end("save", f"not saved: {self.saver.error}", warning=True)
+            self._save_warned = True
+        elif self._save_warned:
+            self.status.end("save")
+            self._save_warned = False
         self._update_saved_label()
 
     def _update_saved_label(self) -> None:
@@ -1191,11 +1199,13 @@ class ReviewWindow(QMainWindow):
             return False
         self.inputs.session_path = path
         self.status.end("save", f"session saved as {path}")
+        self._save_warned = False
         self._update_saved_label()
         return True
 
     def _may_drop_unsaved(self) -> bool:
         """True when nothing is unsaved, or the operator saved it elsewhere or lets it go."""
+        self.saver.flush()  # the saves under way tell
         if not self.saver.unsaved:
             return True
         choice = self.ask_unsaved(f"The latest decisions are not saved: {self.saver.error}")
@@ -1347,6 +1357,7 @@ class ReviewWindow(QMainWindow):
             return
         if self.model is not None and not self.saver.unsaved:
             self.model.save_place()  # the session opens again at the set shown now
+            self.saver.flush()  # written before the window goes
         # background work stops and reports nothing more: a late result would change (and
         # save) a session the operator has left, or start more work for it
         for task in self.background_tasks():

@@ -32,6 +32,11 @@ class SessionChangedError(SessionFileError):
 
 def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
     """The JSON document, ``schema`` first, paths relative to the session file's folder."""
+    return _document(session, session_path, [s.to_dict() for s in session.sets])
+
+
+def _document(session: Session, session_path: Path, sets: list[Any]) -> dict[str, Any]:
+    """:func:`session_to_dict` with ``sets`` for its sets."""
     base = session_path.absolute().parent
     return {
         "schema": SCHEMA,
@@ -42,10 +47,22 @@ def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
         "trigger_words": session.triggers_word,
         "sync": {**_with_audio_path(session.sync_evidence, lambda a: _relative(a, base)),
                  **session.sync.to_dict()},
-        "sets": [s.to_dict() for s in session.sets],
+        "sets": sets,
         "calibration": session.calibration,
         **session.extra,
     }
+
+
+def session_snapshot(session: Session, session_path: Path) -> dict[str, Any]:
+    """What :func:`session_to_dict` gives, taken cheaply to be written later, maybe on
+    another thread, while the session goes on changing: the sets as their (immutable)
+    :class:`FrameSet` objects, and every top-level list or object copied, so that sets
+    and details replaced or added afterwards do not reach it. Like :class:`SessionWriter`
+    it relies on the review model replacing the items of those (a set's details, a
+    camera's fit), never changing one in place. :class:`SessionWriter` encodes it."""
+    document = _document(session, session_path, list(session.sets))
+    return {k: dict(v) if isinstance(v, dict) else list(v) if isinstance(v, list) else v
+            for k, v in document.items()}
 
 
 def save_session(session: Session, path: str | Path,
@@ -57,12 +74,20 @@ def save_session(session: Session, path: str | Path,
     :func:`file_stamp` the file had when it was read or last saved), a file that another
     window or program changed since is not overwritten: SessionFileError."""
     path = Path(path)
+    save_document(session_to_dict(session, path), path, writer, expect, backup=backup)
+
+
+def save_document(document: dict[str, Any], path: str | Path,
+                  writer: SessionWriter | None = None,
+                  expect: tuple[int, int, int] | None = None, *, backup: bool = True) -> None:
+    """:func:`save_session` for a document already taken (:func:`session_to_dict` or
+    :func:`session_snapshot`); safe on a worker thread."""
+    path = Path(path)
     now = file_stamp(path)
     if expect is not None and now is not None and now != expect:
         raise SessionChangedError(
             f"{path.name} changed since it was read here (another window or program saved "
             f"it) and is left as it is; open it again to see that version ({path})")
-    document = session_to_dict(session, path)
     text = writer.text(document) if writer is not None else session_text(document)
     try:
         atomic_write_text(path, text, keep_backup=backup)
@@ -121,11 +146,15 @@ class SessionWriter:
 
     def _item(self, value: object, before: dict[int, tuple[object, str]]) -> str:
         """One item's compact JSON, from the last call if it is the same object; only
-        containers are remembered (the object is kept, so its id is not re-used)."""
-        if not isinstance(value, dict | list):
+        containers and frame sets (of a :func:`session_snapshot`) are remembered (the
+        object is kept, so its id is not re-used)."""
+        if not isinstance(value, dict | list | FrameSet):
             return _dumps(value)
         known = before.get(id(value))
-        line = known[1] if known is not None and known[0] is value else _dumps(value)
+        if known is not None and known[0] is value:
+            line = known[1]
+        else:
+            line = _dumps(value.to_dict() if isinstance(value, FrameSet) else value)
         self._lines[id(value)] = (value, line)
         return line
 

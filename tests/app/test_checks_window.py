@@ -40,6 +40,7 @@ def test_a_decision_during_a_check_cancels_it_and_the_next_check_lands(
 
     assert checks_gate.runs == [(first, "cancelled"), (second, "taken")]
     assert window.checker.last_error == "" and not model.checks_due()
+    window.saver.flush()  # the autosave is written off the UI thread
     assert load_session(searched_session_file).extra["checks_basis"] == second
 
 

@@ -39,6 +39,7 @@ def test_the_dialog_refuses_the_sessions_inputs_and_their_folders(
 def test_starting_an_export_into_an_input_refuses_without_asking_to_replace(
         qtbot, window: ReviewWindow) -> None:
     qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the autosave's temporary file gone
     for what, out in _inputs(window).items():
         before = sorted(p.name for p in out.parent.iterdir())
         window.exporter.start("folders", out)

@@ -57,6 +57,7 @@ def test_export_waits_for_rescoring_even_after_a_cancel_and_writes_best_still_fr
     assert text.startswith("Exported 1 frame set (") and "re-scored" in text
     # the checks follow the frames re-scoring chose, in the session file too
     qtbot.waitUntil(lambda: not window.checker.busy(), timeout=30_000)
+    window.saver.flush()  # the autosave is written off the UI thread
     saved = load_session(searched_session_file)
     assert saved.extra["checks_basis"] == checks_basis(saved.sets)
     assert window.check_label.text().startswith(("calibration check over", "▲ calibration"))

@@ -42,6 +42,7 @@ def test_locate_recording_opens_the_session_with_its_decisions(qtbot, new_window
     assert window.model.session.sets[1].decision == "rejected"
     assert "its recording moved from" in window.status_text.toolTip() + \
         window.status_text.text()
+    window.saver.flush()  # the autosave is written off the UI thread
     assert Path(load_session(session_path).recording[0]).resolve() == now_in / bag
     assert window.open_problem.isHidden() and window.locate_button.isHidden()
 
@@ -95,4 +96,5 @@ def test_locate_audio_reads_the_moved_audio_and_keeps_the_review(
     qtbot.waitUntil(lambda: window.model is not old, timeout=30_000)
     assert window.inputs.pyramid is not None and not window.locate_audio_action.isEnabled()
     assert window.model.session.sets[0].decision == "accepted"
+    window.saver.flush()
     assert Path(load_session(tmp_path / "review.json").audio) == tmp_path / "usb" / audio.name

@@ -43,6 +43,7 @@ def test_offset_nudge_rescores_in_the_background_and_the_list_gets_figures_again
     assert not window.progress.isVisible()
     assert all(t.chosen for t in model.tiles()) and any(t.corners for t in model.tiles())
     assert {t.caption for t in window.grid.tiles.values()} == {"chosen frame"}
+    window.saver.flush()  # the autosave is written off the UI thread
     saved = load_session(searched_session_file)
     assert saved.sync.offset_ns == model.session.sync.offset_ns
     frames = [f for s in saved.sets for f in s.frames]

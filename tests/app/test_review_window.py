@@ -38,20 +38,24 @@ def test_session_opens_with_one_tile_per_camera_and_the_heard_word(window) -> No
 
 def test_keys_accept_reject_undo_and_autosave(qtbot, window, truth_session_file) -> None:
     qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the save written off the UI thread
     assert window.model.session.sets[0].decision == "accepted"
     assert load_session(truth_session_file).sets[0].decision == "accepted"
     assert "accepted" in window.table.item(0, column("decision")).text()
     assert window.saved_label.text() == "saved just now"
     assert window.model.current == 1  # "then next set": on to the next set
     qtbot.keyClick(window, Qt.Key.Key_R)
+    window.saver.flush()  # the save written off the UI thread
     assert load_session(truth_session_file).sets[1].decision == "rejected"
     assert window.model.current == 2
     qtbot.keyClick(window, Qt.Key.Key_U)  # back to the set, undecided again
+    window.saver.flush()  # the save written off the UI thread
     assert load_session(truth_session_file).sets[1].decision == "undecided"
     assert window.model.current == 1
     assert window.counts_label.text().startswith("✔ 1 accepted")
     window.advance_box.setChecked(False)  # deciding stays on the set
     qtbot.keyClick(window, Qt.Key.Key_R)
+    window.saver.flush()  # the save written off the UI thread
     assert window.model.current == 1 and window.model.session.sets[1].decision == "rejected"
 
 
@@ -75,6 +79,7 @@ def test_a_decision_recolours_its_waveform_mark(qtbot, window) -> None:
     undecided = _band_colour(wave, first.id)
     assert wave.marks.label_text(first.id) == f"?{first.id}"
     qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the save written off the UI thread
     assert wave.marks.label_text(first.id) == f"✔{first.id}"
     accepted = _band_colour(wave, first.id)
     assert accepted.green() > accepted.red() + 20 and accepted != undecided
@@ -190,11 +195,13 @@ def test_review_screenshot_command_writes_a_png(truth_session_file: Path, tmp_pa
 def test_offset_buttons_and_clap_drag_edit_the_sync(qtbot, window, truth_session_file) -> None:
     before = window.model.session.sync.offset_ns
     qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    window.saver.flush()  # the save written off the UI thread
     assert window.model.session.sync.offset_ns == before + 1_000_000
     assert "edited" in window.sync_line.text()
     clap = window.waveform.clap
     clap.setValue(clap.value() + 0.010)  # drag the clap handle 10 ms later
     clap.sigPositionChangeFinished.emit(clap)
+    window.saver.flush()
     assert window.model.session.sync.offset_ns == pytest.approx(before + 11_000_000, abs=2)
     assert load_session(truth_session_file).sync.offset_ns == window.model.session.sync.offset_ns
 
@@ -284,6 +291,7 @@ def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
     model.set_playhead((a + b) // 2)
     marks = {i: window.waveform.mark_extent(i) for i in window.waveform.marks.ids()}
     qtbot.keyClick(window, Qt.Key.Key_T)
+    window.saver.flush()  # the save written off the UI thread
     assert window.table.rowCount() == rows + 1
     assert len(window.waveform.marks) == rows + 1
     assert {i: window.waveform.mark_extent(i) for i in marks} == marks
@@ -293,6 +301,7 @@ def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
     assert len(load_session(truth_session_file).sets) == rows + 1
     assert "T add · Del remove" in window.help_line.text()
     qtbot.keyClick(window, Qt.Key.Key_Delete)
+    window.saver.flush()  # the save written off the UI thread
     assert window.table.rowCount() == rows
     assert {i: window.waveform.mark_extent(i) for i in window.waveform.marks.ids()} == marks
     assert len(load_session(truth_session_file).sets) == rows
@@ -309,9 +318,11 @@ def test_between_sets_the_band_names_the_set_the_keys_act_on(qtbot, window) -> N
     model.set_playhead((a + b) // 2)
     assert window.grid.word_band.decides == kept
     qtbot.keyClick(window, Qt.Key.Key_Delete)
+    window.saver.flush()  # the save written off the UI thread
     assert all(s.id != kept for s in model.session.sets)
     assert window.status_text.text() == f"set #{kept} removed · Ctrl+Z puts it back"
     qtbot.keyClick(window, Qt.Key.Key_U)
+    window.saver.flush()  # the save written off the UI thread
     assert any(s.id == kept for s in model.session.sets)
     assert window.status_text.text() == f"undone: removing set {kept}"  # not "removed"
     qtbot.waitUntil(window.redo_action.isEnabled)

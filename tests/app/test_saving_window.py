@@ -80,6 +80,7 @@ def test_failed_autosave_warns_keeps_decisions_and_clears_after_a_later_save(
     block_saving(session_in_folder)
     with qtbot.captureExceptions() as raised:
         qtbot.keyClick(window, Qt.Key.Key_A)
+        window.saver.flush()  # the save written off the UI thread
     assert raised == []
     assert window.model.session.sets[0].decision == "accepted"
     assert "accepted" in window.table.item(0, column("decision")).text()
@@ -88,6 +89,7 @@ def test_failed_autosave_warns_keeps_decisions_and_clears_after_a_later_save(
     assert_warned(window)
     unblock_saving(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_R)  # on the next set (A went on to it)
+    window.saver.flush()  # the save written off the UI thread
     assert window.saved_label.text() == "saved just now"
     assert window.saved_label.styleSheet() == ""
     saved = load_session(session_in_folder)
@@ -100,10 +102,12 @@ def test_a_file_another_window_saved_meanwhile_is_not_overwritten(
     first = open_window(session_in_folder)
     second = open_window(session_in_folder)  # the same session opened twice
     qtbot.keyClick(second, Qt.Key.Key_R)
+    second.saver.flush()  # the save written off the UI thread
     assert load_session(session_in_folder).sets[0].decision == "rejected"
     first.activateWindow()  # the keys are the active window's shortcuts
     qtbot.waitUntil(first.isActiveWindow, timeout=5_000)
     qtbot.keyClick(first, Qt.Key.Key_A)
+    first.saver.flush()  # the save written off the UI thread
     assert first.model.session.sets[0].decision == "accepted"  # kept in the window
     assert load_session(session_in_folder).sets[0].decision == "rejected"  # not overwritten
     assert first.saved_label.text() == f"{WARNING_SYMBOL} not saved · Ctrl+Shift+S saves elsewhere"
@@ -119,6 +123,7 @@ def test_a_file_another_window_saved_meanwhile_is_not_overwritten(
     second.activateWindow()
     qtbot.waitUntil(second.isActiveWindow, timeout=5_000)
     qtbot.keyClick(second, Qt.Key.Key_A)  # the window that wrote it last saves on
+    second.saver.flush()  # the save written off the UI thread
     assert second.saved_label.text() == "saved just now"
     assert [s.decision for s in load_session(session_in_folder).sets[:2]] == [
         "rejected", "accepted"]
@@ -139,6 +144,7 @@ def test_a_file_saved_elsewhere_while_the_window_opens_it_is_not_overwritten(
     monkeypatch.setattr(app.main_window, "load_for_review", another_window_saves_meanwhile)
     window = open_window(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the save written off the UI thread
     assert load_session(session_in_folder).sets[1].decision == "rejected"  # kept
     assert window.saved_label.text().startswith(WARNING_SYMBOL)
 
@@ -149,10 +155,12 @@ def test_a_failed_save_stays_on_the_status_line_beside_newer_work_until_a_save_w
     window = open_window(session_in_folder)
     block_saving(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the save written off the UI thread
     assert "not saved: " in window.status_text.text()
     later = time.monotonic() + 10 * QUIET_S  # long after: other results give way, not it
     window.status.clock = lambda: later
     qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    window.saver.flush()  # the save written off the UI thread
     qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
     assert "not saved: " in window.status_text.text()
     window.status.say("a plain message")
@@ -160,6 +168,7 @@ def test_a_failed_save_stays_on_the_status_line_beside_newer_work_until_a_save_w
     assert_warned(window)
     unblock_saving(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_R)  # the next decision saves
+    window.saver.flush()  # the save written off the UI thread
     assert "not saved" not in window.status_text.text()
     assert window.saved_label.text() == "saved just now"
 
@@ -171,6 +180,7 @@ def test_save_as_writes_the_decisions_elsewhere_and_autosaves_there(
     window = open_window(session_in_folder)
     block_saving(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the save written off the UI thread
     elsewhere = tmp_path / "rescued" / "copy"  # the suffix is added
     (tmp_path / "rescued").mkdir()
     monkeypatch.setattr(QFileDialog, "getSaveFileName",
@@ -182,6 +192,7 @@ def test_save_as_writes_the_decisions_elsewhere_and_autosaves_there(
     assert window.saved_label.text() == "saved just now"
     assert window.inputs.session_path == rescued
     qtbot.keyClick(window, Qt.Key.Key_R)
+    window.saver.flush()  # the save written off the UI thread
     assert load_session(rescued).sets[1].decision == "rejected"
     assert Path(load_session(rescued).recording[0]).exists()  # paths follow the new folder
 
@@ -198,6 +209,7 @@ def test_closing_with_unsaved_decisions_asks_save_as_discard_or_cancel(
     window.ask_unsaved = lambda text: asked.append(text) or (answers or ["discard"]).pop(0)
     block_saving(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the save written off the UI thread
     assert not window.close() and window.isVisible()
     assert "not saved" in asked[0] and str(session_in_folder) in asked[0]
     assert not window.close() and window.isVisible()  # the file dialog was cancelled
@@ -215,10 +227,12 @@ def test_closing_after_discard_closes_and_saved_sessions_close_without_asking(
     window.ask_unsaved = lambda text: "discard"
     block_saving(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the save written off the UI thread
     assert window.close()
     other = open_window(truth_session_file)
     other.ask_unsaved = lambda text: pytest.fail("asked although everything was saved")
     qtbot.keyClick(other, Qt.Key.Key_A)
+    other.saver.flush()  # the save written off the UI thread
     assert other.close()
 
 
@@ -230,6 +244,7 @@ def test_opening_another_session_with_unsaved_decisions_asks_first(
     window.ask_unsaved = lambda text: answers.pop(0) if answers else "discard"
     block_saving(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the save written off the UI thread
     window.open(session_path=str(truth_session_file))
     assert window.task is None  # kept: nothing is opened
     assert window.model.session.sets[0].decision == "accepted"
@@ -257,6 +272,7 @@ def test_a_save_that_fails_while_another_session_loads_is_asked_about_again(
     assert window.task is not None and asked == []
     block_saving(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_A)  # reviewing on while it loads; the save fails
+    window.saver.flush()  # the save written off the UI thread
     release.set()
     qtbot.waitUntil(lambda: window.task is None, timeout=30_000)
     assert len(asked) == 1  # asked when the load ended, and "cancel" kept the session
@@ -275,6 +291,7 @@ def test_leaving_after_a_failed_save_and_a_refused_close_says_so(
     qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
     block_saving(session_in_folder)
     qtbot.keyClick(window, Qt.Key.Key_A)  # not saved
+    window.saver.flush()  # the save written off the UI thread
     window.ask_unsaved = lambda _text: "cancel"  # the operator stays ...
     shut_down(window)  # ... but speechcal review is ending
     assert "decisions are not saved" in capfd.readouterr().err
@@ -295,3 +312,35 @@ def test_a_closed_window_opens_the_session_again_at_the_set_it_showed(
     assert (again.model.current, again.model.filter) == (3, "undecided")
     assert again.table.currentRow() == 3
     assert again.filter_buttons["undecided"].isChecked()
+
+
+def test_autosave_is_written_off_the_ui_thread_and_closing_waits_for_it(
+    qtbot, open_window, session_in_folder: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The UI thread only takes a snapshot; the file is written on a worker (a slow
+    disk does not freeze the window). Decisions made while a save is written are saved
+    after it, and closing the window writes what is still waiting: nothing is lost."""
+    import app.session_saver
+
+    window = open_window(session_in_folder)
+    window.saver.flush()
+    threads: list[threading.Thread] = []
+    real = app.session_saver.save_document
+
+    def slow_disk(*args, **kwargs):
+        threads.append(threading.current_thread())
+        time.sleep(0.3)
+        real(*args, **kwargs)
+
+    monkeypatch.setattr(app.session_saver, "save_document", slow_disk)
+    for k in (Qt.Key.Key_A, Qt.Key.Key_R, Qt.Key.Key_A):
+        qtbot.keyClick(window, k)
+    assert window.saver.busy()  # the keys did not wait for the disk
+    assert window.close()
+    assert threads and threading.main_thread() not in threads
+    # four saves asked for (three decisions, the place on closing): those that waited
+    # behind one being written were written as one
+    assert len(threads) < 4
+    assert [s.decision for s in load_session(session_in_folder).sets[:3]] == [
+        "accepted", "rejected", "accepted"]
+    assert not window.saver.busy() and window.saver.error is None

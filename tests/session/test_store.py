@@ -18,7 +18,9 @@ from speechcal_core.session.store import (
     check_session_target,
     file_stamp,
     load_session,
+    save_document,
     save_session,
+    session_snapshot,
     session_text,
     session_to_dict,
 )
@@ -97,6 +99,42 @@ def test_an_autosave_writer_reencodes_only_what_was_replaced(tmp_path: Path) -> 
     save_session(session, path, writer)
     assert '"ids": [0]' in path.read_text()
     assert '"ids": [9]' in session_text(session_to_dict(session, path))  # no memory
+
+
+def test_a_snapshot_writes_the_session_as_it_was_when_taken(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """An autosave's snapshot (written later, on a worker thread) gives the text the
+    session had when it was taken, whatever the review changes meanwhile; a writer kept
+    from save to save encodes a set that did not change only once."""
+    session = _session(tmp_path)
+    first = session.sets[0]
+    session.sets.append(FrameSet(2, first.t_ns + 10**9, first.trigger, first.frames))
+    session.extra["frame_details"] = {"1": {"frames": {}}}
+    path = tmp_path / "session.json"
+    expected = session_text(session_to_dict(session, path))
+    snapshot = session_snapshot(session, path)
+    session.replace_set(session.sets[0].with_decision("rejected"))  # after the snapshot
+    session.extra["frame_details"]["2"] = {"frames": {}}
+    del session.extra["frame_details"]["1"]
+    session.calibration["/cam9"] = {"rms_px": 1.0}
+    writer = SessionWriter()
+    save_document(snapshot, path, writer)
+    assert path.read_text() == expected
+    assert load_session(path).sets[0].decision == "undecided"
+    save_document(session_snapshot(session, path), path, writer)
+    assert path.read_text() == session_text(session_to_dict(session, path))
+    assert load_session(path).sets == session.sets
+    import speechcal_core.session.store as store
+
+    encoded: list[object] = []
+    real = store._dumps
+    monkeypatch.setattr(store, "_dumps", lambda value: encoded.append(value) or real(value))
+    session.replace_set(session.sets[1].with_decision("accepted"))
+    save_document(session_snapshot(session, path), path, writer)
+    set_lines = [v for v in encoded if isinstance(v, dict) and "decision" in v]
+    assert [v["id"] for v in set_lines] == [session.sets[1].id]  # only the set changed
+    assert load_session(path).sets == session.sets
 
 
 def test_a_file_changed_since_it_was_read_is_not_overwritten(tmp_path: Path) -> None:
