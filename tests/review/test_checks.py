@@ -88,6 +88,34 @@ def test_a_rejected_set_leaves_the_checks_and_a_stale_result_is_refused(
         {k: after.get(k, 0) for k in before}
 
 
+def test_a_checks_request_reads_the_corners_where_it_runs_from_a_copy_of_the_details(
+    searched_session_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Asking for the checks (on the UI thread) only copies what they need: the corners
+    are parsed out of the frame details (megabytes with a dozen cameras) by ``run`` on
+    the worker, from the details as they were when asked, whatever the review replaces
+    meanwhile."""
+    import speechcal_core.review.checks as checks
+
+    model = open_model(searched_session_file)
+    model.reject()
+    parsed: list[int] = []
+    real = checks.detections_from_details
+    monkeypatch.setattr(checks, "detections_from_details",
+                        lambda details: parsed.append(len(details)) or real(details))
+    request = model.checks_request()
+    assert request is not None and parsed == []
+    details = model.session.extra["frame_details"]
+    want = real(details)
+    some = next(iter(details))
+    details.pop(some)  # replaced meanwhile (an offset edit drops a set's details)
+    got = request.detections()
+    assert parsed and set(got) == set(want)
+    assert all((got[k].points == want[k].points).all() for k in want)
+    details[some] = request.details[some]
+    assert model.apply_checks(request.run()) and not model.checks_due()
+
+
 def test_a_session_without_target_corners_has_no_checks_to_keep(truth_session_file: Path) -> None:
     model = open_model(truth_session_file)
     model.reject()
