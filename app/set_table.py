@@ -5,6 +5,8 @@ Row ``n`` is always the session's set ``n``; a filter hides rows, it never reord
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QBrush, QColor, QPalette
 from PySide6.QtWidgets import (
@@ -126,28 +128,36 @@ class SetTable(QTableWidget):
         self._same = same_frames(sets)
         self.setUpdatesEnabled(False)
         try:
+            # rows gone may have been the widest: every column is fitted again then
+            changed = set(range(self.columnCount())) if len(sets) < self.rowCount() else set()
             self.setRowCount(len(sets))
             del self._rows[len(sets):]
             for row, s in enumerate(sets):
-                self._write_row(row, s, s.id in pending)
-            self.fit_columns()
+                changed |= self._write_row(row, s, s.id in pending)
+            self.fit_columns(changed)
         finally:
             self.setUpdatesEnabled(True)
             self._updating = False
 
-    def fit_columns(self) -> None:
-        """Every column as wide as its widest text; the last one takes the rest."""
-        for col in range(self.columnCount() - 1):
-            self.resizeColumnToContents(col)
+    def fit_columns(self, columns: Iterable[int] | None = None) -> None:
+        """Every column (of ``columns``, by default all) as wide as its widest text; the
+        last one takes the rest. Measuring a column measures each of its rows: a
+        decision, which changes only the last column, refits none."""
+        last = self.columnCount() - 1
+        for col in sorted(set(range(last) if columns is None else columns)):
+            if col < last:
+                self.resizeColumnToContents(col)
         self.horizontalHeader().setStretchLastSection(True)
 
     def update_row(self, row: int, s: FrameSet, pending: bool = False) -> None:
-        """Show ``s`` in ``row`` (columns refitted if its texts changed)."""
-        if self._write_row(row, s, pending):
-            self.fit_columns()
+        """Show ``s`` in ``row`` (the columns whose texts changed refitted)."""
+        changed = self._write_row(row, s, pending)
+        if changed:
+            self.fit_columns(changed)
 
-    def _write_row(self, row: int, s: FrameSet, pending: bool) -> bool:
-        """Put ``s`` in ``row``; False when the row showed exactly that already."""
+    def _write_row(self, row: int, s: FrameSet, pending: bool) -> set[int]:
+        """Put ``s`` in ``row``; the columns whose text changed (none when the row showed
+        exactly that already)."""
         rel = (s.t_ns - self._origin_ns) / 1e9
         q = summarize(s)
         missing = PENDING if pending else MISSING
@@ -169,13 +179,19 @@ class SetTable(QTableWidget):
         if pending:
             details = f"{PENDING_TIP}\n{details}"
         shown = (values, tuple(sorted(warned.items())), s.decision, details)
-        if row < len(self._rows) and self._rows[row] == shown:
-            return False
+        before = self._rows[row] if row < len(self._rows) else ()
+        if before == shown:
+            return set()
         while len(self._rows) <= row:
             self._rows.append(())
         self._rows[row] = shown
-        for col, value in enumerate(values):
-            item = QTableWidgetItem(f"{WARNING_SYMBOL} {value}" if warned.get(col) else value)
+        # a column's width follows its texts (the warning symbol is part of one)
+        texts = [f"{WARNING_SYMBOL} {v}" if warned.get(col) else v
+                 for col, v in enumerate(values)]
+        old = self._texts(before) if before else None
+        changed = {col for col, text in enumerate(texts) if old is None or text != old[col]}
+        for col, text in enumerate(texts):
+            item = QTableWidgetItem(text)
             if SHARP <= col <= FRAMES:
                 item.setTextAlignment(Qt.AlignmentFlag.AlignRight
                                       | Qt.AlignmentFlag.AlignVCenter)
@@ -185,7 +201,14 @@ class SetTable(QTableWidget):
                 item.setForeground(QBrush(WARNING_TEXT_COLOUR))
             item.setToolTip(details)
             self.setItem(row, col, item)
-        return True
+        return changed
+
+    @staticmethod
+    def _texts(shown: tuple) -> list[str]:
+        """The cell texts of a row as :meth:`_write_row` kept it."""
+        values, warned = shown[0], dict(shown[1])
+        return [f"{WARNING_SYMBOL} {v}" if warned.get(col) else v
+                for col, v in enumerate(values)]
 
     def show_rows(self, rows: list[int], current: int) -> None:
         """Hide every row not in ``rows``; select ``current`` if it is shown, else none."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+import pytest
 from PySide6.QtCore import Qt
 
 from app.set_table import column
@@ -190,6 +191,31 @@ def test_rewriting_the_list_keeps_unchanged_rows_and_fits_the_columns(
     header, last = table.horizontalHeader(), table.columnCount() - 1
     assert header.sectionPosition(last) + header.sectionSize(last) >= \
         table.viewport().width() - 1  # the decision column takes the rest
+
+
+def test_a_change_refits_only_the_columns_whose_texts_changed(
+        qtbot, truth_session_file: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Fitting a column measures every row of it (tens of milliseconds for a hundred
+    sets, on each decision): a decision (the last column, which takes the rest) refits
+    none, a set whose time moved its time column; rows removed refit them all."""
+    from app.set_table import SetTable
+
+    sets = load_session(truth_session_file).sets
+    table = SetTable()
+    qtbot.addWidget(table)
+    table.set_sets(sets, sets[0].t_ns)
+    fitted: list[int] = []
+    real = SetTable.resizeColumnToContents
+    monkeypatch.setattr(SetTable, "resizeColumnToContents",
+                        lambda self, col: fitted.append(col) or real(self, col))
+    table.update_row(1, sets[1].with_decision("accepted"))
+    assert fitted == [] and table.item(1, column("decision")).text() == "✔ accepted"
+    moved = replace(sets[2], t_ns=sets[2].t_ns + 5 * 10**9)
+    table.set_sets([*sets[:2], moved, *sets[3:]], sets[0].t_ns)
+    assert fitted == [column("time")]
+    fitted.clear()
+    table.set_sets(sets[:-1], sets[0].t_ns)
+    assert fitted == list(range(table.columnCount() - 1))
 
 
 def test_the_current_row_stays_in_view_when_the_list_gets_shorter(qtbot) -> None:
