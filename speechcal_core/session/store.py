@@ -123,14 +123,48 @@ class SessionWriter:
     many cameras), and a decision or an added set leaves all but one of them as they
     were. This relies on what the review model does: a set's details are replaced by a
     new object, never changed in place.
+
+    Lines of items that left the document are kept a while (:data:`KEEP_SAVES` saves, at
+    most :data:`KEEP_CHARS` characters): undoing an offset edit brings back every set's
+    details as they were before it, the very objects, whose 4 MB of text (12 cameras,
+    100 sets) need not be encoded again.
     """
+
+    #: saves an item's line is kept after it left the document
+    KEEP_SAVES = 16
+    #: characters of such lines kept at most (the oldest go first)
+    KEEP_CHARS = 64_000_000
 
     def __init__(self) -> None:
         self._lines: dict[int, tuple[object, str]] = {}
+        # lines of items not in the last document: id -> (item, line, save it left at)
+        self._spare: dict[int, tuple[object, str, int]] = {}
+        self._spare_chars = 0
+        self._saves = 0
 
     def text(self, document: dict[str, Any]) -> str:
         """The session file's text for ``document``."""
         before, self._lines = self._lines, {}
+        try:
+            return self._text(document, before)
+        finally:
+            self._keep_spare(before)
+
+    def _keep_spare(self, before: dict[int, tuple[object, str]]) -> None:
+        """Keep the lines of the items of the last save that this one no longer has."""
+        self._saves += 1
+        for key, (value, line) in before.items():
+            if key not in self._lines and key not in self._spare:
+                self._spare[key] = (value, line, self._saves)
+                self._spare_chars += len(line)
+        # oldest first (insertion order): drop what is too old, then what is too much
+        for key, (_value, line, left) in list(self._spare.items()):
+            if self._saves - left < self.KEEP_SAVES and self._spare_chars <= self.KEEP_CHARS:
+                break
+            del self._spare[key]
+            self._spare_chars -= len(line)
+
+    def _text(self, document: dict[str, Any], before: dict[int, tuple[object, str]]) -> str:
         lines = []
         for key, value in document.items():
             if isinstance(value, list) and value:
@@ -151,8 +185,13 @@ class SessionWriter:
         if not isinstance(value, dict | list | FrameSet):
             return _dumps(value)
         known = before.get(id(value))
+        spare = self._spare.get(id(value)) if known is None else None
         if known is not None and known[0] is value:
             line = known[1]
+        elif spare is not None and spare[0] is value:  # back (an undo)
+            line = spare[1]
+            del self._spare[id(value)]
+            self._spare_chars -= len(line)
         else:
             line = _dumps(value.to_dict() if isinstance(value, FrameSet) else value)
         self._lines[id(value)] = (value, line)

@@ -137,6 +137,38 @@ def test_a_snapshot_writes_the_session_as_it_was_when_taken(
     assert load_session(path).sets == session.sets
 
 
+def test_details_an_undo_brings_back_are_not_encoded_again(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """An offset edit replaces every set's details and its undo brings the old objects
+    back: the writer still has their text (megabytes with a dozen cameras), so the save
+    after the undo encodes nothing of them; the file is as a writer without memory
+    writes it. Lines kept that long are let go after KEEP_SAVES saves."""
+    import speechcal_core.session.store as store
+
+    session = _session(tmp_path)
+    before = {"frames": {"/cam0/image_raw": {"points": [[1.5, 2.5]], "ids": [0]}}}
+    session.extra["frame_details"] = {"1": before}
+    path = tmp_path / "session.json"
+    writer = SessionWriter()
+    save_document(session_snapshot(session, path), path, writer)
+    session.extra["frame_details"] = {}  # the offset edit drops them
+    save_document(session_snapshot(session, path), path, writer)
+    session.extra["frame_details"] = {"1": before}  # its undo brings them back
+    encoded: list[object] = []
+    real = store._dumps
+    monkeypatch.setattr(store, "_dumps", lambda value: encoded.append(value) or real(value))
+    save_document(session_snapshot(session, path), path, writer)
+    assert before not in encoded
+    assert path.read_text() == session_text(session_to_dict(session, path))
+    session.extra["frame_details"] = {}
+    for _ in range(SessionWriter.KEEP_SAVES + 1):
+        save_document(session_snapshot(session, path), path, writer)
+    session.extra["frame_details"] = {"1": before}
+    save_document(session_snapshot(session, path), path, writer)
+    assert before in encoded  # long gone: encoded again
+
+
 def test_a_file_changed_since_it_was_read_is_not_overwritten(tmp_path: Path) -> None:
     path = tmp_path / "session.json"
     session = _session(tmp_path)
