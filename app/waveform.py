@@ -134,6 +134,7 @@ class WaveformView(pg.PlotWidget):
         self._drawn_width = 0
         self.getViewBox().sigResized.connect(lambda *_: self._resized())
         self._drawn_sync: SyncModel | None = None  # the sync the envelope was drawn with
+        self._hold_drawing = False  # while show_all first sets the view's limits
         self._redraw_timer = QTimer(self)  # the redraw after a run of offset edits
         self._redraw_timer.setSingleShot(True)
         self._redraw_timer.setInterval(REDRAW_AFTER_SHIFT_MS)
@@ -262,9 +263,17 @@ class WaveformView(pg.PlotWidget):
         self._frames_x = (self._to_x(start_ns), self._to_x(end_ns))
         lo, hi = self.extent()
         pad = PADDING * (hi - lo)
+        first = self.whole is None
         self.whole = (lo - pad, hi + pad)
-        self._limit_to_whole()
+        # the limits move pyqtgraph's first view on the way: not worth a drawing
+        self._hold_drawing = first
+        try:
+            self._limit_to_whole()
+        finally:
+            self._hold_drawing = False
         self.show_whole()
+        if self._drawn_sync is None:  # the view was that already: no range change drew it
+            self.redraw()
 
     def show_whole(self) -> None:
         """Zoom out to the whole view (once :meth:`show_all` has set it)."""
@@ -401,8 +410,11 @@ class WaveformView(pg.PlotWidget):
             button.setGeometry(self.width() - hint.width() - 6, 6, hint.width(), hint.height())
 
     def redraw(self) -> None:
-        """Draw the envelope of the audio in the visible range."""
-        if self.pyramid is None or self.sync is None:
+        """Draw the envelope of the audio in the visible range (once :meth:`show_all` has
+        shown the session: pyqtgraph's first view, a second wide, read that second's
+        samples from the audio file on the UI thread while the session opened)."""
+        if self.pyramid is None or self.sync is None or self.whole is None \
+                or self._hold_drawing:
             return
         self._redraw_timer.stop()
         self._drawn_sync = self.sync

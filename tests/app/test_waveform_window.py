@@ -239,3 +239,32 @@ def test_the_view_reaches_audio_before_the_first_frame(window, qtbot) -> None:
     assert wave.zoomed_in()  # the "whole session" button takes the view back
     wave.show_whole()
     assert wave.getViewBox().viewRange()[0] == pytest.approx(wave.whole)
+
+
+def test_opening_draws_the_envelope_of_the_whole_view_only(
+        qtbot, tiny_synth, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The waveform is drawn for the whole session once it is shown, not first for
+    pyqtgraph's initial one-second view (which read that second's samples from the
+    audio file on the UI thread while the session opened)."""
+    from speechcal_core.audio.envelope import EnvelopePyramid
+
+    folder, truth = tiny_synth
+    save_session(truth_session(folder, truth), tmp_path / "review.json")
+    spans: list[float] = []
+    real = EnvelopePyramid.envelope
+
+    def envelope(self, t0: float, t1: float, width: int):
+        spans.append(t1 - t0)
+        return real(self, t0, t1, width)
+
+    monkeypatch.setattr(EnvelopePyramid, "envelope", envelope)
+    window = ReviewWindow()
+    window.setProperty("headless", True)
+    qtbot.addWidget(window)
+    window.show()
+    window.open(session_path=str(tmp_path / "review.json"))
+    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    wave = window.waveform
+    assert not wave.zoomed_in() and len(wave._upper.xData) > 0  # drawn, whole
+    x0, x1 = wave.getViewBox().viewRange()[0]
+    assert spans and min(spans) > 0.5 * (x1 - x0)
