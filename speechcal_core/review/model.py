@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from speechcal_core.frames.nearest import frame_period_ns, nearest_choice
+from speechcal_core.frames.nearest import frame_period_ns, nearest_choice, nearest_choices
 from speechcal_core.frames.word_stillness import WordStillness, word_stillness
 from speechcal_core.review.checks import (
     ChecksRequest,
@@ -904,15 +904,22 @@ class ReviewModel:
         """Sets whose time does not follow the session's sync (moved by an offset edit, or
         read from a file whose offset was edited by hand) take the frames nearest their
         time under it, without details, until re-scored."""
-        sync = self.session.sync
-        moved = [i for i, s in enumerate(self.session.sets)
-                 if s.t_ns != int(sync.to_session(s.trigger.t_s))]
+        sets = self.session.sets
+        if not sets:
+            return
+        # every set at once: an offset edit moves them all, a dozen cameras' frames each
+        now = self.session.sync.to_session(np.array([s.trigger.t_s for s in sets]))
+        moved = [i for i, s in enumerate(sets) if s.t_ns != int(now[i])]
         if not moved:
             return
         details = self._frame_details()
-        for i in moved:
-            details.pop(str(self.session.sets[i].id), None)  # its corners are other frames'
-            self.session.sets[i] = self._nearest_set(self.session.sets[i])
+        times = [int(now[i]) for i in moved]
+        nearest = [nearest_choices(name, st, times, self._periods[name])
+                   for name, st in self._stamps.items()]
+        for k, i in enumerate(moved):
+            details.pop(str(sets[i].id), None)  # its corners are other frames'
+            frames = tuple(choices[k] for choices in nearest)
+            sets[i] = replace(sets[i], t_ns=times[k], frames=frames or sets[i].frames)
 
     def _nearest_set(self, frame_set: FrameSet) -> FrameSet:
         """``frame_set`` at its trigger's time under the current sync, with nearest frames."""
