@@ -984,7 +984,8 @@ class ReviewWindow(QMainWindow):
         model = self.model
         assert model is not None
         row = next(i for i, s in enumerate(model.session.sets) if s.id == set_id)
-        self.table.update_row(row, model.session.sets[row])
+        decided = model.session.sets[row]  # still "…" while it waits for re-scoring
+        self.table.update_row(row, decided, decided.id in self._rescore_marks())
         self._apply_filter()
         self.waveform.update_set(model.session.sets[row])
         self._update_counts()

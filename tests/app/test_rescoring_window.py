@@ -34,6 +34,11 @@ def test_offset_nudge_rescores_in_the_background_and_the_list_gets_figures_again
     assert window.progress.isVisible() and window.cancel_button.isVisible()
     qtbot.keyClick(window, Qt.Key.Key_K)
     assert model.current == 1
+    window.advance_box.setChecked(False)
+    qtbot.keyClick(window, Qt.Key.Key_R)  # decided while it waits: its figures still to come
+    assert model.session.sets[1].decision == "rejected"
+    assert set(figures(window)) == {PENDING}
+    qtbot.keyClick(window, Qt.Key.Key_U)
     gate.set()
     qtbot.waitUntil(lambda: PENDING not in "".join(figures(window)), timeout=30_000)
 
