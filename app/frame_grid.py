@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 
@@ -96,6 +97,24 @@ def corner_outline(corners: Sequence[tuple[float, float]]) -> np.ndarray:
     return hull.reshape(-1, 2).astype(np.float64)
 
 
+#: boards whose spacing and outline are kept (a dozen cameras, some hundred sets)
+CORNER_SHAPES_KEPT = 4096
+
+
+@functools.lru_cache(maxsize=CORNER_SHAPES_KEPT)
+def kept_corner_spacing(corners: tuple[tuple[float, float], ...]) -> float:
+    """:func:`corner_spacing`, computed once per board: a set step gives every tile its
+    corners again, and a tree build and query that let go of the GIL cost up to a
+    switch interval each to get it back while a worker computes (re-scoring)."""
+    return corner_spacing(corners)
+
+
+@functools.lru_cache(maxsize=CORNER_SHAPES_KEPT)
+def kept_corner_outline(corners: tuple[tuple[float, float], ...]) -> np.ndarray:
+    """:func:`corner_outline`, computed once per board (do not change the array)."""
+    return corner_outline(corners)
+
+
 def marker_radius(spacing_px: float) -> float:
     """Radius on screen of a corner marker when corners lie ``spacing_px`` apart on screen:
     a third of that, within MARKER_RADIUS_PX (dense boards stay readable, a large image
@@ -122,7 +141,6 @@ class CameraTile(QWidget):
         self.key = ""  # the number key that shows this camera alone (1-9, grid order)
         self._corners: tuple[tuple[float, float], ...] = ()
         self._corner_spacing = 0.0
-        self._outline = np.zeros((0, 2))
         self.setMinimumSize(TILE_MIN_WIDTH_PX[1], TILE_MIN_WIDTH_PX[1] * 3 // 4)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
 
@@ -137,8 +155,7 @@ class CameraTile(QWidget):
         if corners == self._corners:
             return  # set again on every playhead refresh: spacing and outline stand
         self._corners = corners
-        self._corner_spacing = corner_spacing(self._corners)
-        self._outline = corner_outline(self._corners)
+        self._corner_spacing = kept_corner_spacing(self._corners)
         self.update()
 
     def show_image(self, image: QImage, caption: str) -> None:
@@ -187,10 +204,12 @@ class CameraTile(QWidget):
         each, or, where they lie too close on screen, the board's outline."""
         p.setPen(QPen(MARKER_COLOUR, 1.5))
         spacing = self._corner_spacing * scale
-        if spacing < OUTLINE_BELOW_PX and len(self._outline) >= 3:
+        # the outline only where it is drawn (markers are the usual case)
+        outline = kept_corner_outline(self._corners) if spacing < OUTLINE_BELOW_PX else ()
+        if len(outline) >= 3:
             p.drawPolygon(QPolygonF([QPointF(target.x() + (x + 0.5) * scale,
                                              target.y() + (y + 0.5) * scale)
-                                     for x, y in self._outline]))
+                                     for x, y in outline]))
             return
         r = marker_radius(spacing)
         for x, y in self._corners:

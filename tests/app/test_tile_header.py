@@ -197,3 +197,37 @@ def test_a_narrow_tile_says_at_its_foot_that_it_shows_a_nearest_frame(qtbot) -> 
     assert tile.caption_at_foot("") == "nearest frame, re-scoring…"  # it had no room
     tile.caption = "chosen frame"
     assert tile.caption_at_foot("") == ""  # the usual case needs no word
+
+
+def test_a_boards_spacing_is_computed_once_and_its_outline_only_where_drawn(
+        qtbot, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A set step gives every tile its corners again: a board seen before (J then K)
+    is not measured again, and the outline (a convex hull) is computed only for a tile
+    small enough to draw it instead of the markers."""
+    from PySide6.QtGui import QColor, QImage
+
+    import app.frame_grid as frame_grid
+
+    computed: list[str] = []
+    for name in ("corner_spacing", "corner_outline"):
+        real = getattr(frame_grid, name)
+        monkeypatch.setattr(frame_grid, name, lambda c, real=real, name=name:
+                            computed.append(name) or real(c))
+    frame_grid.kept_corner_spacing.cache_clear()
+    frame_grid.kept_corner_outline.cache_clear()
+    tile = CameraTile("/cam0/image_raw")
+    qtbot.addWidget(tile)
+    image = QImage(640, 480, QImage.Format.Format_Grayscale8)
+    image.fill(QColor(128, 128, 128))
+    tile.show_image(image, "chosen frame")
+    tile.resize(1000, 775)
+    board = tuple((200.0 + 8 * x, 150.0 + 8 * y) for y in range(12) for x in range(12))
+    other = tuple((x + 1.0, y) for x, y in board)
+    for corners in (board, other, board, other):
+        tile.corners = corners
+        tile.grab()
+    assert computed == ["corner_spacing", "corner_spacing"]  # markers: no outline
+    assert tile._corner_spacing == 8.0
+    tile.resize(200, 175)
+    tile.grab()
+    assert computed[-1] == "corner_outline"
