@@ -218,6 +218,39 @@ def test_a_change_refits_only_the_columns_whose_texts_changed(
     assert fitted == list(range(table.columnCount() - 1))
 
 
+def test_fitting_the_columns_measures_as_the_list_draws_without_python_per_cell(
+        qtbot, truth_session_file: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The columns are measured with a plain delegate: the widths are those the list's
+    own delegate (which changes a selected cell's colour only) gives, and no cell is
+    measured through Python (700 calls for 100 sets, on every refit)."""
+    from PySide6.QtWidgets import QTableView
+
+    from app.set_table import OwnColoursDelegate, SetTable
+
+    sets = load_session(truth_session_file).sets
+    sets = [*sets, replace(sets[0], id=99, trigger=replace(sets[0].trigger, source="similar"))]
+    table = SetTable()
+    qtbot.addWidget(table)
+    table.show()
+    table.set_sets(sets, sets[0].t_ns)
+    last = table.columnCount() - 1
+    for col in range(last):
+        table.setColumnWidth(col, 5)
+    for col in range(last):  # as the list's own delegate measures them
+        QTableView.resizeColumnToContents(table, col)
+    own = [table.columnWidth(col) for col in range(last)]
+    calls: list[int] = []
+    real = OwnColoursDelegate.initStyleOption
+    monkeypatch.setattr(OwnColoursDelegate, "initStyleOption",
+                        lambda self, option, index: calls.append(1) or real(self, option, index))
+    for col in range(last):
+        table.setColumnWidth(col, 5)
+    table.fit_columns()
+    assert [table.columnWidth(col) for col in range(last)] == own
+    assert calls == []
+    assert table.itemDelegate() is table._delegate  # drawn with its own again
+
+
 def test_the_current_row_stays_in_view_when_the_list_gets_shorter(qtbot) -> None:
     """Shrinking the window left the current set's row below the list's visible part."""
     from app.set_table import SetTable
