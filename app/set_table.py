@@ -117,6 +117,10 @@ class SetTable(QTableWidget):
         self._updating = False
         self._rows: list[tuple] = []  # what each row shows, to skip rows that stay alike
         self._same: dict[int, tuple[int, ...]] = {}  # set id -> sets showing its frames
+        # (id(set), pending, origin, its same-frames sets) -> (set, what its row shows): of
+        # the last rewrite (kept), and of the one under way or of the rows written since
+        self._shown_kept: dict[tuple, tuple[FrameSet, tuple]] = {}
+        self._shown_now: dict[tuple, tuple[FrameSet, tuple]] = {}
         self.itemSelectionChanged.connect(self._selection_changed)
         #: whether the last mouse press changed the selection (and so chose a set)
         self._press_chose = False
@@ -136,8 +140,11 @@ class SetTable(QTableWidget):
             changed = set(range(self.columnCount())) if len(sets) < self.rowCount() else set()
             self.setRowCount(len(sets))
             del self._rows[len(sets):]
+            # what the rows show is kept for the sets of the last two rewrites
+            self._shown_kept, self._shown_now = {**self._shown_kept, **self._shown_now}, {}
             for row, s in enumerate(sets):
                 changed |= self._write_row(row, s, s.id in pending)
+            self._shown_kept = self._shown_now
             self.fit_columns(changed)
         finally:
             self.setUpdatesEnabled(True)
@@ -167,6 +174,47 @@ class SetTable(QTableWidget):
     def _write_row(self, row: int, s: FrameSet, pending: bool) -> set[int]:
         """Put ``s`` in ``row``; the columns whose text changed (none when the row showed
         exactly that already)."""
+        shown = self._shown(s, pending)
+        warned = dict(shown[1])
+        before = self._rows[row] if row < len(self._rows) else ()
+        if before == shown:
+            return set()
+        while len(self._rows) <= row:
+            self._rows.append(())
+        self._rows[row] = shown
+        # a column's width follows its texts (the warning symbol is part of one)
+        texts = self._texts(shown)
+        old = self._texts(before) if before else None
+        changed = {col for col, text in enumerate(texts) if old is None or text != old[col]}
+        details = shown[3]
+        for col, text in enumerate(texts):
+            item = QTableWidgetItem(text)
+            if SHARP <= col <= FRAMES:
+                item.setTextAlignment(Qt.AlignmentFlag.AlignRight
+                                      | Qt.AlignmentFlag.AlignVCenter)
+            if col == DECISION:
+                item.setForeground(QBrush(DECISION_TEXT_COLOURS[s.decision]))
+            if warned.get(col):
+                item.setForeground(QBrush(WARNING_TEXT_COLOUR))
+            item.setToolTip(details)
+            self.setItem(row, col, item)
+        return changed
+
+    def _shown(self, s: FrameSet, pending: bool) -> tuple:
+        """What ``s``'s row shows: texts, warnings, decision, tooltip; kept per set object
+        (sets are immutable; re-scoring rewrites the whole list after each batch, most
+        rows as they were, and the tooltip's camera lines are the dear part)."""
+        key = (id(s), pending, self._origin_ns, self._same.get(s.id, ()))
+        kept = self._shown_kept.get(key)
+        if kept is not None and kept[0] is s:
+            self._shown_now[key] = kept
+            return kept[1]
+        shown = self._describe(s, pending)
+        self._shown_now[key] = (s, shown)
+        return shown
+
+    def _describe(self, s: FrameSet, pending: bool) -> tuple:
+        """:meth:`_shown`, computed."""
         rel = (s.t_ns - self._origin_ns) / 1e9
         q = summarize(s)
         missing = PENDING if pending else MISSING
@@ -187,30 +235,7 @@ class SetTable(QTableWidget):
             details = f"{same_frames_line(same)}\n{details}"
         if pending:
             details = f"{PENDING_TIP}\n{details}"
-        shown = (values, tuple(sorted(warned.items())), s.decision, details)
-        before = self._rows[row] if row < len(self._rows) else ()
-        if before == shown:
-            return set()
-        while len(self._rows) <= row:
-            self._rows.append(())
-        self._rows[row] = shown
-        # a column's width follows its texts (the warning symbol is part of one)
-        texts = [f"{WARNING_SYMBOL} {v}" if warned.get(col) else v
-                 for col, v in enumerate(values)]
-        old = self._texts(before) if before else None
-        changed = {col for col, text in enumerate(texts) if old is None or text != old[col]}
-        for col, text in enumerate(texts):
-            item = QTableWidgetItem(text)
-            if SHARP <= col <= FRAMES:
-                item.setTextAlignment(Qt.AlignmentFlag.AlignRight
-                                      | Qt.AlignmentFlag.AlignVCenter)
-            if col == DECISION:
-                item.setForeground(QBrush(DECISION_TEXT_COLOURS[s.decision]))
-            if warned.get(col):
-                item.setForeground(QBrush(WARNING_TEXT_COLOUR))
-            item.setToolTip(details)
-            self.setItem(row, col, item)
-        return changed
+        return (values, tuple(sorted(warned.items())), s.decision, details)
 
     @staticmethod
     def _texts(shown: tuple) -> list[str]:

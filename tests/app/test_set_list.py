@@ -251,6 +251,34 @@ def test_fitting_the_columns_measures_as_the_list_draws_without_python_per_cell(
     assert table.itemDelegate() is table._delegate  # drawn with its own again
 
 
+def test_a_rewrite_describes_only_the_sets_that_changed(
+        qtbot, truth_session_file: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Re-scoring rewrites the whole list after each batch of sets: a set (an immutable
+    object) shown as it was is not described again (its tooltip's camera lines), and
+    the rows say what a list written afresh says."""
+    import app.set_table as set_table
+    from app.set_table import SetTable
+
+    sets = load_session(truth_session_file).sets
+    described: list[int] = []
+    real = set_table.camera_lines
+    monkeypatch.setattr(set_table, "camera_lines",
+                        lambda s: described.append(s.id) or real(s))
+    table = SetTable()
+    qtbot.addWidget(table)
+    table.set_sets(sets, sets[0].t_ns, {sets[0].id})
+    described.clear()
+    changed = [sets[0], sets[1].with_decision("rejected"), *sets[2:]]
+    table.set_sets(changed, sets[0].t_ns)  # the first is re-scored, the second decided
+    assert described == [sets[0].id, sets[1].id]
+    fresh = SetTable()
+    qtbot.addWidget(fresh)
+    fresh.set_sets(changed, sets[0].t_ns)
+    cells = [[(t.item(r, c).text(), t.item(r, c).toolTip()) for c in range(t.columnCount())
+              for r in range(t.rowCount())] for t in (table, fresh)]
+    assert cells[0] == cells[1]
+
+
 def test_the_current_row_stays_in_view_when_the_list_gets_shorter(qtbot) -> None:
     """Shrinking the window left the current set's row below the list's visible part."""
     from app.set_table import SetTable
