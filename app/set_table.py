@@ -175,7 +175,6 @@ class SetTable(QTableWidget):
         """Put ``s`` in ``row``; the columns whose text changed (none when the row showed
         exactly that already)."""
         shown = self._shown(s, pending)
-        warned = dict(shown[1])
         before = self._rows[row] if row < len(self._rows) else ()
         if before == shown:
             return set()
@@ -188,17 +187,38 @@ class SetTable(QTableWidget):
         changed = {col for col, text in enumerate(texts) if old is None or text != old[col]}
         details = shown[3]
         for col, text in enumerate(texts):
+            colour = self._colour(shown, col)
+            item = self.item(row, col) if before else None
+            if item is not None:  # the row's cells as they are: only what changed
+                # (an offset edit changes every row: each call here lets go of the GIL,
+                # which a busy worker then holds for up to a switch interval)
+                if col in changed:
+                    item.setText(text)
+                if colour != self._colour(before, col):
+                    if colour is None:
+                        item.setData(Qt.ItemDataRole.ForegroundRole, None)
+                    else:
+                        item.setForeground(QBrush(colour))
+                if details != before[3]:
+                    item.setToolTip(details)
+                continue
             item = QTableWidgetItem(text)
             if SHARP <= col <= FRAMES:
                 item.setTextAlignment(Qt.AlignmentFlag.AlignRight
                                       | Qt.AlignmentFlag.AlignVCenter)
-            if col == DECISION:
-                item.setForeground(QBrush(DECISION_TEXT_COLOURS[s.decision]))
-            if warned.get(col):
-                item.setForeground(QBrush(WARNING_TEXT_COLOUR))
+            if colour is not None:
+                item.setForeground(QBrush(colour))
             item.setToolTip(details)
             self.setItem(row, col, item)
         return changed
+
+    @staticmethod
+    def _colour(shown: tuple, col: int) -> QColor | None:
+        """The text colour of a cell of a row as :meth:`_write_row` keeps it (None: the
+        list's own)."""
+        if dict(shown[1]).get(col):
+            return WARNING_TEXT_COLOUR
+        return DECISION_TEXT_COLOURS[shown[2]] if col == DECISION else None
 
     def _shown(self, s: FrameSet, pending: bool) -> tuple:
         """What ``s``'s row shows: texts, warnings, decision, tooltip; kept per set object

@@ -9,7 +9,7 @@ import pytest
 from PySide6.QtCore import Qt
 
 from app.set_table import column
-from app.style import WARNING_TEXT_COLOUR
+from app.style import WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from speechcal_core.review.model import set_time_ns
 from speechcal_core.session.store import load_session, save_session
 
@@ -271,12 +271,28 @@ def test_a_rewrite_describes_only_the_sets_that_changed(
     changed = [sets[0], sets[1].with_decision("rejected"), *sets[2:]]
     table.set_sets(changed, sets[0].t_ns)  # the first is re-scored, the second decided
     assert described == [sets[0].id, sets[1].id]
-    fresh = SetTable()
-    qtbot.addWidget(fresh)
-    fresh.set_sets(changed, sets[0].t_ns)
-    cells = [[(t.item(r, c).text(), t.item(r, c).toolTip()) for c in range(t.columnCount())
-              for r in range(t.rowCount())] for t in (table, fresh)]
-    assert cells[0] == cells[1]
+    lost = replace(sets[2], frames=tuple(replace(f, index=-1) if k == 0 else f
+                                         for k, f in enumerate(sets[2].frames)))
+    # cells rewritten in place: texts, tooltips and colours (a warning that comes and
+    # goes, a decision) as a list written afresh has them
+    for version in (changed, [*changed[:2], lost, *changed[3:]], sets):
+        table.set_sets(version, sets[0].t_ns)
+        fresh = SetTable()
+        qtbot.addWidget(fresh)
+        fresh.set_sets(version, sets[0].t_ns)
+        assert _cells(table) == _cells(fresh)
+    assert any(WARNING_SYMBOL in t for row in _cells(fresh) for t, _tip, _c in row) is False
+    table.set_sets([*changed[:2], lost, *changed[3:]], sets[0].t_ns)
+    assert any(WARNING_SYMBOL in t for t, _tip, _c in _cells(table)[2])
+
+
+def _cells(table) -> list[list[tuple[str, str, str | None]]]:
+    """Each row's cells: text, tooltip, text colour (None: the list's own)."""
+    def colour(item) -> str | None:
+        brush = item.data(Qt.ItemDataRole.ForegroundRole)
+        return None if brush is None else brush.color().name()
+    return [[(table.item(r, c).text(), table.item(r, c).toolTip(), colour(table.item(r, c)))
+             for c in range(table.columnCount())] for r in range(table.rowCount())]
 
 
 def test_the_current_row_stays_in_view_when_the_list_gets_shorter(qtbot) -> None:
