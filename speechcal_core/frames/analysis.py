@@ -110,10 +110,22 @@ def frame_checks(
     return out
 
 
+#: the last sets :func:`checks_basis` digested, and the digest (the window asks again and
+#: again for the same sets: the check line, whether the checks are due, still wanted)
+_last_basis: list[tuple[tuple[FrameSet, ...], str] | None] = [None]
+
+
 def checks_basis(sets: Iterable[FrameSet]) -> str:
     """A digest of what coverage and the calibration check depend on: the chosen frames
     of every set not rejected. Equal digests, equal checks (for one target)."""
+    sets = tuple(sets)
+    last = _last_basis[0]  # frame sets are immutable: the same objects, the same digest
+    if last is not None and len(last[0]) == len(sets) and all(
+            a is b for a, b in zip(last[0], sets, strict=True)):
+        return last[1]
     kept = [[s.id, [[f.stream, f.index, f.stamp_ns] for f in s.frames]]
             for s in sets if s.decision != "rejected"]
     text = json.dumps(kept, separators=(",", ":"))
-    return hashlib.sha1(text.encode(), usedforsecurity=False).hexdigest()
+    digest = hashlib.sha1(text.encode(), usedforsecurity=False).hexdigest()
+    _last_basis[0] = (sets, digest)
+    return digest
