@@ -265,14 +265,16 @@ class WaveformView(pg.PlotWidget):
         pad = PADDING * (hi - lo)
         first = self.whole is None
         self.whole = (lo - pad, hi + pad)
-        # the limits move pyqtgraph's first view on the way: not worth a drawing
+        # the first time, the limits and pyqtgraph's auto-range move its first view on
+        # the way to the whole (a few seconds wide: their samples read from the file):
+        # drawn once, when it is there
         self._hold_drawing = first
         try:
             self._limit_to_whole()
+            self.show_whole()
         finally:
             self._hold_drawing = False
-        self.show_whole()
-        if self._drawn_sync is None:  # the view was that already: no range change drew it
+        if first or self._drawn_sync is None:
             self.redraw()
 
     def show_whole(self) -> None:
