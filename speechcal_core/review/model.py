@@ -421,8 +421,11 @@ class ReviewModel:
             return
         heard_s = self.session.sync.to_audio(self.playhead_ns)
         self.nudge_offset(seen - self.playhead_ns)  # undo restores the clap heard too
-        first = self.session.sync_evidence["claps"][0]
-        first["audio_s"], first["audio_source"] = float(heard_s), "manual"
+        # replaced, never changed in place: a save may be encoding the old ones
+        evidence = self.session.sync_evidence
+        claps = list(evidence["claps"])
+        claps[0] = {**claps[0], "audio_s": float(heard_s), "audio_source": "manual"}
+        self.session.sync_evidence = {**evidence, "claps": claps}
         self._emit("sync", self.session.sync)  # the clap handle goes to that sound
         self._save()
 

@@ -285,6 +285,10 @@ def test_c_moves_the_audio_so_the_sound_at_the_playhead_is_the_clap(
     assert window.waveform.clap.value() == pytest.approx(window.waveform._to_x(seen),
                                                          abs=0.001)
     assert model.session.sync_evidence["claps"][0]["audio_source"] == "manual"
+    window.saver.flush()
+    saved = load_session(truth_session_file).sync_evidence["claps"][0]
+    heard = model.session.sync.to_audio(seen)
+    assert saved["audio_source"] == "manual" and saved["audio_s"] == pytest.approx(heard)
     qtbot.keyClick(window, Qt.Key.Key_U)  # the handle goes back to the sound taken before
     assert window.waveform.clap.value() == pytest.approx(taken, abs=0.001)
     assert model.session.sync_evidence["claps"][0].get("audio_source") != "manual"
