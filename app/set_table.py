@@ -19,7 +19,7 @@ from PySide6.QtWidgets import (
 )
 
 from app.style import DECISION_SYMBOLS, DECISION_TEXT_COLOURS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
-from speechcal_core.frames.sets import BLURRED_BELOW, MIN_CORNERS
+from speechcal_core.frames.sets import BLURRED_BELOW, BLURRED_BELOW_SESSION, MIN_CORNERS
 from speechcal_core.review.summary import (
     camera_lines,
     listed_ids,
@@ -39,9 +39,11 @@ COLUMNS = (
     ("word", "the trigger word heard; \"added\": added by hand (T), \"similar\": found "
              "like another set (S)"),
     ("worst\nsharp", "the least sharp of the set's chosen frames. Each camera's sharpness is "
-                     "relative to its sharp frames in this session: 1.00 is as sharp as "
-                     f"they usually are; below {BLURRED_BELOW:.2f} a frame is flagged "
-                     "blurred"),
+                     "relative to its frames of the board held still around the trigger: "
+                     "1.00 is as sharp as the still board there; below "
+                     f"{BLURRED_BELOW:.2f} a frame is flagged blurred (where the board "
+                     "never stops: relative to its sharp frames in this session, flagged "
+                     f"below {BLURRED_BELOW_SESSION:.2f})"),
     ("fewest\ncorners", "the fewest target corners found in any camera's chosen frame; "
                         f"under {MIN_CORNERS} the camera is flagged as not seeing the target"),
     ("skew\nms", "the largest stamp difference between the set's frames"),

@@ -33,7 +33,17 @@ if TYPE_CHECKING:
 
 Progress = Callable[[str, float], None]
 NS = 1_000_000_000
-BLURRED_BELOW = 0.25  # session-normalized sharpness under which a frame is flagged blurred
+#: sharpness (relative to the camera's board held still around the trigger, see
+#: :func:`_frame_choice`) under which a frame is flagged blurred. Relative to the session's
+#: sharp frames instead, as it was, frames of a still board scored by the board's distance
+#: (its edges per pixel), 0.25-1.37, and were flagged under 0.25; relative to the same board
+#: still, still frames score 1.00 and mid-move ones 0.14-2.5, 42 of 151 under 0.7, 18 under
+#: 0.5 (synthetic sessions, benchmarks/bench_blur_flag.py).
+BLURRED_BELOW = 0.7
+#: the same for a frame whose window has no still frame, judged against the session's sharp
+#: frames (the figure as it was, and its threshold: such a frame may be far closer or further
+#: than those, so only far less sharp is blurred for sure)
+BLURRED_BELOW_SESSION = 0.25
 MIN_CORNERS = 8
 
 
@@ -72,7 +82,8 @@ class FrameReferences:
 
     ``noise_floor``: the frame-to-frame difference of still frames (a frame is still within
     a few times it); ``sharpness``: the raw sharpness of the camera's sharp chosen frames
-    (90th percentile), which is 1.0 of the normalized figure. Both come from all sets of a
+    (90th percentile), which is 1.0 of the figure of a frame whose window has no still
+    frame to judge it against (see :func:`_frame_choice`). Both come from all sets of a
     session; re-scoring a few sets with them keeps their figures comparable to the rest.
     """
 
@@ -192,6 +203,11 @@ def _build(
         picks = [_pick(infos, stamps, nearest[n], choices[n], windows[n], scores[n], t)
                  for n, t in enumerate(t_ns)]
         measured = _measure(source, picks, compressed, local, pool, report)
+        # a moving chosen frame is judged against the still board nearby, at full size too
+        still_refs = [_reference_picks(infos, choices[n], windows[n], scores[n])
+                      for n in range(len(t_ns))]
+        ref_measured = _measure(source, still_refs, compressed, local, pool,
+                                lambda _stage, _f: None)
 
     result = FrameSetResult([])
     for (n, name), (_sharp, det, size) in measured.items():
@@ -218,11 +234,14 @@ def _build(
             idx, stamp = picks[n][s.name]
             sharp, det, _size = measured.get((n, s.name), (-1.0, None, None))
             still = None
-            if choices[n] is not None and scores[n] is not None:
+            local_ref = None
+            if choices[n] is not None and scores[n] is not None and windows[n] is not None:
                 p = choices[n].positions[c]
                 still = p >= 0 and bool(scores[n][c].still[p])
+                ref_sharp = ref_measured.get((n, s.name), (None, None, None))[0]
+                local_ref = _still_relative(windows[n][c], scores[n][c], p, sharp, ref_sharp)
             frames.append(_frame_choice(s.name, idx, stamp, sharp, refs[s.name], det,
-                                        target is not None, still))
+                                        target is not None, still, local_ref))
         fs = FrameSet(set_id, t, trigger, tuple(frames))
         if tol and fs.skew_ns > tol:
             fs = FrameSet(set_id, t, trigger, tuple(
@@ -296,18 +315,82 @@ def _measure(
     return {(n, name): r for (n, name, _), r in zip(jobs, pool.map(one, jobs), strict=True)}
 
 
+def _still_reference(win: CameraWindow, score: CameraScore, p: int) -> int | None:
+    """The window position of the sharpest frame of the still stretch nearest position
+    ``p`` (its own when it is still): the board held still at about the pose ``p`` shows,
+    where another hold in the window may show it at another distance. None when ``p`` is
+    none or no frame of the window is still (the board never stops around the trigger)."""
+    if p < 0 or win.bad[p]:
+        return None
+    still = score.still & win.inside & ~win.bad
+    if not still.any():
+        return None
+    # still stretches as [start, end) position ranges; the nearest one to p
+    edges = np.diff(np.concatenate([[0], still.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    k = int(np.argmin(np.maximum(starts - p, 0) + np.maximum(p - (ends - 1), 0)))
+    return int(starts[k] + np.argmax(win.sharpness[starts[k]:ends[k]]))
+
+
+def _reference_picks(infos: list[StreamInfo], choice: Choice | None,
+                     wins: list[CameraWindow] | None, scores: list[CameraScore] | None,
+                     ) -> dict[str, tuple[int, int]]:
+    """Per stream whose chosen frame is not still, the (index, stamp) of the frame its
+    sharpness is judged against (see :func:`_still_reference`); (-1, 0) for the others."""
+    row = {s.name: (-1, 0) for s in infos}
+    if choice is None or wins is None or scores is None:
+        return row
+    for c, s in enumerate(infos):
+        p = choice.positions[c]
+        if p < 0 or scores[c].still[p]:
+            continue
+        q = _still_reference(wins[c], scores[c], p)
+        if q is not None:
+            row[s.name] = (int(wins[c].indices[q]), int(wins[c].stamps[q]))
+    return row
+
+
+def _still_relative(win: CameraWindow, score: CameraScore, p: int, sharp: float | None,
+                    ref_sharp: float | None) -> float | None:
+    """Window position ``p``'s sharpness relative to the frame of :func:`_still_reference`.
+
+    For a still ``p`` that frame lies in the same still stretch and the figures of the
+    window's reduced frames are compared; for a moving one those miss the few pixels of
+    motion blur, and the full-size figures ``sharp`` (of ``p``'s frame) and ``ref_sharp``
+    (of that frame) are compared when both are known. None without a still stretch.
+    """
+    q = _still_reference(win, score, p)
+    if q is None:
+        return None
+    if not score.still[p] and sharp and ref_sharp and sharp > 0 and ref_sharp > 0:
+        return sharp / ref_sharp
+    best = float(win.sharpness[q])
+    return float(win.sharpness[p]) / best if best > 0 else None
+
+
 def _frame_choice(stream: str, idx: int, stamp: int, sharp: float | None, ref: float,
-                  det: Detection | None, want_target: bool, still: bool | None) -> FrameChoice:
-    """The chosen frame with its session-normalized sharpness, corner count and flags."""
+                  det: Detection | None, want_target: bool, still: bool | None,
+                  local_ref: float | None = None) -> FrameChoice:
+    """The chosen frame with its relative sharpness, corner count and flags.
+
+    Sharpness is ``local_ref`` when given: the frame's over the sharpest still frame of
+    its camera around the trigger (see :func:`_still_relative`), which a board held still
+    at any distance scores ~1.0 and a motion-blurred one far less. Without it (no still
+    frame in the window, or no search) it is the raw sharpness ``sharp`` over ``ref``, the
+    camera's sharp frames in the session, which also follows the board's distance, so it
+    is flagged only further below (``BLURRED_BELOW_SESSION``); a frame blurred all through
+    the window still lies there. Either way a frame whose target was wanted and not found
+    has none (nothing to judge blur on).
+    """
     if idx < 0:
         return FrameChoice(stream, -1, stamp, flags=("no-frame",))
     flags: list[str] = []
     sharp_norm = None
     if sharp is not None and sharp < 0:
         flags.append("bad-frame")
-    elif sharp is not None and ref > 0:
-        sharp_norm = round(sharp / ref, 3)
-        if sharp_norm < BLURRED_BELOW:
+    elif sharp is not None and (local_ref is not None or ref > 0):
+        sharp_norm = round(local_ref if local_ref is not None else sharp / ref, 3)
+        if sharp_norm < (BLURRED_BELOW if local_ref is not None else BLURRED_BELOW_SESSION):
             flags.append("blurred")
     corners = det.count if det is not None else 0
     if want_target and corners < MIN_CORNERS:

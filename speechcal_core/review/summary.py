@@ -1,10 +1,11 @@
 """What the frame-set list shows per set: worst quality over its cameras, and the filters.
 
-Sharpness is as :mod:`speechcal_core.frames.sets` stores it: each camera's raw sharpness
-over the 90th percentile of that camera's chosen frames in the session, so 1.0 is as
-sharp as the camera's sharp frames usually are, whatever its resolution or optics, and
-the figures of different cameras compare. A set is only as good as its worst camera, so
-the summary keeps the lowest sharpness and the fewest target corners.
+Sharpness is as :mod:`speechcal_core.frames.sets` stores it: each camera's sharpness over
+that of its frames of the board held still around the trigger (where the board never
+stops there, over the 90th percentile of the camera's chosen frames in the session), so
+1.0 is as sharp as the still board, whatever the camera's resolution or optics and the
+board's distance, and the figures of different cameras compare. A set is only as good as
+its worst camera, so the summary keeps the lowest sharpness and the fewest target corners.
 """
 
 from __future__ import annotations

@@ -49,7 +49,7 @@ def test_quality_columns_show_the_worst_camera_and_warn_in_amber_with_a_symbol(
     assert table.item(1, column("worst sharp")).text() == "–"
     assert table.item(1, column("fewest corners")).text() == "–"
     header = table.horizontalHeaderItem(column("worst sharp"))
-    assert "relative to its sharp frames" in header.toolTip()
+    assert "relative to its frames of the board held still" in header.toolTip()
 
 
 
