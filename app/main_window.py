@@ -212,9 +212,9 @@ class ReviewWindow(QMainWindow):
             self._ask_recording_place
         #: asks where the session's audio file (its path given) went: a file, or None
         self.ask_audio_place: Callable[[str], str | None] = self._ask_audio_place
-        self._opening_session: str | None = None  # the session file being opened
-        #: the arguments of a recording being opened, and of one whose clap was not found
-        self._opening_recording: dict | None = None
+        #: the ``open`` arguments of the opening under way (None: the demo's), and of a
+        #: recording whose clap was not found (see open_without_clap)
+        self._opening: dict | None = None
         self._failed_recording: dict | None = None
         self._moved: MovedRecording | None = None  # its recording, gone from where it was
         self.load_error = ""
@@ -552,12 +552,10 @@ class ReviewWindow(QMainWindow):
         """Load a session file, or process a recording + audio (its session saved at
         ``new_session_path``, by default beside the recording; ``triggers``, ``channel``,
         ``target`` and ``streams`` as for ``load_for_review``), on a worker thread."""
-        self._opening_session = session_path
         args = {"session_path": session_path, "recording": recording, "audio": audio,
                 "new_session_path": new_session_path, "triggers": triggers,
                 "channel": channel, "target": target, "streams": streams}
-        #: a recording's opening, to try again without a clap (see open_without_clap)
-        self._opening_recording = args if recording and session_path is None else None
+        self._opening = args
         self._start(lambda report: load_for_review(**args, progress=report), "opening…")
 
     def open_without_clap(self) -> None:
@@ -566,7 +564,7 @@ class ReviewWindow(QMainWindow):
         args = self._failed_recording
         if args is None:
             return
-        self._opening_recording = None
+        self._opening = None
         self._start(lambda report: load_for_review(**args, audio_at_start=True,
                                                    progress=report), "opening…")
 
@@ -614,8 +612,7 @@ class ReviewWindow(QMainWindow):
             recording, audio = ensure_demo_session(progress=report)
             return load_for_review(recording=[recording], audio=audio, progress=report)
 
-        self._opening_session = None  # no session file of the operator's is opened
-        self._opening_recording = None
+        self._opening = None  # no session file or recording of the operator's is opened
         self._start(work, "preparing the demo session…")
 
     def _build_filter_row(self) -> QHBoxLayout:
@@ -691,19 +688,18 @@ class ReviewWindow(QMainWindow):
     def _on_failed(self, message: str) -> None:
         failed, self.task = self.task, None
         self._show_empty()
-        # no clap found: the first page offers to go on without one
-        self._failed_recording = self._opening_recording \
-            if failed is not None and isinstance(failed.error, SyncError) else None
-        self._opening_recording = None
+        args, self._opening = self._opening or {}, None
+        # no clap found in a recording: the first page offers to go on without one
+        self._failed_recording = args if args.get("recording") and not args["session_path"] \
+            and failed is not None and isinstance(failed.error, SyncError) else None
         self.no_clap_button.setVisible(self._failed_recording is not None
                                        and self.model is None)
         if message == "cancelled":  # the operator's Cancel: nothing went wrong
-            self._opening_session = None
             self.status.end("open", "opening cancelled")
             return
         self.load_error = message
         self.status.end("open", f"Could not open: {message}")
-        opening, self._opening_session = self._opening_session, None
+        opening = args.get("session_path")
         self._moved = moved_recording(opening) if opening and self.model is None else None
         if self.model is None:  # the first page says why, whole, and what can be done
             self.open_problem.setText(f"Could not open: {message}")
@@ -771,8 +767,7 @@ class ReviewWindow(QMainWindow):
         self.status.end("open")
         self.task = None
         self._show_empty()
-        self._opening_session, self._moved = None, None
-        self._opening_recording = self._failed_recording = None
+        self._opening = self._moved = self._failed_recording = None
         self.open_problem.hide()
         self.locate_button.hide()
         self.no_clap_button.hide()
