@@ -162,9 +162,6 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
             f"{len(rms)} of {counted(len(streams), 'camera')} fit")
     if rms:
         line += f", RMS ≤ {max(rms):.2f} px"
-    if central:  # the tooltip's camera lines say which
-        line += (f"; {counted(len(central), 'camera')} saw the board only near the image "
-                 "centre")
     elif 0 < kept < MIN_VIEWS:  # too few to tell anything about the board
         line += f" (a fit needs the target in {MIN_VIEWS} sets or more)"
     elif 0 < (seen := _most_views(cover, streams)) < MIN_VIEWS:
@@ -176,6 +173,9 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
         line += (f" (looked for a {target.describe()}: if the board is "
                  "another one, process again with --target TARGET.yaml into a new session "
                  "file)")
+    if central:  # the tooltip's camera lines say which
+        line += (f"; {counted(len(central), 'camera')} saw the board only near the image "
+                 "centre")
     return CheckSummary(line, tuple(lines), len(rms) < len(streams) or bool(central))
 
 
