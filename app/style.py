@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from PySide6.QtGui import QColor
 
+from speechcal_core.text import WARNING_SYMBOL  # noqa: F401  (the window's, with a colour)
+
 DECISION_COLOURS = {
     "accepted": QColor(46, 160, 67),
     "rejected": QColor(215, 58, 73),
@@ -20,6 +22,5 @@ WARNING_COLOUR = QColor(219, 154, 4)
 #: the same, darker, for text on the light window and list (contrast 5:1 against its
 #: grey; the bright amber's was 2:1)
 WARNING_TEXT_COLOUR = QColor(135, 90, 0)
-WARNING_SYMBOL = "▲"  # with a warning colour wherever a warning shows
 PLAYHEAD_COLOUR = QColor(255, 210, 60)
 BACKGROUND = QColor(30, 32, 36)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+#: what marks a warning in words (the window gives it a warning colour wherever it shows)
+WARNING_SYMBOL = "▲"
+
 
 def counted(n: int, word: str, plural: str | None = None) -> str:
     """``n`` and ``word``, in the plural unless ``n`` is 1: "1 camera", "3 cameras",

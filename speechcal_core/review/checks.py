@@ -20,7 +20,7 @@ from speechcal_core.frames.analysis import checks_basis, frame_checks
 from speechcal_core.review.rescore import rescore_ids
 from speechcal_core.session.model import FrameSet, Session
 from speechcal_core.target import TargetSpec
-from speechcal_core.text import counted
+from speechcal_core.text import WARNING_SYMBOL, counted
 
 if TYPE_CHECKING:
     from speechcal_core.frames.detect import Detection
@@ -149,7 +149,7 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
         spread = f"; coverage {spread}" if spread else ""
         if isinstance(entry, dict) and near_centre_only(progress):
             central.append(name)
-            spread += f"; {WARNING_MARK} {CENTRE_ONLY}"
+            spread += f"; {WARNING_SYMBOL} {CENTRE_ONLY}"
         if isinstance(entry, dict):
             lines.append(f"{name}: {entry.get('model')} RMS {entry.get('rms_px', 0):.2f} px "
                          f"over {len(entry.get('views') or [])} views{spread}")
@@ -182,7 +182,6 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
 #: coverage (``progress`` of the board's centre across the image, as ROS
 #: camera_calibration counts it) under which a camera's views all lie near the image centre
 CENTRE_ONLY_BELOW = 0.3
-WARNING_MARK = "▲"
 CENTRE_ONLY = ("the board stayed near the image centre: the fit says little of the lens "
                "toward the edges (a fisheye's most), hold it near the edges and corners too")
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from speechcal_core.text import counted
+from speechcal_core.text import WARNING_SYMBOL, counted
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -67,8 +67,8 @@ def listed_ids(ids: Sequence[int]) -> str:
 
 def same_frames_line(ids: Sequence[int]) -> str:
     """Why a set whose frames sets ``ids`` show too is marked, and what to do (tooltip)."""
-    return (f"▲ the same frames as set {listed_ids(ids)}: two trigger words in one still "
-            "hold, one of them likely heard by mistake (W plays each set's word). The "
+    return (f"{WARNING_SYMBOL} the same frames as set {listed_ids(ids)}: two trigger words "
+            "in one still hold, one of them likely heard by mistake (W plays each set's word). The "
             "calibration check and exports count these frames once")
 
 
@@ -155,7 +155,7 @@ def _camera_line(f: FrameChoice) -> str:
         corners = "–" if f.corners is None else str(f.corners)
         figures = f"sharpness {sharp}, {corners} corners"
     flags = [fl for fl in f.flags if not (f.index < 0 and fl == "no-frame")]
-    return f"{f.stream}: {figures}" + (f"  ▲ {flag_words(flags)}" if flags else "")
+    return f"{f.stream}: {figures}" + (f"  {WARNING_SYMBOL} {flag_words(flags)}" if flags else "")
 
 
 #: the window's command that detects trigger words again, and its key
