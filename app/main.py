@@ -93,6 +93,8 @@ def run_review(
         window.open(session_path=session_path, recording=list(recording or []) or None,
                     audio=audio, new_session_path=new_session_path, triggers=triggers,
                     channel=channel, target=target, streams=streams)
+    if not screenshot:  # a screenshot keeps the window's own size, whatever the screen
+        window.fit_to_screen()
     window.show()
     try:
         if screenshot:

@@ -122,6 +122,11 @@ UNDO_KEYS, REDO_KEYS = ("Ctrl+Z",), ("Ctrl+Shift+Z", "Ctrl+Y")
 #: the waveform is never squeezed below this (pixels): at the window's least height it
 #: was 30 px high, its labels cut off
 WAVEFORM_MIN_HEIGHT = 100
+#: the window's first size (the README's screenshot is taken at it)
+WINDOW_SIZE = (1400, 900)
+#: what a screen too small for WINDOW_SIZE keeps free around the window for its frame and
+#: title bar, pixels (a 1366 x 768 laptop showed the window's bottom 130 px off screen)
+SCREEN_MARGIN_PX = (16, 48)
 #: the key hints under the waveform: one line at 1400 px (the tooltip says it in full,
 #: e.g. Esc back from an enlarged camera, which double-clicking it again does too)
 HINTS = ("Space play · W hear word · ←/→ frame · J/K set · F filter · A/R/U decide · "
@@ -195,7 +200,7 @@ class ReviewWindow(QMainWindow):
         super().__init__()
         self.setWindowTitle("SpeechCal")
         self.setWindowIcon(QIcon(str(resource("icons", APP_ICON))))  # dialogs take it too
-        self.resize(1400, 900)
+        self.resize(*WINDOW_SIZE)
         self.model: ReviewModel | None = None
         self.inputs: ReviewInputs | None = None
         self.loader: FrameLoader | None = None
@@ -257,6 +262,16 @@ class ReviewWindow(QMainWindow):
         self._restart_timer = QTimer(self)
         self._restart_timer.setSingleShot(True)
         self._restart_timer.timeout.connect(self._restart_sound)
+
+    def fit_to_screen(self) -> None:
+        """Make the window no larger than the room its screen has (less a margin for its
+        frame): WINDOW_SIZE was larger than a laptop screen's."""
+        screen = self.screen()
+        if screen is None:
+            return
+        room = screen.availableGeometry()
+        self.resize(min(self.width(), room.width() - SCREEN_MARGIN_PX[0]),
+                    min(self.height(), room.height() - SCREEN_MARGIN_PX[1]))
 
     # -- construction -------------------------------------------------------------------
     def _build_empty_page(self) -> QWidget:

@@ -125,3 +125,21 @@ def test_no_pane_can_be_dragged_away_to_nothing(window) -> None:
         assert not splitter.childrenCollapsible()
         splitter.setSizes([0] + [10_000] * (splitter.count() - 1))
         assert min(splitter.sizes()) > 0
+
+
+def test_the_window_opens_within_a_screen_smaller_than_its_first_size(qtbot) -> None:
+    """At 1400 x 900 the window reached past a 1366 x 768 laptop screen, its waveform and
+    offset buttons below the screen's edge; the test platform's screen is 800 x 800."""
+    from app.main_window import WINDOW_SIZE, ReviewWindow
+
+    window = ReviewWindow()
+    window.setProperty("headless", True)
+    qtbot.addWidget(window)
+    assert (window.width(), window.height()) == WINDOW_SIZE  # a screenshot's size
+    room = window.screen().availableGeometry()
+    assert room.width() < WINDOW_SIZE[0] and room.height() < WINDOW_SIZE[1]
+    window.fit_to_screen()
+    window.show()
+    assert 0 < window.frameGeometry().width() <= room.width()
+    assert 0 < window.frameGeometry().height() <= room.height()
+    assert window.width() >= room.width() - 50 and window.height() >= room.height() - 100
