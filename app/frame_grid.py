@@ -9,7 +9,14 @@ from collections.abc import Sequence
 import numpy as np
 from PySide6.QtCore import QEvent, QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter, QPen, QPolygonF
-from PySide6.QtWidgets import QGridLayout, QSizePolicy, QToolTip, QVBoxLayout, QWidget
+from PySide6.QtWidgets import (
+    QGridLayout,
+    QLayout,
+    QSizePolicy,
+    QToolTip,
+    QVBoxLayout,
+    QWidget,
+)
 
 from app.style import (
     BACKGROUND,
@@ -37,6 +44,52 @@ MARKER_RADIUS_PX = (1.5, 4.5)
 #: corners closer than this on screen (pixels) are drawn as the board's outline: their
 #: markers would merge into a green block hiding the board one checks for blur
 OUTLINE_BELOW_PX = 6.0
+#: a tile's header height and its image's margins at the sides and foot, pixels
+TILE_HEADER_PX, TILE_MARGIN_PX = 22, 3
+#: the space between tiles, pixels
+TILE_SPACING_PX = 4
+#: how much larger (as a share) another column count must show the frames than the
+#: near-square grid's before the grid takes it
+BETTER_BY = 0.05
+
+
+def square_columns(cameras: int) -> int:
+    """The near-square grid's columns: its tiles' least size and the grid's follow them."""
+    return max(1, math.ceil(math.sqrt(cameras)))
+
+
+def least_tile_width(columns: int) -> int:
+    """A tile's least width in a grid of ``columns`` (see TILE_MIN_WIDTH_PX)."""
+    lo, hi = TILE_MIN_WIDTH_PX
+    return max(lo, min(hi, GRID_MIN_WIDTH_PX // columns))
+
+
+def frame_scale(cameras: int, columns: int, width: float, height: float,
+                aspect: float) -> float:
+    """The height in pixels at which ``cameras`` frames of ``aspect`` (width / height)
+    show in ``columns`` tiles across an area of ``width`` x ``height``; 0 where the
+    tiles would be smaller than their least size."""
+    rows = math.ceil(cameras / columns)
+    tile_w = (width - (columns - 1) * TILE_SPACING_PX) / columns
+    tile_h = (height - (rows - 1) * TILE_SPACING_PX) / rows
+    least = least_tile_width(columns)
+    if tile_w < least or tile_h < least * 3 // 4:
+        return 0.0
+    return max(0.0, min((tile_w - 2 * TILE_MARGIN_PX) / aspect,
+                        tile_h - TILE_HEADER_PX - TILE_MARGIN_PX))
+
+
+def best_columns(cameras: int, width: float, height: float, aspect: float = 4 / 3) -> int:
+    """How many columns show ``cameras`` frames largest in a ``width`` x ``height`` area:
+    the near-square grid unless another shows them larger by BETTER_BY (seven 4:3 cameras
+    beside the list on a laptop: two rows of four, not three rows of three, 40 % taller)."""
+    square = square_columns(cameras)
+    best, best_scale = square, frame_scale(cameras, square, width, height, aspect)
+    for columns in range(1, cameras + 1):
+        scale = frame_scale(cameras, columns, width, height, aspect)
+        if scale > max(best_scale, 1e-9) * (1 + BETTER_BY):
+            best, best_scale = columns, scale
+    return best
 
 
 def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: str,
@@ -127,6 +180,8 @@ class CameraTile(QWidget):
     """Shows one camera's frame scaled to fit, or says why there is none."""
 
     double_clicked = Signal(str)
+    #: the frame shown now has another width / height than the one before (or none was)
+    shape_changed = Signal()
 
     def __init__(self, stream: str, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -159,7 +214,10 @@ class CameraTile(QWidget):
         self.update()
 
     def show_image(self, image: QImage, caption: str) -> None:
+        reshaped = self.image is None or self.image.size() != image.size()
         self.image, self.message, self.caption = image, "", caption
+        if reshaped:
+            self.shape_changed.emit()
         self.dimmed = False
         self.update()
 
@@ -220,8 +278,8 @@ class CameraTile(QWidget):
         p = QPainter(self)
         p.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform)
         p.fillRect(self.rect(), BACKGROUND)
-        header = 22
-        area = QRectF(self.rect()).adjusted(3, header, -3, -3)
+        header, margin = TILE_HEADER_PX, TILE_MARGIN_PX
+        area = QRectF(self.rect()).adjusted(margin, header, -margin, -margin)
         if self.image is not None and not self.image.isNull():
             iw, ih = self.image.width(), self.image.height()
             scale = min(area.width() / iw, area.height() / ih)
@@ -277,8 +335,10 @@ class CameraTile(QWidget):
 
 
 class FrameGrid(QWidget):
-    """All camera tiles in a near-square grid, with the heard word large in a band below
-    them (it covers no camera's image)."""
+    """All camera tiles in a grid, with the heard word large in a band below them (it
+    covers no camera's image). The grid takes the columns that show the frames largest
+    in its area (see :func:`best_columns`); its least size is the near-square grid's
+    whatever the columns, so that it never holds the window wider or taller."""
 
     def __init__(self, streams: list[str], parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -289,11 +349,14 @@ class FrameGrid(QWidget):
         self._tile_area = QWidget(self)
         self._layout = QGridLayout(self._tile_area)
         self._layout.setContentsMargins(0, 0, 0, 0)
-        self._layout.setSpacing(4)
+        self._layout.setSpacing(TILE_SPACING_PX)
+        # the area's least size is set in _arrange, not taken from the columns in use
+        self._layout.setSizeConstraint(QLayout.SizeConstraint.SetNoConstraint)
         outer.addWidget(self._tile_area, 1)
         self.word_band = WordBand(self)
         outer.addWidget(self.word_band)
         self._enlarged: str | None = None
+        self._columns = 0  # the columns the tiles are laid out in now
         self.set_streams(streams)
 
     @property
@@ -306,17 +369,55 @@ class FrameGrid(QWidget):
         self.tiles = {s: CameraTile(s, self._tile_area) for s in streams}
         for number, tile in enumerate(self.tiles.values(), start=1):
             tile.double_clicked.connect(self.toggle_enlarged)
+            tile.shape_changed.connect(self._fit_columns)
             tile.key = str(number) if number <= 9 else ""
         self._arrange()
 
+    @property
+    def columns(self) -> int:
+        """How many columns the tiles shown are laid out in."""
+        return self._columns
+
+    def _visible(self) -> list[str]:
+        return [self._enlarged] if self._enlarged else list(self.tiles)
+
+    def _columns_for_area(self) -> int:
+        count = len(self._visible())
+        area = self._tile_area.size()
+        if count <= 1 or not self.isVisible() or area.isEmpty():
+            return square_columns(count)
+        shapes = [t.image.width() / t.image.height() for t in self.tiles.values()
+                  if t.image is not None and not t.image.isNull() and t.image.height()]
+        aspect = sum(shapes) / len(shapes) if shapes else 4 / 3
+        return best_columns(count, area.width(), area.height(), aspect)
+
+    def _fit_columns(self) -> None:
+        """Lay the tiles out again if other columns now show them larger."""
+        if self._columns_for_area() != self._columns:
+            self._arrange()
+
+    def resizeEvent(self, event) -> None:
+        super().resizeEvent(event)
+        self._fit_columns()
+
+    def showEvent(self, event) -> None:
+        super().showEvent(event)
+        self._fit_columns()
+
     def _arrange(self) -> None:
-        visible = [self._enlarged] if self._enlarged else list(self.tiles)
-        cols = max(1, math.ceil(math.sqrt(len(visible)))) if visible else 1
+        visible = self._visible()
+        square = square_columns(len(visible))
+        cols = self._columns_for_area()
+        self._columns = cols
         for tile in self.tiles.values():
             self._layout.removeWidget(tile)
             tile.hide()
-        lo, hi = TILE_MIN_WIDTH_PX
-        least = max(lo, min(hi, GRID_MIN_WIDTH_PX // cols))
+        least = least_tile_width(cols)
+        floor = least_tile_width(square)  # the near-square grid's least size
+        rows = max(1, math.ceil(len(visible) / square))
+        self._tile_area.setMinimumSize(
+            square * floor + (square - 1) * TILE_SPACING_PX,
+            rows * (floor * 3 // 4) + (rows - 1) * TILE_SPACING_PX)
         for n, name in enumerate(visible):
             self.tiles[name].setMinimumSize(least, least * 3 // 4)
             self._layout.addWidget(self.tiles[name], n // cols, n % cols)

@@ -143,3 +143,41 @@ def test_the_window_opens_within_a_screen_smaller_than_its_first_size(qtbot) -> 
     assert 0 < window.frameGeometry().width() <= room.width()
     assert 0 < window.frameGeometry().height() <= room.height()
     assert window.width() >= room.width() - 50 and window.height() >= room.height() - 100
+
+
+def test_the_grid_takes_the_columns_that_show_the_frames_largest(qtbot) -> None:
+    """Seven cameras beside the list on a 1366 x 768 laptop were three rows of three,
+    frames 110 px high beside two empty tiles; two rows of four show them 155 px high.
+    The grid's least size stays the near-square grid's, so it never holds the window."""
+    from app.frame_grid import FrameGrid, best_columns
+
+    assert best_columns(7, 865, 415) == 4  # 2 rows of 4, not 3 of 3
+    assert best_columns(9, 1230, 640) == 3  # a larger screen: 3 x 3 is as good
+    assert best_columns(12, 865, 415) == 4 and best_columns(4, 865, 415) == 2
+    assert best_columns(2, 865, 415) == 2 and best_columns(1, 865, 415) == 1
+
+    grid = FrameGrid([f"/cam{k}/image_raw" for k in range(7)])
+    qtbot.addWidget(grid)
+    grid.show()
+    least = grid.minimumSizeHint()
+
+    def rows() -> int:
+        layout = grid._layout
+        return 1 + max(layout.getItemPosition(layout.indexOf(t))[0] for t in grid.tiles.values())
+
+    grid.resize(865, 415 + grid.word_band.height() + 4)
+    qtbot.waitUntil(lambda: grid.columns == 4)
+    assert rows() == 2
+    assert grid.minimumSizeHint() == least
+    for tile in grid.tiles.values():
+        assert tile.isVisible() and tile.height() > 190 and tile.width() > 200
+    grid.resize(least)  # shrunk to its least size: back to three columns, all in view
+    qtbot.waitUntil(lambda: grid.columns == 3)
+    area = grid._tile_area.rect()
+    for tile in grid.tiles.values():
+        assert area.contains(tile.geometry())
+    grid.toggle_enlarged("/cam6/image_raw")  # one camera alone, then the grid again
+    assert grid.columns == 1
+    grid.resize(865, 415 + grid.word_band.height() + 4)
+    grid.toggle_enlarged()
+    qtbot.waitUntil(lambda: grid.columns == 4)
