@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QEvent, Qt, Signal
 from PySide6.QtGui import QBrush, QColor, QPalette
 from PySide6.QtWidgets import (
     QAbstractItemView,
@@ -116,6 +116,7 @@ class SetTable(QTableWidget):
         header.setSectionResizeMode(QHeaderView.ResizeMode.Interactive)
         header.setStretchLastSection(True)
         self._origin_ns = 0
+        self._word_width = 0  # the word column's width for its widest text
         self._updating = False
         self._rows: list[tuple] = []  # what each row shows, to skip rows that stay alike
         self._same: dict[int, tuple[int, ...]] = {}  # set id -> sets showing its frames
@@ -155,7 +156,8 @@ class SetTable(QTableWidget):
     def fit_columns(self, columns: Iterable[int] | None = None) -> None:
         """Every column (of ``columns``, by default all) as wide as its widest text; the
         last one takes the rest. Measuring a column measures each of its rows: a
-        decision, which changes only the last column, refits none."""
+        decision, which changes only the last column, refits none. The word column
+        gives way where the list is too narrow for it (see :meth:`_fit_word`)."""
         last = self.columnCount() - 1
         wanted = sorted(c for c in set(range(last) if columns is None else columns) if c < last)
         if wanted:
@@ -165,7 +167,36 @@ class SetTable(QTableWidget):
                     self.resizeColumnToContents(col)
             finally:
                 self.setItemDelegate(self._delegate)
+            if WORD in wanted:
+                self._word_width = self.columnWidth(WORD)
         self.horizontalHeader().setStretchLastSection(True)
+        self._fit_word()
+
+    def _fit_word(self) -> None:
+        """Narrow the word column, its long texts ending in "…" (the row's tooltip says
+        them whole), where the list is too narrow for every column: "▲ capture · similar
+        · same as #1, #3" pushed the decision column out of view behind a scrollbar."""
+        if not self.isVisible() or not self._word_width:
+            return
+        header = self.horizontalHeader()
+        self.setItemDelegate(self._measure)
+        try:
+            decision = max(self.sizeHintForColumn(DECISION), header.sectionSizeHint(DECISION))
+        finally:
+            self.setItemDelegate(self._delegate)
+        # the last column stretches, but never below its own width (100 px at first)
+        header.resizeSection(DECISION, decision)
+        others = sum(self.columnWidth(c) for c in range(self.columnCount() - 1) if c != WORD)
+        room = self.viewport().width() - others - decision
+        least = header.sectionSizeHint(WORD)
+        width = max(least, min(self._word_width, room))
+        if width != self.columnWidth(WORD):
+            self.setColumnWidth(WORD, width)
+
+    def viewportEvent(self, event) -> bool:
+        if event.type() == QEvent.Type.Resize:  # the list's width, or its scrollbar, changed
+            self._fit_word()
+        return super().viewportEvent(event)
 
     def update_row(self, row: int, s: FrameSet, pending: bool = False) -> None:
         """Show ``s`` in ``row`` (the columns whose texts changed refitted)."""

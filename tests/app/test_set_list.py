@@ -231,6 +231,7 @@ def test_fitting_the_columns_measures_as_the_list_draws_without_python_per_cell(
     sets = [*sets, replace(sets[0], id=99, trigger=replace(sets[0].trigger, source="similar"))]
     table = SetTable()
     qtbot.addWidget(table)
+    table.resize(1000, 300)  # room for every column (a narrow list narrows the word's)
     table.show()
     table.set_sets(sets, sets[0].t_ns)
     last = table.columnCount() - 1
@@ -331,3 +332,32 @@ def test_a_click_on_the_selected_row_goes_back_to_its_set(qtbot, window) -> None
     row_2 = table.visualItemRect(table.item(2, 0)).center()
     qtbot.mouseClick(table.viewport(), Qt.MouseButton.LeftButton, pos=row_2)
     assert chosen == [1, 2] and model.current == 2
+
+
+def test_a_long_word_cell_gives_way_to_the_decision_column(
+        qtbot, truth_session_file: Path) -> None:
+    """"▲ capture · similar · same as #1, #3" widened the word column until the frames
+    and decision columns went out of view behind a scrollbar in a 1280 px window: the
+    word column now narrows (the row's tooltip says it whole), down to its header."""
+    from app.set_table import SetTable
+
+    first, second, third = load_session(truth_session_file).sets[:3]
+    similar = replace(second.trigger, source="similar")
+    sets = [first, replace(second, frames=first.frames, trigger=similar),
+            replace(third, frames=first.frames)]
+    table = SetTable()
+    qtbot.addWidget(table)
+    table.resize(1000, 300)
+    table.show()
+    table.set_sets(sets, first.t_ns)
+    word, decision = column("word"), column("decision")
+    wide = table.columnWidth(word)
+    assert table.item(1, word).text().endswith("same as #1, #3")
+    table.resize(480, 300)  # the list's pane at its least width
+    qtbot.waitUntil(lambda: table.columnWidth(word) < wide)
+    assert table.horizontalScrollBar().maximum() == 0
+    assert table.columnWidth(decision) >= table.sizeHintForColumn(decision)
+    assert table.columnWidth(word) >= table.horizontalHeader().sectionSizeHint(word)
+    assert table.item(1, word).toolTip().startswith("▲ the same frames as set #1, #3")
+    table.resize(1000, 300)  # room again: the whole text
+    qtbot.waitUntil(lambda: table.columnWidth(word) == wide)
