@@ -456,6 +456,8 @@ class WordBand(QWidget):
     set's decision as symbol and colour."""
 
     HEIGHT = 40
+    #: the least room at either end of the text, and its least letter size, pixels
+    PAD_PX, LEAST_PX = 6, 12
 
     def __init__(self, parent: QWidget) -> None:
         super().__init__(parent)
@@ -465,6 +467,18 @@ class WordBand(QWidget):
         self.decides: int | None = None
         self.setFixedHeight(self.HEIGHT)
         self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
+
+    def fitted(self, font: QFont, text: str) -> tuple[QFont, str]:
+        """``font`` and ``text`` as drawn across the band: smaller letters (down to
+        LEAST_PX), then an ending "…", where the band is too narrow; a narrow grid cut
+        "? CAPTURE · added by hand" at both ends, its decision symbol with it."""
+        room = self.width() - 2 * self.PAD_PX
+        wide = QFontMetrics(font).horizontalAdvance(text)
+        if wide <= room or room <= 0:
+            return font, text
+        font = QFont(font)
+        font.setPixelSize(max(self.LEAST_PX, int(font.pixelSize() * room / wide)))
+        return font, QFontMetrics(font).elidedText(text, Qt.TextElideMode.ElideRight, room)
 
     def paintEvent(self, event) -> None:
         p = QPainter(self)
@@ -477,10 +491,11 @@ class WordBand(QWidget):
         else:
             font.setPixelSize(14)
             colour = QColor(150, 150, 150)
+        font, text = self.fitted(font, band_text(self.word, self.state, self.source,
+                                                 self.decides))
         p.setFont(font)
         p.setPen(colour)
-        p.drawText(QRectF(self.rect()), Qt.AlignmentFlag.AlignCenter,
-                   band_text(self.word, self.state, self.source, self.decides))
+        p.drawText(QRectF(self.rect()), Qt.AlignmentFlag.AlignCenter, text)
         p.end()
 
 

@@ -181,3 +181,29 @@ def test_the_grid_takes_the_columns_that_show_the_frames_largest(qtbot) -> None:
     grid.resize(865, 415 + grid.word_band.height() + 4)
     grid.toggle_enlarged()
     qtbot.waitUntil(lambda: grid.columns == 4)
+
+
+def test_the_heard_word_fits_a_narrow_grid_instead_of_losing_both_ends(qtbot) -> None:
+    """In a window half a 1920 px screen wide the band under four cameras cut "? CAPTURE
+    · added by hand" at both ends, the decision's symbol with them."""
+    from PySide6.QtGui import QFont, QFontMetrics
+
+    from app.frame_grid import FrameGrid, band_text
+
+    grid = FrameGrid(["/cam0/image_raw"])
+    qtbot.addWidget(grid)
+    band = grid.word_band
+    text = band_text("capture", "undecided", "manual")
+    big = QFont(band.font())
+    big.setPixelSize(band.HEIGHT - 10)
+    big.setBold(True)
+    band.resize(1000, band.HEIGHT)  # room: as it was
+    assert band.fitted(big, text) == (big, text)
+    band.resize(440, band.HEIGHT)
+    font, shown = band.fitted(big, text)
+    assert shown == text and font.pixelSize() < big.pixelSize()  # smaller, whole
+    assert QFontMetrics(font).horizontalAdvance(shown) <= 440 - 2 * band.PAD_PX
+    band.resize(120, band.HEIGHT)  # at the least letter size: the end gives way
+    font, shown = band.fitted(big, text)
+    assert font.pixelSize() == band.LEAST_PX and shown.startswith("? CAP")
+    assert shown.endswith("…") and QFontMetrics(font).horizontalAdvance(shown) <= 108
