@@ -17,6 +17,7 @@ from speechcal_core.cli._speech_options import (
 )
 from speechcal_core.errors import UsageError
 from speechcal_core.fsutil import OutputExistsError, overlap
+from speechcal_core.session.backups import free_name, review_work_in
 from speechcal_core.session.model import STREAMS_KEY
 
 if TYPE_CHECKING:
@@ -92,11 +93,11 @@ def run(args: argparse.Namespace) -> int:
     bak = out.with_name(out.name + ".bak")
     # a .bak holding review work is not given up for a file that holds none (a second
     # --force would otherwise lose the decisions the first one kept)
-    bak_work = review_work(bak) if replaced and bak.exists() else ""
-    kept = bak_work if bak_work and not review_work(out) else ""
+    bak_work = review_work_in(bak) if replaced and bak.exists() else ""
+    kept = bak_work if bak_work and not review_work_in(out) else ""
     # both hold review work: the older .bak moves aside rather than being replaced
     older_work = bak_work if not kept else ""
-    older = _free_name(bak) if older_work else None
+    older = free_name(bak) if older_work else None
     if older is not None:
         os.replace(bak, older)
     save_session(session, out, backup=not kept)
@@ -151,26 +152,6 @@ def _refuse_to_replace_other_files(out: Path) -> None:
         raise OutputExistsError(f"{out} exists and --force replaces only a session file, "
                                 f"which this is not ({reason}); choose another -o, or move "
                                 "it away first") from None
-
-
-def _free_name(bak: Path) -> Path:
-    """``SESSION.json.bak.1`` (or .2, …): the first such name no file has."""
-    n = 1
-    while bak.with_name(f"{bak.name}.{n}").exists():
-        n += 1
-    return bak.with_name(f"{bak.name}.{n}")
-
-
-def review_work(path: Path) -> str:
-    """What an operator did in the session file at ``path`` (``summary.review_work``);
-    "" for nothing, or a file that does not read as a session."""
-    from speechcal_core.review.summary import review_work as work_in
-    from speechcal_core.session.store import SessionFileError, load_session
-
-    try:
-        return work_in(load_session(path))
-    except SessionFileError:
-        return ""
 
 
 def _summary(session: Session) -> str:

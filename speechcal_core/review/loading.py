@@ -11,6 +11,7 @@ from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.frames.nearest import stamped_index
 from speechcal_core.fsutil import plain_absolute, same_file
 from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY, review_work
+from speechcal_core.session.backups import set_aside_backup_work
 from speechcal_core.session.model import SENSITIVITY_KEY, Session
 from speechcal_core.session.store import (
     check_recording_present,
@@ -108,6 +109,7 @@ def load_for_review(
         path = Path(session_path)
         stamp = file_stamp(path)  # before reading: a change while reading shows later
         session = load_session(path)
+        note = set_aside_backup_work(path, review_work(session))
     elif recording:
         path = session_path_for(recording, new_session_path)
         if path.exists():
@@ -117,6 +119,7 @@ def load_for_review(
             work = review_work(session)
             note = (f"opened the existing {path.name} ({work} kept)" if work else
                     f"opened the existing {path.name} (nothing decided in it yet)")
+            note = "; ".join(filter(None, [note, set_aside_backup_work(path, work)]))
             audio = audio or session.audio  # the session knows its audio
             moved, source = _follow_moved_files(session, recording, audio)
             if moved:

@@ -338,3 +338,32 @@ def test_an_existing_session_opens_without_the_audio_given(tiny_synth, tmp_path:
     assert Path(inputs.session.audio) == Path(audio)
     with pytest.raises(UsageError, match="a recording needs its audio file: pass --audio"):
         load_for_review(recording=[recording], new_session_path=tmp_path / "new.json")
+
+
+def test_review_work_in_the_bak_of_an_undecided_session_is_set_aside_before_saving(
+        tiny_synth, tmp_path: Path) -> None:
+    """``process --force`` keeps the reviewed file as .bak beside its fresh, undecided
+    session; the window's first save kept that undecided file as .bak over it, and the
+    decisions were gone."""
+    recording, audio = _copy_of(tiny_synth, tmp_path)
+    path = tmp_path / "session.json"
+    load_for_review(recording=[recording], audio=audio, new_session_path=path).close()
+    reviewed = load_session(path)
+    reviewed.sets[:2] = [s.with_decision("accepted") for s in reviewed.sets[:2]]
+    bak = tmp_path / "session.json.bak"
+    save_session(reviewed, bak, backup=False)  # as process --force leaves it
+    (tmp_path / "session.json.bak.1").write_text("an older one, left alone")
+    inputs = load_for_review(session_path=path)
+    inputs.close()
+    assert ("session.json.bak holds review work (2 decisions) and session.json none: it is "
+            "kept as session.json.bak.2") in inputs.note
+    inputs.session.sets[0] = inputs.session.sets[0].with_decision("rejected")
+    save_session(inputs.session, path)  # the window's autosave
+    kept = load_session(tmp_path / "session.json.bak.2")
+    assert [s.decision for s in kept.sets[:2]] == ["accepted", "accepted"]
+    assert (tmp_path / "session.json.bak.1").read_text() == "an older one, left alone"
+    # a session holding review work of its own keeps the .bak as the previous version
+    again = load_for_review(session_path=path)
+    again.close()
+    assert "kept as" not in again.note and bak.exists()
+    assert not (tmp_path / "session.json.bak.3").exists()

@@ -1,0 +1,47 @@
+"""Earlier versions of a session file kept beside it: ``SESSION.json.bak`` (the version
+before the last save) and ``SESSION.json.bak.1``, ``.bak.2``, … (review work set aside)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+
+def review_work_in(path: Path) -> str:
+    """What an operator did in the session file at ``path`` (``summary.review_work``);
+    "" for nothing, or a file that does not read as a session."""
+    from speechcal_core.review.summary import review_work
+    from speechcal_core.session.store import SessionFileError, load_session
+
+    try:
+        return review_work(load_session(path))
+    except SessionFileError:
+        return ""
+
+
+def free_name(bak: Path) -> Path:
+    """``SESSION.json.bak.1`` (or .2, …): the first such name no file has."""
+    n = 1
+    while bak.with_name(f"{bak.name}.{n}").exists():
+        n += 1
+    return bak.with_name(f"{bak.name}.{n}")
+
+
+def set_aside_backup_work(path: Path, work: str) -> str:
+    """Move ``path``'s ``.bak`` to a free ``.bak.N`` when it holds review work and the
+    session at ``path`` (whose review ``work`` is given) holds none, as ``process --force``
+    leaves a reviewed file: the next save keeps the file it replaces as ``.bak``, which
+    would give that work up. Says what was done ("" for nothing)."""
+    bak = path.with_name(path.name + ".bak")
+    if work or not bak.is_file():
+        return ""
+    kept = review_work_in(bak)
+    if not kept:
+        return ""
+    older = free_name(bak)
+    try:
+        os.replace(bak, older)
+    except OSError:  # a folder nothing can be saved in: the .bak is not replaced either
+        return ""
+    return (f"{bak.name} holds review work ({kept}) and {path.name} none: it is kept as "
+            f"{older.name}, as saving keeps the file it replaces as {bak.name}")
