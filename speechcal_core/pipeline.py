@@ -7,6 +7,7 @@ corners, and check a calibration per camera.
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict
 from pathlib import Path
@@ -127,6 +128,7 @@ def process_loaded(
     from speechcal_core.target import TargetSpec
 
     report = progress or _noop
+    _check_encodings(source)
     evidence: dict = {}
     from speechcal_core.sources.base import header_span_ns
 
@@ -199,6 +201,20 @@ def recording_notes(source: FrameSource) -> list[str]:
     part, a part of a split bag given alone), as ``speechcal index`` prints it."""
     return [*(f"{s.name}: {s.stamp_problems}" for s in source.streams if s.stamp_problems),
             *getattr(source, "notes", [])]
+
+
+def _check_encodings(source: FrameSource) -> None:
+    """A stream of raw images in an encoding no camera frame is read from (a 32-bit depth
+    topic recorded with the cameras) is refused before any work, by reading its first
+    frame: the SourceError names the file and says how to leave the stream out."""
+    from speechcal_core.sources.decode import is_supported
+    from speechcal_core.sources.errors import BadFrameError
+
+    for s in source.streams:
+        if s.msgtype.endswith("/Image") and s.count and s.encoding \
+                and not is_supported(s.encoding):
+            with contextlib.suppress(BadFrameError):  # a damaged frame: read as usual
+                source.frame(s.name, 0)
 
 
 def _check_offset(offset_ns: int, audio_s: float, span: tuple[int, int] | None) -> None:

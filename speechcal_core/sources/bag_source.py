@@ -20,6 +20,7 @@ from speechcal_core.sources.decode import (
     compressed_kind,
     decode_compressed,
     decode_raw,
+    is_supported,
     raw_size_problem,
 )
 from speechcal_core.sources.errors import BadFrameError, SourceError
@@ -278,7 +279,11 @@ class BagSource(ClosingContext):
                 self._bad.setdefault(stream, set()).add(i)
             raise BadFrameError(f"{self._where(s, i)}: {exc}; frame marked bad") from None
         except SourceError as exc:
-            raise SourceError(f"{self._where(s, i)}: {exc}") from None
+            hint = "" if s.compressed or is_supported(s.info.encoding) else (
+                "; no camera's frames are stored so (a depth or disparity topic?): leave "
+                f"the stream out with --skip-stream {stream} (speechcal process or review), "
+                "or name the cameras with --stream")
+            raise SourceError(f"{self._where(s, i)}: {exc}{hint}") from None
 
     def raw(self, stream: str, i: int) -> RawFrame:
         """The serialized message, as stored, with its connection details."""

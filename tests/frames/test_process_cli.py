@@ -290,3 +290,42 @@ def test_a_force_over_reviewed_files_keeps_the_older_review_work_too(
     assert main([*run, "--force"]) == 0
     assert (decided("session.json.bak"), decided("session.json.bak.1"),
             decided("session.json.bak.2")) == (1, 3, 2)
+
+
+def _depth_bag(path: Path, first_ns: int, count: int = 40) -> Path:
+    """A ROS1 bag of 32-bit float depth images (``32FC1``), 10 Hz from ``first_ns``."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    ts = get_typestore(Stores.ROS1_NOETIC)
+    header_t, time_t = ts.types["std_msgs/msg/Header"], ts.types["builtin_interfaces/msg/Time"]
+    pixels = np.frombuffer(np.ones((48, 64), np.float32).tobytes(), np.uint8)
+    with Writer(path) as writer:
+        conn = writer.add_connection("/depth/image_raw", "sensor_msgs/msg/Image", typestore=ts)
+        for k in range(count):
+            t = first_ns + k * 100_000_000
+            header = header_t(seq=k, stamp=time_t(sec=t // 10**9, nanosec=t % 10**9),
+                              frame_id="depth")
+            msg = ts.types["sensor_msgs/msg/Image"](header, 48, 64, "32FC1", 0, 256, pixels)
+            writer.write(conn, t, bytes(ts.serialize_ros1(msg, "sensor_msgs/msg/Image")))
+    return path
+
+
+def test_a_depth_stream_is_named_with_how_to_leave_it_out_before_any_work(
+        synth, tmp_path: Path, capsys) -> None:
+    """A 32-bit depth topic recorded with the cameras was taken for a camera: process
+    read the clap and the words, then failed on its frames without saying what to do."""
+    out, truth = synth
+    with open_recording([out / truth["recording"]]) as source:
+        first = source.streams[0].first_ns
+    depth = _depth_bag(tmp_path / "depth.bag", first)
+    code = main(["process", str(out / truth["recording"]), str(depth), "--audio",
+                 str(out / "audio.ogg"), "-o", str(tmp_path / "session.json")])
+    captured = capsys.readouterr()
+    assert code == 1 and captured.out == ""
+    assert "clap" not in captured.err and "trigger words" not in captured.err
+    (line,) = [ln for ln in captured.err.splitlines() if "error:" in ln]
+    assert "depth.bag: /depth/image_raw frame 0" in line
+    assert "unknown image encoding '32FC1'" in line
+    assert "leave the stream out with --skip-stream /depth/image_raw" in line
+    assert not (tmp_path / "session.json").exists()
