@@ -52,8 +52,22 @@ def atomic_write_text(path: str | Path, text: str, *, keep_backup: bool = False)
             handle.flush()
             os.fsync(handle.fileno())
         if keep_backup and path.exists():
-            shutil.copy2(path, path.with_name(path.name + ".bak"))
+            _copy_atomically(path, path.with_name(path.name + ".bak"))
         os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+
+
+def _copy_atomically(source: Path, target: Path) -> None:
+    """Copy ``source`` to ``target`` through a temp file beside it: a copy failing midway
+    (a full disk) leaves ``target`` as it was, not cut off."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    os.close(fd)
+    try:
+        shutil.copy2(source, tmp)
+        os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)

@@ -31,6 +31,34 @@ def test_atomic_write_keeps_previous_version_as_bak(tmp_path: Path) -> None:
     assert sorted(p.name for p in tmp_path.iterdir()) == ["session.json", "session.json.bak"]
 
 
+BACKUP_FAILS = textwrap.dedent("""
+    import resource, signal, sys
+    from speechcal_core.fsutil import atomic_write_text
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write past the limit fails: EFBIG
+    resource.setrlimit(resource.RLIMIT_FSIZE, (1000, 1000))
+    try:
+        atomic_write_text(sys.argv[1], "new", keep_backup=True)
+    except OSError as exc:
+        print(exc.strerror)
+""")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="file size limits are POSIX rlimits")
+def test_a_backup_that_cannot_be_written_leaves_the_earlier_backup_whole(
+        tmp_path: Path) -> None:
+    """The previous version was copied over the .bak in place: a write failing midway (a
+    full disk) left a cut-off .bak, and the earlier one was gone."""
+    target, bak = tmp_path / "session.json", tmp_path / "session.json.bak"
+    target.write_text("x" * 5000)  # the file the new text replaces: too big to copy here
+    bak.write_text("the earlier version")
+    done = subprocess.run([sys.executable, "-c", BACKUP_FAILS, str(target)],
+                          capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == os.strerror(27)  # EFBIG: the save failed
+    assert target.read_text() == "x" * 5000
+    assert bak.read_text() == "the earlier version"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["session.json", "session.json.bak"]
+
+
 def test_staged_directory_appears_only_when_complete(tmp_path: Path) -> None:
     target = tmp_path / "out"
     with pytest.raises(RuntimeError), staged_directory(target) as staging:
