@@ -53,8 +53,24 @@ class FrameChoice:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> FrameChoice:
-        return cls(str(data["stream"]), int(data.get("index", -1)), int(data["stamp_ns"]),
-                   data.get("sharpness"), data.get("corners"), tuple(data.get("flags", ())))
+        stream = str(data["stream"])
+        flags = data.get("flags", ())
+        if not isinstance(flags, (list, tuple)) or not all(isinstance(f, str) for f in flags):
+            raise ValueError(f"{stream}'s flags is {flags!r}, not a list of flags")
+        return cls(stream, int(data.get("index", -1)), int(data["stamp_ns"]),
+                   _figure(data, "sharpness", float), _figure(data, "corners", int),
+                   tuple(flags))
+
+
+def _figure(data: dict[str, Any], key: str, kind: type) -> Any:
+    """A frame's quality figure ``key`` as ``kind`` (None where it has none); ValueError
+    naming it when it is no number (a hand edit: the review compares it with others)."""
+    value = data.get(key)
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{data['stream']}'s {key} is {value!r}, not a number")
+    return kind(value)
 
 
 @dataclass(frozen=True)

@@ -303,6 +303,13 @@ def _edited(tmp_path: Path, edit) -> Path:
     (lambda d: d["sets"][0].pop("trigger"), "set 1: the key 'trigger' is missing"),
     (lambda d: d["sets"][0].pop("id"), "set number 1 in the list: the key 'id' is missing"),
     (lambda d: d["sets"][0].update(frames=None), "set 1: a value of the wrong kind"),
+    # the window compared such figures with numbers and raised
+    (lambda d: d["sets"][0]["frames"][0].update(sharpness="0.8 "),
+     "set 1: /cam0/image_raw's sharpness is '0.8 ', not a number"),
+    (lambda d: d["sets"][0]["frames"][1].update(corners=[140]),
+     "set 1: /cam1/image_raw's corners is [140], not a number"),
+    (lambda d: d["sets"][0]["frames"][1].update(flags="blurred"),
+     "set 1: /cam1/image_raw's flags is 'blurred', not a list of flags"),
 ])
 def test_a_hand_edit_gone_wrong_names_the_set_and_what_is_wrong(tmp_path: Path, edit,
                                                                  says: str) -> None:
