@@ -122,6 +122,10 @@ class BagSource(ClosingContext):
                 scans.append(scan)
                 self.notes.extend(scan.notes)
             self._streams = self._merge(scans)
+            empty = sorted({t for s in scans for t in s.empty_topics} - set(self._streams),
+                           key=stream_order)
+            self.notes.extend(f"{t}: an image topic without any message (its camera sent no "
+                              "frame while recording): left out" for t in empty)
             self.notes.extend(same_frames_notes({t: s.stamps for t, s in self._streams.items()}))
         except BaseException:
             self.close()
@@ -132,6 +136,10 @@ class BagSource(ClosingContext):
             found = f" (found: {', '.join(others[:8])})" if others else ""
             broken = [n for n in self.notes if any(w in n for w in BROKEN_WORDS)]
             self.close()
+            if empty and not broken:
+                raise SourceError(f"{names}: its image topics hold no message "
+                                  f"({', '.join(empty)}): the cameras sent no frame while "
+                                  "recording; check them and record again")
             if broken and not others:  # cut off before its first image, not a camera-less bag
                 raise SourceError(f"{names}: no image message could be read ("
                                   f"{'; '.join(broken)}); copy the recording again where "

@@ -13,7 +13,8 @@ import numpy as np
 
 from speechcal_core.sources.scan import FileScan, TopicScan
 
-VERSION = 1
+#: 2: image topics without any message are kept (``FileScan.empty_topics``)
+VERSION = 2
 _ARRAYS = ("stamps", "log_times", "offsets", "chunks", "sizes")
 
 
@@ -66,6 +67,7 @@ def load(path: Path) -> FileScan | None:
                     chunk_compression=list(meta["chunk_compression"]),
                     notes=list(meta["notes"]),
                     other_topics=list(meta["other_topics"]),
+                    empty_topics=list(meta.get("empty_topics", [])),
                 )
         except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile):
             continue
@@ -91,6 +93,7 @@ def save(path: Path, scan: FileScan) -> Path | None:
         "chunk_compression": scan.chunk_compression,
         "notes": scan.notes,
         "other_topics": scan.other_topics,
+        "empty_topics": scan.empty_topics,
     }
     arrays: dict[str, np.ndarray] = {
         "meta": np.frombuffer(json.dumps(meta).encode(), np.uint8),

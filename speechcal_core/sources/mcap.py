@@ -116,6 +116,7 @@ class McapFile(IndexedFile):
             if cid not in collectors
         )
         result.topics = [c.finish() for c in collectors.values() if c.rows]
+        result.empty_topics = [c.scan.topic for c in collectors.values() if not c.rows]
         return result
 
     def _channel(self, content: bytes, collectors: dict[int, TopicCollector]) -> None:

@@ -188,6 +188,7 @@ class Ros1Bag(IndexedFile):
             if image_msgtype(c["source_msgtype"]) is None
         )
         result.topics = [c.finish() for c in collectors.values() if c.rows]
+        result.empty_topics = [c.scan.topic for c in collectors.values() if not c.rows]
         return result
 
     def _walk_chunks(

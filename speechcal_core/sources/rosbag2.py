@@ -112,6 +112,8 @@ class Sqlite3File:
                 col.add(stamp_cdr(self._prefix(rowid)), log_time, rowid, -1, size)
             if col.rows:
                 result.topics.append(col.finish())
+            else:
+                result.empty_topics.append(name)
         return result
 
     def _prefix(self, rowid: int, n: int = STAMP_PREFIX) -> bytes:

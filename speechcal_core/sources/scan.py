@@ -51,6 +51,7 @@ class FileScan:
     chunk_compression: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     other_topics: list[str] = field(default_factory=list)  # "topic [type]" of non-image topics
+    empty_topics: list[str] = field(default_factory=list)  # image topics without a message
 
     @property
     def chunk_table(self) -> np.ndarray:

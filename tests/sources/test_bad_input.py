@@ -90,6 +90,25 @@ def test_bag_without_image_topics_lists_what_it_has(make_bag) -> None:
     assert str(exc.value).startswith(f"{path}: ")  # the path as given, not only its name
 
 
+@pytest.mark.parametrize("fmt", ["ros1", "ros2-sqlite3", "ros2-mcap"])
+def test_an_image_topic_without_any_message_is_named(make_bag, fmt: str) -> None:
+    """A camera whose driver died before its first frame leaves its topic in the bag
+    with no message (ROS2 records every topic it discovers): it was left out without a
+    word, and a recording of such topics alone was said to have no image topics."""
+    cams = [Cam("/cam0/image_raw", regular(), index=0), Cam("/cam1/image_raw", [], index=1)]
+    with open_recording([make_bag(fmt, cams)]) as src:
+        assert [s.name for s in src.streams] == ["/cam0/image_raw"]
+        assert ("/cam1/image_raw: an image topic without any message (its camera sent no "
+                "frame while recording): left out") in src.notes
+    path = make_bag(fmt, [Cam("/cam1/image_raw", [], index=1)])
+    with pytest.raises(SourceError) as exc:
+        open_recording([path])
+    assert str(exc.value).startswith(str(path))  # the bag, or the file in its folder
+    assert str(exc.value).endswith(
+        ": its image topics hold no message (/cam1/image_raw): the cameras sent no frame "
+        "while recording; check them and record again")
+
+
 @pytest.mark.parametrize("fmt", ["ros1-bz2", "ros2-sqlite3"])
 def test_corrupt_jpeg_is_marked_bad_and_the_stream_still_works(make_bag, fmt: str) -> None:
     good = Cam("/cam0/image_raw", regular(10), encoding="jpeg")
