@@ -334,8 +334,10 @@ def test_dragging_the_clap_while_playing_restarts_the_sound_now_and_then(
     model = window.model
     set_ns, plays = _play_from_set_1(qtbot, window)
     shifts = [k * 5_000_000 for k in range(1, 41)]  # the handle 0.2 s on, 5 ms a move
+    t0 = time.monotonic()
     _drag(qtbot, window, window.waveform.clap_dragging.emit, shifts)
-    assert window.player.plays - plays <= 40 * 0.01 / RESTART_INTERVAL_S + 3
+    dragged_s = time.monotonic() - t0  # 0.4 s and more: a busy machine stretches it
+    assert window.player.plays - plays <= dragged_s / RESTART_INTERVAL_S + 3  # not one a move
     window.waveform.clap_moved.emit(shifts[-1])  # released: the offset is applied
     qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)
     moved_ns = set_time_ns(model.current_set)
