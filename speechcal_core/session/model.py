@@ -36,6 +36,11 @@ class Trigger:
                    float(data.get("score", 1.0)), str(data.get("source", "detected")))
 
 
+#: a frame's index in its stream; more is a hand edit gone wrong (the window's frame
+#: loader passes indexes as 32-bit numbers, and 10**12 raised in its thread)
+MAX_FRAME_INDEX = 2**31 - 1
+
+
 @dataclass(frozen=True)
 class FrameChoice:
     """The frame chosen for one camera in one frame set (index -1: none within tolerance)."""
@@ -57,7 +62,10 @@ class FrameChoice:
         flags = data.get("flags", ())
         if not isinstance(flags, (list, tuple)) or not all(isinstance(f, str) for f in flags):
             raise ValueError(f"{stream}'s flags is {flags!r}, not a list of flags")
-        return cls(stream, int(data.get("index", -1)), int(data["stamp_ns"]),
+        index = int(data.get("index", -1))
+        if not -1 <= index <= MAX_FRAME_INDEX:
+            raise ValueError(f"{stream}'s frame index is {index}, beyond any recording")
+        return cls(stream, index, int(data["stamp_ns"]),
                    _figure(data, "sharpness", float), _figure(data, "corners", int),
                    tuple(flags))
 

@@ -310,6 +310,8 @@ def _edited(tmp_path: Path, edit) -> Path:
      "set 1: /cam1/image_raw's corners is [140], not a number"),
     (lambda d: d["sets"][0]["frames"][1].update(flags="blurred"),
      "set 1: /cam1/image_raw's flags is 'blurred', not a list of flags"),
+    (lambda d: d["sets"][0]["frames"][0].update(index=10**12),
+     "set 1: /cam0/image_raw's frame index is 1000000000000, beyond any recording"),
 ])
 def test_a_hand_edit_gone_wrong_names_the_set_and_what_is_wrong(tmp_path: Path, edit,
                                                                  says: str) -> None:
