@@ -95,6 +95,93 @@ def test_opencv_calibrates_from_corners_json_alone(exported) -> None:
     assert k[0, 0] == pytest.approx(_truth_fx(truth, PINHOLE), rel=0.03)
 
 
+@pytest.fixture(scope="module")
+def fisheye_export(tmp_path_factory) -> tuple[Path, dict]:
+    """One fisheye camera filming a checkerboard, processed with its target.yaml and
+    exported as folders: (export folder, truth)."""
+    from speechcal_core.pipeline import process_recording
+    from speechcal_core.synth.options import SynthOptions
+    from speechcal_core.synth.session import generate_session
+
+    root = tmp_path_factory.mktemp("fisheye")
+    generate_session(root / "synth", SynthOptions(
+        cameras=1, fisheye=1, duration=14.0, width=320, height=240, seed=21, claps=1,
+        target_kind="checkerboard"))
+    truth = json.loads((root / "synth" / "truth.json").read_text())
+    words = root / "words.csv"
+    words.write_text("word,start,end\n" + "".join(
+        f"capture,{t['start_s']:.4f},{t['end_s']:.4f}\n" for t in truth["triggers"]))
+    session = process_recording(
+        [str(root / "synth" / truth["recording"])], str(root / "synth" / truth["audio"]),
+        transcript=str(words), offset_ns=truth["sync"]["offset_ns"],
+        target=TargetSpec.from_kalibr_yaml(root / "synth" / "target.yaml"))
+    session.sets = [replace(s, decision="accepted") for s in session.sets]
+    path = root / "session.json"
+    save_session(session, path)
+    export_session_file(path, "folders", root / "folders")
+    return root / "folders", truth
+
+
+def test_opencv_fisheye_calibrates_from_corners_json_as_the_readme_says(
+        fisheye_export) -> None:
+    """The README's cv2.fisheye.calibrate call: shaped (N, 1, 3) and (N, 1, 2), with
+    CALIB_RECOMPUTE_EXTRINSIC (without it every view keeps its first pose: pixels off)."""
+    out, truth = fisheye_export
+    (fisheye,) = truth["cameras"]
+    assert fisheye["model"] == "fisheye"
+    doc = json.loads((out / CORNERS_JSON).read_text())
+    board = np.asarray(doc["object_points"], np.float32)
+    views = [image for image in doc["images"] if len(image["ids"]) >= 6]
+    assert len(views) >= 3
+    obj = [board[image["ids"]].reshape(-1, 1, 3) for image in views]
+    img = [np.asarray(image["points"], np.float32).reshape(-1, 1, 2) for image in views]
+    size = tuple(views[0]["image_size"])
+    rms, k, *_ = cv2.fisheye.calibrate(obj, img, size, None, None,
+                                       flags=cv2.fisheye.CALIB_RECOMPUTE_EXTRINSIC)
+    assert rms < 0.5
+    assert k[0, 0] == pytest.approx(fisheye["intrinsics"][0], rel=0.03)
+    unrefined, *_ = cv2.fisheye.calibrate(obj, img, size, None, None)
+    assert unrefined > 1.0  # why the README names the flag
+
+
+def test_tags_found_again_with_opencv_as_the_readme_says_land_on_corners_json(
+        exported) -> None:
+    """README: DICT_APRILTAG_36h11, markerBorderBits 2, corners refined with
+    cv2.cornerSubPix in a window inside the gap between tags (aruco's own corners sit ~2 px
+    inside, where Kalibr's corner squares touch the tags), OpenCV corner c is corner
+    k = (1, 0, 3, 2)[c]."""
+    out, _truth, _path = exported
+    doc = json.loads((out / CORNERS_JSON).read_text())
+    params = cv2.aruco.DetectorParameters()
+    params.markerBorderBits = 2
+    detector = cv2.aruco.ArucoDetector(
+        cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_APRILTAG_36h11), params)
+    criteria = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 50, 1e-3)
+    raw, refined = [], []
+    for image in doc["images"]:
+        if not image["ids"]:
+            continue
+        grey = cv2.imread(str(out / image["file"]), cv2.IMREAD_GRAYSCALE)
+        corners, tags, _ = detector.detectMarkers(grey)
+        if tags is None:
+            continue
+        found = dict(zip(image["ids"], image["points"], strict=True))
+        for quad, tag in zip(corners, tags.ravel(), strict=True):
+            side = float(np.linalg.norm(quad[0, 1] - quad[0, 0]))
+            win = max(2, round(0.4 * doc["target"]["spacing"] * side))  # inside the gap
+            better = cv2.cornerSubPix(grey, quad.reshape(-1, 1, 2).copy(), (win, win),
+                                      (-1, -1), criteria).reshape(4, 2)
+            for c, k in enumerate((1, 0, 3, 2)):
+                if 4 * int(tag) + k in found:
+                    known = np.asarray(found[4 * int(tag) + k])
+                    raw.append(np.linalg.norm(quad.reshape(4, 2)[c] - known))
+                    refined.append(np.linalg.norm(better[c] - known))
+    assert len(refined) >= 24
+    assert np.median(raw) > 1.0  # why the README says to refine them
+    assert np.median(refined) < 0.3
+    assert np.percentile(refined, 90) < 1.0
+
+
 def _vnl_images(text: str) -> dict[str, list[list[str]]]:
     images: dict[str, list[list[str]]] = {}
     for line in text.splitlines():
