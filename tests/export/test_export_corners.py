@@ -95,18 +95,18 @@ def test_opencv_calibrates_from_corners_json_alone(exported) -> None:
     assert k[0, 0] == pytest.approx(_truth_fx(truth, PINHOLE), rel=0.03)
 
 
-@pytest.fixture(scope="module")
-def fisheye_export(tmp_path_factory) -> tuple[Path, dict]:
-    """One fisheye camera filming a checkerboard, processed with its target.yaml and
-    exported as folders: (export folder, truth)."""
+def _accepted_checkerboard_session(root: Path, cameras: int, fisheye: int
+                                   ) -> tuple[Path, dict]:
+    """``cameras`` (the last ``fisheye`` of them fisheye) filming a checkerboard,
+    processed with its target.yaml and the true sync and word times, every set accepted:
+    (session file, truth)."""
     from speechcal_core.pipeline import process_recording
     from speechcal_core.synth.options import SynthOptions
     from speechcal_core.synth.session import generate_session
 
-    root = tmp_path_factory.mktemp("fisheye")
     generate_session(root / "synth", SynthOptions(
-        cameras=1, fisheye=1, duration=14.0, width=320, height=240, seed=21, claps=1,
-        target_kind="checkerboard"))
+        cameras=cameras, fisheye=fisheye, duration=14.0, width=320, height=240, seed=21,
+        claps=1, target_kind="checkerboard"))
     truth = json.loads((root / "synth" / "truth.json").read_text())
     words = root / "words.csv"
     words.write_text("word,start,end\n" + "".join(
@@ -118,6 +118,15 @@ def fisheye_export(tmp_path_factory) -> tuple[Path, dict]:
     session.sets = [replace(s, decision="accepted") for s in session.sets]
     path = root / "session.json"
     save_session(session, path)
+    return path, truth
+
+
+@pytest.fixture(scope="module")
+def fisheye_export(tmp_path_factory) -> tuple[Path, dict]:
+    """One fisheye camera filming a checkerboard, exported as folders: (export folder,
+    truth)."""
+    root = tmp_path_factory.mktemp("fisheye")
+    path, truth = _accepted_checkerboard_session(root, cameras=1, fisheye=1)
     export_session_file(path, "folders", root / "folders")
     return root / "folders", truth
 
@@ -339,28 +348,10 @@ def test_found_corners_the_sessions_board_lacks_are_left_out(processed, tmp_path
 
 @pytest.fixture(scope="module")
 def checkerboard_session(tmp_path_factory) -> tuple[Path, dict]:
-    """Two pinhole cameras filming a checkerboard, processed with its target.yaml, every
-    set accepted: (session file, truth)."""
-    from speechcal_core.pipeline import process_recording
-    from speechcal_core.synth.options import SynthOptions
-    from speechcal_core.synth.session import generate_session
-
-    root = tmp_path_factory.mktemp("checkerboard")
-    generate_session(root / "synth", SynthOptions(
-        cameras=2, fisheye=0, duration=14.0, width=320, height=240, seed=21, claps=1,
-        target_kind="checkerboard"))
-    truth = json.loads((root / "synth" / "truth.json").read_text())
-    words = root / "words.csv"
-    words.write_text("word,start,end\n" + "".join(
-        f"capture,{t['start_s']:.4f},{t['end_s']:.4f}\n" for t in truth["triggers"]))
-    session = process_recording(
-        [str(root / "synth" / truth["recording"])], str(root / "synth" / truth["audio"]),
-        transcript=str(words), offset_ns=truth["sync"]["offset_ns"],
-        target=TargetSpec.from_kalibr_yaml(root / "synth" / "target.yaml"))
-    session.sets = [replace(s, decision="accepted") for s in session.sets]
-    path = root / "session.json"
-    save_session(session, path)
-    return path, truth
+    """Two pinhole cameras filming a checkerboard, every set accepted: (session file,
+    truth)."""
+    return _accepted_checkerboard_session(tmp_path_factory.mktemp("checkerboard"),
+                                          cameras=2, fisheye=0)
 
 
 def _baseline_m(truth: dict) -> float:
