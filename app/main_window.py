@@ -1208,7 +1208,7 @@ class ReviewWindow(QMainWindow):
             if not self.property("headless"):
                 QMessageBox.warning(self, "SpeechCal", str(exc))
             return False
-        self.inputs.session_path = path
+        self.inputs.session_path = self.saver.path  # a link's target
         self.status.end("save", f"session saved as {path}")
         self._save_warned = False
         self._update_saved_label()

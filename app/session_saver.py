@@ -31,6 +31,7 @@ from speechcal_core.session.store import (
     file_stamp,
     save_document,
     save_session,
+    session_file,
     session_snapshot,
 )
 
@@ -154,8 +155,10 @@ class SessionSaver(QObject):
             self.saved.emit()
 
     def save_as(self, session: Session, path: Path) -> None:
-        """Save to ``path`` and autosave there from now on; raises SessionFileError."""
+        """Save to ``path`` and autosave there from now on (a link: its target, as
+        ``session_file`` says); raises SessionFileError."""
         self.flush()
+        path = session_file(path)
         save_session(session, path, self._writer)
         self.path, self.saved_at, self.error = path, time.time(), None
         self._on_disk = file_stamp(path)

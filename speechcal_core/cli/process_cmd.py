@@ -57,10 +57,12 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand: progress lines on stderr, the session file written atomically."""
     from speechcal_core.pipeline import process_recording
-    from speechcal_core.session.store import check_session_target, save_session
+    from speechcal_core.session.store import check_session_target, save_session, session_file
     from speechcal_core.target import TargetSpec
 
     args.recording, args.audio = recording_and_audio(args.recording, args.audio, "process")
+    # -o through a link writes its target (the link stays), and is checked as that file
+    args.output = str(session_file(args.output))
     if args.audio is None:
         raise UsageError("a recording needs its audio: add --audio AUDIO")
     _refuse_to_write_over_inputs(args)

@@ -277,10 +277,10 @@ def export_session_file(
     progress: Progress | None = None,
 ) -> ExportResult:
     """:func:`export_frame_sets` on a session file, opening its recording."""
-    from speechcal_core.session.store import file_stamp, load_session
+    from speechcal_core.session.store import file_stamp, load_session, session_file
     from speechcal_core.sources import open_recording
 
-    session_path = Path(session_path)
+    session_path = session_file(session_path)  # a link: its target is read and saved
     out = Path(out).absolute()
     stamp = file_stamp(session_path)
     session = load_session(session_path)

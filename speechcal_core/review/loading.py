@@ -18,6 +18,7 @@ from speechcal_core.session.store import (
     file_stamp,
     load_session,
     save_session,
+    session_file,
 )
 from speechcal_core.speech.matching import TriggerSpec
 from speechcal_core.target import TargetSpec
@@ -106,12 +107,12 @@ def load_for_review(
     made_new = False  # processed now: its streams are as asked
     if session_path is not None:
         report("reading session", 0.05)
-        path = Path(session_path)
+        path = session_file(session_path)  # a link: its target, from now on
         stamp = file_stamp(path)  # before reading: a change while reading shows later
         session = load_session(path)
         note = set_aside_backup_work(path, review_work(session))
     elif recording:
-        path = session_path_for(recording, new_session_path)
+        path = session_file(session_path_for(recording, new_session_path))
         if path.exists():
             report(f"reading existing session {path.name}", 0.05)
             stamp = file_stamp(path)

@@ -30,14 +30,29 @@ class SessionChangedError(SessionFileError):
     """A session file that someone else changed since it was read: not overwritten."""
 
 
+def session_file(path: str | Path) -> Path:
+    """The file a session path names: ``path`` itself, or where it leads when it is a
+    symbolic link (resolved once, when the session is opened or first saved).
+
+    A session reached through a link is the link's target: it is read and saved there
+    (the atomic replace and the ``.bak`` happen beside the target, so the link stays a
+    link and the target holds the review work), and the paths it stores are relative to
+    the TARGET's folder, not the link's: the session opens alike through any link to it.
+    A path that is no link comes back as it was given.
+    """
+    path = Path(path)
+    return path.resolve() if path.is_symlink() else path
+
+
 def session_to_dict(session: Session, session_path: Path) -> dict[str, Any]:
-    """The JSON document, ``schema`` first, paths relative to the session file's folder."""
+    """The JSON document, ``schema`` first, paths relative to the session file's folder
+    (the link's target's folder for a link: :func:`session_file`)."""
     return _document(session, session_path, [s.to_dict() for s in session.sets])
 
 
 def _document(session: Session, session_path: Path, sets: list[Any]) -> dict[str, Any]:
     """:func:`session_to_dict` with ``sets`` for its sets."""
-    base = session_path.absolute().parent
+    base = session_file(session_path).absolute().parent
     return {
         "schema": SCHEMA,
         "recording": [_relative(p, base) for p in session.recording],
@@ -72,8 +87,9 @@ def save_session(session: Session, path: str | Path,
     is False: the ``.bak`` there is left as it is). A ``writer`` kept from save to save
     re-uses the text of what did not change (autosave). With ``expect`` (the
     :func:`file_stamp` the file had when it was read or last saved), a file that another
-    window or program changed since is not overwritten: SessionFileError."""
-    path = Path(path)
+    window or program changed since is not overwritten: SessionFileError. A ``path``
+    that is a symbolic link stays one: its target is written (:func:`session_file`)."""
+    path = session_file(path)
     save_document(session_to_dict(session, path), path, writer, expect, backup=backup)
 
 
@@ -81,8 +97,9 @@ def save_document(document: dict[str, Any], path: str | Path,
                   writer: SessionWriter | None = None,
                   expect: tuple[int, int, int] | None = None, *, backup: bool = True) -> None:
     """:func:`save_session` for a document already taken (:func:`session_to_dict` or
-    :func:`session_snapshot`); safe on a worker thread."""
-    path = Path(path)
+    :func:`session_snapshot`); safe on a worker thread. A link is written through: its
+    target is replaced (:func:`session_file`)."""
+    path = session_file(path)
     now = file_stamp(path)
     if expect is not None and now is not None and now != expect:
         raise SessionChangedError(
@@ -205,7 +222,7 @@ def _dumps(value: object) -> str:
 def check_session_target(path: str | Path) -> None:
     """Raise SessionFileError now if a session cannot be saved at ``path`` (its folder is
     missing or not writable), before any long work that would end in saving it."""
-    path = Path(path)
+    path = session_file(path)
     problem = folder_write_problem(path.absolute().parent)
     if problem:
         raise _save_error(path, problem)
@@ -241,8 +258,10 @@ def check_recording_present(session: Session, session_path: str | Path) -> None:
 
 
 def load_session(path: str | Path) -> Session:
-    """Read a session file; older schemas are migrated, newer ones refused."""
-    path = Path(path)
+    """Read a session file; older schemas are migrated, newer ones refused. A symbolic
+    link is read as its target, relative paths from the target's folder
+    (:func:`session_file`)."""
+    path = session_file(path)
     text = ""
     try:
         text = path.read_text(encoding="utf-8-sig")  # an editor's BOM is fine

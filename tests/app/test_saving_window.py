@@ -96,6 +96,25 @@ def test_failed_autosave_warns_keeps_decisions_and_clears_after_a_later_save(
     assert [s.decision for s in saved.sets[:2]] == ["accepted", "rejected"]
 
 
+def test_a_session_opened_through_a_link_autosaves_into_the_link_target(
+    qtbot, open_window, session_in_folder: Path
+) -> None:
+    """The operator's link (in a folder of its own, as a shortcut to the session) stays
+    a link; the decision lands in the file it points to, with its .bak beside that."""
+    shortcuts = session_in_folder.parent.parent / "shortcuts"
+    shortcuts.mkdir()
+    link = shortcuts / "today.json"
+    link.symlink_to(session_in_folder)
+    window = open_window(link)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()  # the save written off the UI thread
+    assert window.saved_label.text() == "saved just now"
+    assert link.is_symlink() and link.resolve() == session_in_folder
+    assert load_session(session_in_folder).sets[0].decision == "accepted"
+    assert session_in_folder.with_name("review.json.bak").is_file()
+    assert [p.name for p in shortcuts.iterdir()] == ["today.json"]
+
+
 def test_a_file_another_window_saved_meanwhile_is_not_overwritten(
     qtbot, open_window, session_in_folder: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

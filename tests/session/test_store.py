@@ -273,6 +273,32 @@ def test_second_save_keeps_previous_version_as_bak(tmp_path: Path) -> None:
     assert load_session(path).sets[0].decision == "rejected"
 
 
+def test_a_session_reached_through_a_link_is_saved_in_its_target(tmp_path: Path) -> None:
+    """The link stays a link: the target holds the saved work, its .bak and the atomic
+    replace's temp file lie beside the target, and the stored paths stay relative to the
+    target's folder (the link's folder has no data/ beside it)."""
+    session = _session(tmp_path)
+    target = tmp_path / "session.json"
+    save_session(session, target)
+    elsewhere = tmp_path / "links"
+    elsewhere.mkdir()
+    link = elsewhere / "my-review.json"
+    link.symlink_to(os.path.relpath(target, elsewhere))
+    loaded = load_session(link)
+    assert loaded.recording == [str(tmp_path / "data" / "rec.bag")]  # not links/data/
+    stamp = file_stamp(link)
+    loaded.replace_set(loaded.sets[0].with_decision("accepted"))
+    save_session(loaded, link, expect=stamp)
+    assert link.is_symlink() and link.resolve() == target
+    data = json.loads(target.read_text())
+    assert data["sets"][0]["decision"] == "accepted"
+    assert data["recording"] == ["data/rec.bag"]
+    assert json.loads((tmp_path / "session.json.bak").read_text())["sets"][0][
+        "decision"] == "undecided"
+    assert sorted(p.name for p in elsewhere.iterdir()) == ["my-review.json"]
+    assert load_session(link).sets[0].decision == "accepted"
+
+
 def test_newer_schema_is_refused_with_update_hint(tmp_path: Path) -> None:
     path = tmp_path / "session.json"
     save_session(_session(tmp_path), path)
