@@ -305,6 +305,7 @@ def load_session(path: str | Path) -> Session:
     try:
         _check_set_ids(data["sets"] if isinstance(data.get("sets"), list) else [])
         _check_streams(data.get(STREAMS_KEY))
+        _check_coverage(data.get("coverage"))
         known = {"schema", "recording", "audio", "audio_channel", "trigger_words", "sync",
                  "sets", "calibration"}
         return Session(
@@ -349,6 +350,37 @@ def _check_streams(value: Any) -> None:
     if value is not None and not (isinstance(value, list) and value
                                   and all(isinstance(v, str) and v for v in value)):
         raise ValueError(f"'{STREAMS_KEY}' is {value!r}, not a list of stream names")
+
+
+def _check_coverage(value: Any) -> None:
+    """ValueError naming a damaged ``coverage`` entry (a hand edit), as a set's damaged
+    quality figure is named: the window's calibration line reads each camera's views and
+    progress as numbers. The key is derived, so deleting it is a fix too: the next
+    calibration check writes it again."""
+    if value is None:
+        return
+    fix = "; deleting the 'coverage' key is a fix too: the next calibration check writes it"
+    if not isinstance(value, dict):
+        raise ValueError(f"'coverage' is {value!r}, not the cameras' coverage{fix}")
+    for stream, entry in value.items():
+        if entry is None:
+            continue
+        if not isinstance(entry, dict):
+            raise ValueError(f"the coverage of {stream} is {entry!r}, not its views and "
+                             f"progress{fix}")
+        views = entry.get("views")
+        if views is not None and (isinstance(views, bool) or not isinstance(views, int)
+                                  or views < 0):
+            raise ValueError(f"the coverage of {stream}: its views is {views!r}, not a "
+                             f"count{fix}")
+        progress = entry.get("progress")
+        if progress is not None and not isinstance(progress, dict):
+            raise ValueError(f"the coverage of {stream}: its progress is {progress!r}, not "
+                             f"x, y, size and skew{fix}")
+        for name, figure in (progress or {}).items():
+            if isinstance(figure, bool) or not isinstance(figure, (int, float)):
+                raise ValueError(f"the coverage of {stream}: its progress {name} is "
+                                 f"{figure!r}, not a number{fix}")
 
 
 def _channel(value: Any) -> int | None:

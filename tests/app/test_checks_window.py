@@ -58,3 +58,34 @@ def test_find_more_like_this_does_not_wait_for_a_running_check(
     checks_gate.release.set()
     qtbot.waitUntil(lambda: not window.checker.busy(), timeout=30_000)
     assert checks_gate.runs == [(checks_basis(window.model.session.sets), "taken")]
+
+
+def test_a_hand_edited_coverage_of_the_wrong_kind_is_named_on_opening(
+    qtbot, new_window, searched_session_file: Path,
+) -> None:
+    """The calibration line formatted a camera's coverage as numbers: a string there
+    raised in the window (a traceback on stderr, the line left stale). Such a file is
+    refused on opening with the figure named, as a set's damaged sharpness is."""
+    import json
+
+    data = json.loads(searched_session_file.read_text())
+    stream = next(iter(data["coverage"]))
+    data["coverage"][stream]["progress"]["x"] = "wide"
+    searched_session_file.write_text(json.dumps(data))
+    window = new_window()
+    with qtbot.captureExceptions() as raised:
+        window.open(session_path=str(searched_session_file))
+        qtbot.waitUntil(lambda: bool(window.load_error) or window.model is not None,
+                        timeout=30_000)
+    assert raised == []
+    assert window.model is None
+    said = window.open_problem.text()
+    assert said.startswith(f"Could not open: {searched_session_file}: damaged session file")
+    assert f"the coverage of {stream}: its progress x is 'wide', not a number" in said
+    del data["coverage"]  # the fix the message offers
+    searched_session_file.write_text(json.dumps(data))
+    with qtbot.captureExceptions() as raised:
+        window.open(session_path=str(searched_session_file))
+        qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    assert raised == []
+    assert "calibration check over" in window.check_label.text()

@@ -338,6 +338,17 @@ def _edited(tmp_path: Path, edit) -> Path:
      "set 1: /cam1/image_raw's flags is 'blurred', not a list of flags"),
     (lambda d: d["sets"][0]["frames"][0].update(index=10**12),
      "set 1: /cam0/image_raw's frame index is 1000000000000, beyond any recording"),
+    # the window's calibration line formatted these as numbers and raised
+    (lambda d: d.update(coverage="full"), "'coverage' is 'full', not the cameras' coverage"),
+    (lambda d: d.update(coverage={"/cam0/image_raw": 5}),
+     "the coverage of /cam0/image_raw is 5, not its views and progress"),
+    (lambda d: d.update(coverage={"/cam0/image_raw": {"views": "4"}}),
+     "the coverage of /cam0/image_raw: its views is '4', not a count"),
+    (lambda d: d.update(coverage={"/cam0/image_raw": {"views": 4, "progress": [0.3]}}),
+     "the coverage of /cam0/image_raw: its progress is [0.3], not x, y, size and skew"),
+    (lambda d: d.update(coverage={"/cam0/image_raw": {"views": 4, "progress": {"x": "30%"}}}),
+     "the coverage of /cam0/image_raw: its progress x is '30%', not a number; deleting the "
+     "'coverage' key is a fix too"),
 ])
 def test_a_hand_edit_gone_wrong_names_the_set_and_what_is_wrong(tmp_path: Path, edit,
                                                                  says: str) -> None:
@@ -347,6 +358,17 @@ def test_a_hand_edit_gone_wrong_names_the_set_and_what_is_wrong(tmp_path: Path, 
     assert str(exc.value).startswith(f"{path}: damaged session file")
     assert says in str(exc.value) and "\n" not in str(exc.value)
     assert ".bak" not in str(exc.value)  # saved once: there is no earlier version to offer
+
+
+def test_coverage_as_the_check_writes_it_or_without_it_opens(tmp_path: Path) -> None:
+    """A camera without views (progress and ranges null), and no coverage at all (the
+    fix a damaged one's message offers), both read."""
+    cover = {"/cam0/image_raw": {"views": 3, "progress": {"x": 0.31, "y": 1}, "ranges": {}},
+             "/cam1/image_raw": {"views": 0, "progress": None, "ranges": None}}
+    assert load_session(_edited(tmp_path, lambda d: d.update(coverage=cover))
+                        ).extra["coverage"] == cover
+    assert "coverage" not in load_session(_edited(tmp_path, lambda d: d.pop("coverage", 0))
+                                          ).extra
 
 
 @pytest.mark.parametrize(("damage", "says"), [
