@@ -57,8 +57,8 @@ def run(args: argparse.Namespace) -> int:
         else:
             result = sync_recording(source, audio, search_s=args.search_s,
                                     audio_clap_s=args.audio_clap, progress=progress)
-    for note in result.warnings:
-        progress(f"warning: {note}")
+    for note in result.warnings:  # notes, as every command says them (README)
+        progress(f"note: {note}")
     doc = result.to_dict()
     if args.json:
         emit_json(doc)

@@ -177,6 +177,44 @@ def test_one_clap_in_a_long_recording_notes_the_unmeasured_drift(
     assert "note: one clap: drift not measured" in capsys.readouterr().err
 
 
+@pytest.mark.slow
+def test_sync_says_a_camera_that_misread_the_first_clap_as_a_note(
+        session_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A camera whose stamps put the first clap 80 ms late but the closing clap in line
+    timed the first clap wrongly, nothing to do: `sync` printed that as "warning: …",
+    where `process` (and every other command) says what it noticed as "note: …"."""
+    import subprocess
+    import sys
+
+    import cv2
+
+    out = session_root / "three_cameras_two_claps"
+    subprocess.run([sys.executable, "-m", "speechcal_core.cli", "synth", str(out),
+                    "--cameras", "3", "--duration", "20", "--triggers", "2", "--size",
+                    "320x240", "--claps", "2", "--seed", "5"],
+                   check=True, capture_output=True, timeout=300)
+    truth = json.loads((out / "truth.json").read_text())
+    claps = [c["session_ns"] for c in truth["claps"]]
+    folder = tmp_path / "images"  # Kalibr's layout, the frames around the two claps
+    with open_recording(out / truth["recording"]) as source:
+        for k, stream in enumerate(source.streams):
+            (folder / f"cam{k}").mkdir(parents=True)
+            for i, stamp in enumerate(source.stamps(stream.name)):
+                stamp = int(stamp)
+                if min(abs(stamp - c) for c in claps) > 2_000_000_000:
+                    continue
+                if k == 2 and stamp < claps[0] + 2_000_000_000:
+                    stamp += 80_000_000  # cam2 misread the first clap
+                cv2.imwrite(str(folder / f"cam{k}" / f"{stamp}.jpg"),
+                            source.frame(stream.name, i))
+    assert main(["sync", str(folder), "--audio", str(out / "audio.ogg"), "--json"]) == 0
+    said = capsys.readouterr()
+    (note,) = json.loads(said.out)["warnings"]
+    assert note.startswith("cam2: clap +8") and note.endswith("nothing to do")
+    assert f"note: {note}" in said.err.splitlines()
+    assert "warning" not in said.err
+
+
 def _audio_variant(out: Path, path: Path, *, lead_s: float = 0.0, trail_s: float = 0.0,
                    cut_s: float = 0.0) -> Path:
     """The session's audio with silence before or after it, or its first ``cut_s`` gone."""
