@@ -3,7 +3,10 @@
 The file name of a set is its trigger time ``t_ns`` (``<t_ns>.png``), the same in every
 camera's folder, so Kalibr's ``kalibr_bagcreater`` and other same-name tools pair the
 cameras' images. Two sets with the same ``t_ns`` (rare: duplicate triggers) get the later
-one's name moved by 1 ns.
+one's name moved by 1 ns. Names have :data:`NAME_DIGITS` digits, zeros in front where the
+time is shorter (a camera clock that starts at 0): ``kalibr_bagcreater`` takes all but the
+last nine digits as the seconds (``int(name[0:-9])``, which fails on a name of nine digits
+or fewer, a set under 1 s) and sorts the names as text.
 """
 
 from __future__ import annotations
@@ -75,8 +78,16 @@ class Plan:
         return [f for f in self.frames if f.frame_set.id == set_id]
 
 
+#: digits of a set's file name: those of an int64 of nanoseconds, which a header stamp of
+#: this century (from 2001-09-09, 10**18 ns) has already, so that the names of a folder
+#: sort as text in time order and every one has seconds before its last nine digits
+NAME_DIGITS = 19
+
+
 def shared_names(sets: list[FrameSet]) -> dict[int, str]:
-    """One file stem per set: its ``t_ns``, moved by 1 ns when an earlier set took it."""
+    """One file stem per set: its ``t_ns`` in :data:`NAME_DIGITS` digits (zeros in front
+    of a short one: ``0000000000601438148`` for 0.601 s), moved by 1 ns when an earlier
+    set took it."""
     names: dict[int, str] = {}
     used: set[int] = set()
     for s in sets:
@@ -84,7 +95,7 @@ def shared_names(sets: list[FrameSet]) -> dict[int, str]:
         while t in used:
             t += 1
         used.add(t)
-        names[s.id] = str(t)
+        names[s.id] = f"{t:0{NAME_DIGITS}d}"
     return names
 
 

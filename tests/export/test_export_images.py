@@ -147,3 +147,35 @@ def test_a_frame_that_cannot_be_decoded_is_left_out_and_named(session_file, tmp_
     doc = json.loads((tmp_path / "out" / "manifest.json").read_text())
     frame = next(f for s in doc["sets"] for f in s["frames"] if "skipped" in f)
     assert frame["stream"] == "cam1" and frame["file"] is None
+
+
+def test_kalibr_names_of_sets_under_a_second_read_as_kalibr_bagcreater_reads_them(
+        session_file, tmp_path: Path) -> None:
+    """A camera clock that starts at 0 (a video, an image folder, simulated time): a set
+    at 0.6 s was named "600000000.png", and kalibr_bagcreater, which takes all but the
+    last nine digits of a name as its seconds (``int(name[0:-9])``), failed on it; a set
+    at 9.5 s sorted after one at 12 s, as it sorts names as text. Every name now has 19
+    digits, zeros in front."""
+    import shutil
+
+    from export_sessions import accepted_sets_over
+
+    from speechcal_core.export import export_frame_sets
+
+    made = tmp_path / "made"
+    export_session_file(session_file(), "kalibr", made)
+    early = tmp_path / "early"  # the same frames on a clock started at 0
+    times = [600_000_000, 9_500_000_000, 12_000_000_000]
+    for cam in ("cam0", "cam1"):
+        (early / cam).mkdir(parents=True)
+        for t, image in zip(times, sorted((made / cam).iterdir()), strict=True):
+            shutil.copy(image, early / cam / f"{t}.png")
+    out = tmp_path / "kalibr"
+    with open_recording([early]) as source:
+        export_frame_sets(accepted_sets_over(source, ["cam0", "cam1"]), source, "kalibr", out)
+    for cam in ("cam0", "cam1"):
+        stems = sorted(p.stem for p in (out / cam).iterdir())  # as kalibr_bagcreater sorts
+        assert stems == ["0000000000600000000", "0000000009500000000", "0000000012000000000"]
+        assert [int(s[0:-9]) * 10**9 + int(s[-9:]) for s in stems] == times
+    with open_recording([out]) as again:  # and SpeechCal reads such a folder back
+        assert list(again.stamps("cam0")) == times
