@@ -11,13 +11,13 @@ import argparse
 import contextlib
 import errno
 import importlib
-import os
 import signal
 import sys
 import threading
 from collections.abc import Iterator, Sequence
 
 from speechcal_core import __version__
+from speechcal_core.cli._output import progress, to_null
 from speechcal_core.errors import SpeechCalError, UsageError
 
 #: subcommand name -> module under speechcal_core.cli providing register() and run()
@@ -100,31 +100,32 @@ def main(argv: Sequence[str] | None = None) -> int:
             return int(args._run(args) or 0)
     except Stopped as exc:
         name = signal.Signals(exc.signum).name
-        print(f"speechcal {args._name}: stopped by {name}", file=sys.stderr)
+        progress(f"speechcal {args._name}: stopped by {name}")
         return 128 + exc.signum
     except UsageError as exc:
-        print(f"speechcal {args._name}: error: {exc}", file=sys.stderr)
+        progress(f"speechcal {args._name}: error: {exc}")
         return 2
     except SpeechCalError as exc:
-        print(f"speechcal {args._name}: error: {exc}", file=sys.stderr)
+        progress(f"speechcal {args._name}: error: {exc}")
         return 1
     except KeyboardInterrupt:
-        print(f"speechcal {args._name}: interrupted", file=sys.stderr)
+        progress(f"speechcal {args._name}: interrupted")
         return 130
     except BrokenPipeError:
-        # the reader went away (``speechcal index --json | head``): nothing to say to it,
-        # and Python's own flush of stdout at exit must not fail again
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        # the reader of stdout went away (``speechcal index --json | head``): nothing to
+        # say to it, and Python's own flush of stdout at exit must not fail again. Commands
+        # print there once their work is done (a closed stderr never stops them:
+        # ``progress``), so what they wrote is complete.
+        to_null(sys.stdout)
         return 141  # as a shell reports a process ended by SIGPIPE
     except OSError as exc:
         if exc.errno not in UNWRITABLE_OUTPUT:
             raise
         # stdout on a full disk (``> /dev/full``); files the command writes say so
         # themselves, naming the file
-        print(f"speechcal {args._name}: error: could not write the output: "
-              f"{exc.strerror}", file=sys.stderr)
-        with contextlib.suppress(OSError):  # Python's own flush at exit must not fail
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        progress(f"speechcal {args._name}: error: could not write the output: "
+                 f"{exc.strerror}")
+        to_null(sys.stdout)  # Python's own flush at exit must not fail
         return 1
 
 

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 import sys
-from typing import Any
+from typing import Any, TextIO
 
 
 def emit_json(document: Any) -> None:
@@ -16,8 +18,27 @@ def emit_json(document: Any) -> None:
 
 
 def progress(message: str) -> None:
-    """One progress line on stderr (never stdout, which may carry JSON)."""
-    print(message, file=sys.stderr, flush=True)
+    """One progress line on stderr (never stdout, which may carry JSON).
+
+    A reader that went away (``speechcal export ... 2>&1 | head -1``) does not stop the
+    command: its files are written whole all the same. stderr goes to the null device
+    from then on (what is said there is for a reader, and there is none)."""
+    try:
+        print(message, file=sys.stderr, flush=True)
+    except BrokenPipeError:
+        to_null(sys.stderr)
+
+
+def to_null(stream: TextIO) -> None:
+    """Send ``stream`` (stdout or stderr) to the null device after its pipe broke, so that
+    later writes, and Python's own flush of it at exit, do not fail again (Python's advice
+    on SIGPIPE). A stream without a file descriptor (a test's capture) is left as it is."""
+    with contextlib.suppress(OSError, ValueError):
+        null = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, stream.fileno())
+        finally:
+            os.close(null)
 
 
 class StageProgress:

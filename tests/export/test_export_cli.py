@@ -324,3 +324,37 @@ def test_accepted_sets_all_without_frames_point_at_the_offset(session_file, tmp_
     n = len(doc["sets"])
     assert f"{n} sets to export, but no camera has a frame at their time" in err
     assert "audio offset" in err and not (tmp_path / "o").exists()
+
+
+def test_a_closed_pipe_neither_stops_an_export_nor_cuts_it_short(session_file, tmp_path):
+    """``speechcal export ... 2>&1 | head -1``: the reader gone, the next progress line
+    raised BrokenPipeError halfway and the export was thrown away (exit 141, no folder).
+    Now what is said goes nowhere and the export is written whole: exit 0 while stdout
+    is read, 141 (as for SIGPIPE) when it is the closed pipe too."""
+    path = session_file()
+    whole = tmp_path / "whole"
+    export_session_file(path, "kalibr", whole)
+
+    def files(folder: Path) -> dict[str, bytes]:
+        return {str(p.relative_to(folder)): p.read_bytes()
+                for p in sorted(folder.rglob("*")) if p.is_file()
+                and not p.name.startswith("manifest")}  # they name the folder
+
+    for closed, code in (("stderr", 0), ("both", 141)):
+        out = tmp_path / f"closed-{closed}"
+        read_end, write_end = os.pipe()
+        os.close(read_end)  # the reader is gone before anything is written
+        streams = {"stderr": write_end, "stdout": subprocess.PIPE} if closed == "stderr" \
+            else {"stderr": write_end, "stdout": write_end}
+        try:
+            done = subprocess.run(
+                [sys.executable, "-m", "speechcal_core.cli", "export", str(path), "--format",
+                 "kalibr", "--out", str(out)], **streams, timeout=120)
+        finally:
+            os.close(write_end)
+        assert done.returncode == code, closed
+        if closed == "stderr":
+            assert done.stdout.decode().startswith("exported 3 frame sets (6 frames, ")
+        assert files(out) == files(whole) and len(files(whole)) == 7
+        assert (out / "manifest.json").is_file() and (out / "manifest.csv").is_file()
+        assert _leftovers(tmp_path) == []
