@@ -70,7 +70,10 @@ class RawFrame:
 class FrameSource(Protocol):
     """Camera streams of one recording, keyed by header stamp; reads are thread-safe."""
 
-    streams: list[StreamInfo]
+    @property
+    def streams(self) -> list[StreamInfo]:
+        """The recording's image streams (read-only: every source computes or keeps its own)."""
+        ...
 
     def stamps(self, stream: str) -> np.ndarray:
         """Header stamps (int64 ns), sorted ascending; index i is frame i."""
