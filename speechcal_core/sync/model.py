@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import overload
 
 import numpy as np
 
@@ -20,11 +21,29 @@ class SyncModel:
     drift: float = 0.0
     source: str = "auto"
 
+    @overload
+    def to_session(self, t_audio_s: float) -> int: ...
+
+    @overload
+    def to_session(self, t_audio_s: np.ndarray) -> np.ndarray: ...
+
+    @overload
+    def to_session(self, t_audio_s: float | np.ndarray) -> int | np.ndarray: ...
+
     def to_session(self, t_audio_s: float | np.ndarray) -> int | np.ndarray:
         """Audio seconds -> session ns (int, or int64 array for array input)."""
         scaled = np.round(np.asarray(t_audio_s, dtype=np.float64) * (1.0 + self.drift) * 1e9)
         result = self.offset_ns + scaled.astype(np.int64)
         return int(result) if np.ndim(result) == 0 else result
+
+    @overload
+    def to_audio(self, t_session_ns: int) -> float: ...
+
+    @overload
+    def to_audio(self, t_session_ns: np.ndarray) -> np.ndarray: ...
+
+    @overload
+    def to_audio(self, t_session_ns: int | np.ndarray) -> float | np.ndarray: ...
 
     def to_audio(self, t_session_ns: int | np.ndarray) -> float | np.ndarray:
         """Session ns -> audio seconds (float, or float64 array for array input)."""
