@@ -84,7 +84,8 @@ def _to_float(plane: np.ndarray, divisor: float) -> np.ndarray:
     return img / divisor if divisor != 1.0 else img
 
 
-def find_video_clap(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np.ndarray,
+def find_video_clap(frames: Sequence[np.ndarray] | np.ndarray,
+                    stamps_ns: Sequence[int] | np.ndarray,
                     *, stream: str = "", scale: float | None = None,
                     detail: Callable[[int], np.ndarray] | None = None) -> VideoClap | None:
     """The clap event in a run of frames (any size, gray or colour) with their stamps.
@@ -102,7 +103,8 @@ def find_video_clap(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np.
     return found[0] if found else None
 
 
-def find_video_claps(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np.ndarray,
+def find_video_claps(frames: Sequence[np.ndarray] | np.ndarray,
+                     stamps_ns: Sequence[int] | np.ndarray,
                      *, stream: str = "", scale: float | None = None,
                      detail: Callable[[int], np.ndarray] | None = None) -> list[VideoClap]:
     """Every clap-like burst, most likely first: those with the closing-and-parting shape
@@ -112,7 +114,7 @@ def find_video_claps(frames: Sequence[np.ndarray], stamps_ns: Sequence[int] | np
         return []
     first = np.flatnonzero(np.r_[True, np.diff(stamps) != 0])
     if first.size < stamps.size:  # a topic recorded twice: each frame once, at its stamp
-        kept = frames[first] if isinstance(frames, np.ndarray) else [frames[i] for i in first]
+        kept = frames[first] if isinstance(frames, np.ndarray) else [frames[int(i)] for i in first]
         once = find_video_claps(kept, stamps[first], stream=stream,
                                 scale=scale, detail=None if detail is None
                                 else lambda i: detail(int(first[i])))

@@ -465,11 +465,11 @@ def _closing_from_video(source: FrameSource, first: Clap, heard: list[ClapCandid
         found = _pair_for_gap(heard, (second.session_ns - first.session_ns) / 1e9, pairing)
         if found is not None:
             return (*_with_pair(first, second, found[0]), found[1])
-    late = pairing.late[0].time_s
-    return [first], [f"the cameras saw no clap where the one heard at {late:.3f} s would put "
+    late_s = pairing.late[0].time_s
+    return [first], [f"the cameras saw no clap where the one heard at {late_s:.3f} s would put "
                      "a closing clap, so the drift is taken as 0; if it is the clap the "
                      f"cameras saw at the start (the one at {first.audio_s:.3f} s came before "
-                     f"they ran), give --audio-clap {late:.3f}"], pairing.tied
+                     f"they ran), give --audio-clap {late_s:.3f}"], pairing.tied
 
 
 def _with_pair(first: Clap, second: Clap, pair: tuple[ClapCandidate, ClapCandidate]
