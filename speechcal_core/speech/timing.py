@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from speechcal_core.speech.vad import BAND_HZ, HOP_S, band_energy_db, frame_count
+
+if TYPE_CHECKING:
+    from speechcal_core.speech.speech_index import Samples
 
 SEARCH_BEFORE_S = 0.12  # how far before the recognised start the onset may lie
 SEARCH_AFTER_S = 0.15  # how far after the recognised end the offset may lie
@@ -48,7 +51,7 @@ class WordBounds(NamedTuple):
     runs_on: bool = False
 
 
-def refine_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
+def refine_bounds(samples: Samples, rate: int, start_s: float, end_s: float,
                   floor_db: float) -> tuple[float, float]:
     """Onset and offset of the energy around ``start_s``..``end_s`` above ``floor_db``.
 
@@ -58,7 +61,7 @@ def refine_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
     return bounds.start_s, bounds.end_s
 
 
-def word_bounds(samples: np.ndarray, rate: int, start_s: float, end_s: float,
+def word_bounds(samples: Samples, rate: int, start_s: float, end_s: float,
                 floor_db: float, band_hz: tuple[float, float] = BAND_HZ,
                 after_s: float = SEARCH_AFTER_S,
                 runs_in_keeps_start: bool = True) -> WordBounds:
