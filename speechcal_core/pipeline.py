@@ -38,7 +38,7 @@ def _noop(_text: str, _fraction: float) -> None:
     pass
 
 
-def detect_trigger_words(audio, trigger_words: Sequence[str],
+def detect_trigger_words(audio: Audio, trigger_words: Sequence[str],
                          transcript: str | None = None, *,
                          pronunciations: Mapping[str, str] | None = None,
                          sensitivity: float = DEFAULT_SENSITIVITY,

@@ -6,12 +6,16 @@ import io
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import soundfile as sf
 
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.loader import Audio
+
+if TYPE_CHECKING:
+    from rosbags.typesys.store import Typestore
 
 AUDIO_DATA = "audio_common_msgs/msg/AudioData"
 AUDIO_STAMPED = "audio_common_msgs/msg/AudioDataStamped"
@@ -36,7 +40,7 @@ class BagAudio:
     chunk_starts: np.ndarray | None  # first sample index of each chunk
 
 
-def audio_types():
+def audio_types() -> Typestore:
     """A typestore that knows the audio_common_msgs types (registered from their .msg text)."""
     from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
@@ -82,7 +86,8 @@ def load_bag_audio(paths: Sequence[str | Path], topic: str | None = None, *,
         chunks: list[bytes] = []
         stamps: list[int] = []
         for conn, _t, raw in reader.messages(connections=conns):
-            msg = reader.deserialize(raw, conn.msgtype)
+            # rosbags builds the message classes at run time: it can only say ``object``
+            msg: Any = reader.deserialize(raw, conn.msgtype)
             if conn.msgtype == AUDIO_STAMPED:
                 stamps.append(int(msg.header.stamp.sec) * 1_000_000_000
                               + int(msg.header.stamp.nanosec))
