@@ -92,8 +92,8 @@ class SetTable(QTableWidget):
 
     def __init__(self, parent=None) -> None:
         super().__init__(0, len(COLUMNS), parent)
-        for col, (header, tip) in enumerate(COLUMNS):
-            item = QTableWidgetItem(header)
+        for col, (title, tip) in enumerate(COLUMNS):
+            item = QTableWidgetItem(title)
             item.setToolTip(tip)
             self.setHorizontalHeaderItem(col, item)
         self.verticalHeader().hide()
@@ -118,7 +118,8 @@ class SetTable(QTableWidget):
         self._origin_ns = 0
         self._word_width = 0  # the word column's width for its widest text
         # the decision column's width, and the decisions its rows showed when measured
-        self._decision_width, self._decisions_measured = 0, frozenset()
+        self._decision_width = 0
+        self._decisions_measured: frozenset[str] = frozenset()
         self._updating = False
         self._rows: list[tuple] = []  # what each row shows, to skip rows that stay alike
         self._same: dict[int, tuple[int, ...]] = {}  # set id -> sets showing its frames
@@ -323,8 +324,9 @@ class SetTable(QTableWidget):
         self._updating = True
         if 0 <= row < self.rowCount() and not self.isRowHidden(row):
             self.selectRow(row)
-            if self.item(row, 0) is not None:
-                self.scrollToItem(self.item(row, 0))
+            item = self.item(row, 0)
+            if item is not None:
+                self.scrollToItem(item)
         else:
             self.clearSelection()
         self._updating = False
@@ -333,8 +335,9 @@ class SetTable(QTableWidget):
         """Keep the current set's row in view when the list gets shorter."""
         super().resizeEvent(event)
         rows = sorted({i.row() for i in self.selectedIndexes()})
-        if rows and self.item(rows[0], 0) is not None:
-            self.scrollToItem(self.item(rows[0], 0))
+        item = self.item(rows[0], 0) if rows else None
+        if item is not None:
+            self.scrollToItem(item)
 
     def mousePressEvent(self, event) -> None:
         self._press_chose = False
