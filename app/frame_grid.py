@@ -8,7 +8,16 @@ from collections.abc import Sequence
 
 import numpy as np
 from PySide6.QtCore import QEvent, QPointF, QRectF, Qt, Signal
-from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter, QPen, QPolygonF
+from PySide6.QtGui import (
+    QColor,
+    QFont,
+    QFontMetrics,
+    QHelpEvent,
+    QImage,
+    QPainter,
+    QPen,
+    QPolygonF,
+)
 from PySide6.QtWidgets import (
     QGridLayout,
     QLayout,
@@ -243,7 +252,7 @@ class CameraTile(QWidget):
 
     def event(self, event: QEvent) -> bool:
         """The header in full as the tooltip (a narrow tile shortens it)."""
-        if event.type() == QEvent.Type.ToolTip:
+        if event.type() == QEvent.Type.ToolTip and isinstance(event, QHelpEvent):
             lines = [self.stream]
             if self.decision:
                 lines.append(f"{DECISION_SYMBOLS[self.decision]} {self.decision}")
