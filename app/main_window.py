@@ -6,7 +6,7 @@ import html
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypedDict
 
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QIcon, QKeySequence, QShortcut
@@ -151,7 +151,20 @@ HINTS_TIP = (
 #: dropped files with these endings (any case) are audio; ``.json`` ones are session files
 
 
-def drop_request(paths: list[str]) -> dict[str, object] | None:
+class OpenRequest(TypedDict, total=False):
+    """:meth:`ReviewWindow.open` arguments, as ``load_for_review`` takes them."""
+
+    session_path: str | None
+    recording: list[str] | None
+    audio: str | None
+    new_session_path: str | None
+    triggers: TriggerSpec | None
+    channel: int | None
+    target: TargetSpec | None
+    streams: StreamChoice | None
+
+
+def drop_request(paths: list[str]) -> OpenRequest | None:
     """What to open for dropped files, as :meth:`ReviewWindow.open` arguments; None if
     nothing fits.
 
@@ -219,8 +232,8 @@ class ReviewWindow(QMainWindow):
         self.ask_audio_place: Callable[[str], str | None] = self._ask_audio_place
         #: the ``open`` arguments of the opening under way (None: the demo's), and of a
         #: recording whose clap was not found (see open_without_clap)
-        self._opening: dict | None = None
-        self._failed_recording: dict | None = None
+        self._opening: OpenRequest | None = None
+        self._failed_recording: OpenRequest | None = None
         self._moved: MovedRecording | None = None  # its recording, gone from where it was
         self.load_error = ""
         #: the "then next set" box: accept and reject go on to the next set
@@ -567,9 +580,10 @@ class ReviewWindow(QMainWindow):
         """Load a session file, or process a recording + audio (its session saved at
         ``new_session_path``, by default beside the recording; ``triggers``, ``channel``,
         ``target`` and ``streams`` as for ``load_for_review``), on a worker thread."""
-        args = {"session_path": session_path, "recording": recording, "audio": audio,
-                "new_session_path": new_session_path, "triggers": triggers,
-                "channel": channel, "target": target, "streams": streams}
+        args: OpenRequest = {
+            "session_path": session_path, "recording": recording, "audio": audio,
+            "new_session_path": new_session_path, "triggers": triggers,
+            "channel": channel, "target": target, "streams": streams}
         self._opening = args
         self._start(lambda report: load_for_review(**args, progress=report), "opening…")
 
