@@ -22,6 +22,8 @@ from speechcal_core.export.run import export_target
 from speechcal_core.text import counted
 
 if TYPE_CHECKING:
+    from PySide6.QtWidgets import QAbstractButton
+
     from app.main_window import ReviewWindow
     from speechcal_core.export import ExportResult
     from speechcal_core.session.model import Session
@@ -120,7 +122,7 @@ class ExportAction(QObject):
         replace_button = box.addButton("Replace", QMessageBox.ButtonRole.DestructiveRole)
         box.setDefaultButton(QMessageBox.StandardButton.Cancel)
 
-        def answered(button) -> None:
+        def answered(button: QAbstractButton) -> None:
             if button is replace_button:
                 self._run(fmt, out, True, include_undecided, target)
             else:

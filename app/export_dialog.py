@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -23,6 +24,9 @@ from PySide6.QtWidgets import (
 from app.dialog_fit import fit_height
 from speechcal_core.target import TargetError, TargetSpec
 from speechcal_core.text import counted
+
+if TYPE_CHECKING:
+    from PySide6.QtGui import QResizeEvent
 
 #: export format -> what the operator reads in the list
 FORMAT_LABELS = {
@@ -202,6 +206,6 @@ class ExportDialog(QDialog):
             self.summary.setText(f"Cannot use that target file: {self.target_problem}")
         fit_height(self)
 
-    def resizeEvent(self, event) -> None:
+    def resizeEvent(self, event: QResizeEvent) -> None:
         super().resizeEvent(event)
         fit_height(self)  # narrower: the summary wraps onto more lines

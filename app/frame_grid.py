@@ -5,6 +5,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 from PySide6.QtCore import QEvent, QPointF, QRectF, Qt, Signal
@@ -35,6 +36,9 @@ from app.style import (
     WARNING_SYMBOL,
 )
 from speechcal_core.text import counted
+
+if TYPE_CHECKING:
+    from PySide6.QtGui import QMouseEvent, QPaintEvent, QResizeEvent, QShowEvent
 
 MARKER_COLOUR = QColor(60, 220, 120)
 #: how a tile's caption begins while it shows the frame nearest a set's time
@@ -247,7 +251,7 @@ class CameraTile(QWidget):
         self.decision, self.warning = decision, warning
         self.update()
 
-    def mouseDoubleClickEvent(self, event) -> None:
+    def mouseDoubleClickEvent(self, event: QMouseEvent) -> None:
         self.double_clicked.emit(self.stream)
 
     def event(self, event: QEvent) -> bool:
@@ -283,7 +287,7 @@ class CameraTile(QWidget):
             p.drawEllipse(QPointF(target.x() + (x + 0.5) * scale,
                                   target.y() + (y + 0.5) * scale), r, r)
 
-    def paintEvent(self, event) -> None:
+    def paintEvent(self, event: QPaintEvent) -> None:
         p = QPainter(self)
         p.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform)
         p.fillRect(self.rect(), BACKGROUND)
@@ -405,11 +409,11 @@ class FrameGrid(QWidget):
         if self._columns_for_area() != self._columns:
             self._arrange()
 
-    def resizeEvent(self, event) -> None:
+    def resizeEvent(self, event: QResizeEvent) -> None:
         super().resizeEvent(event)
         self._fit_columns()
 
-    def showEvent(self, event) -> None:
+    def showEvent(self, event: QShowEvent) -> None:
         super().showEvent(event)
         self._fit_columns()
 
@@ -489,7 +493,7 @@ class WordBand(QWidget):
         font.setPixelSize(max(self.LEAST_PX, int(font.pixelSize() * room / wide)))
         return font, QFontMetrics(font).elidedText(text, Qt.TextElideMode.ElideRight, room)
 
-    def paintEvent(self, event) -> None:
+    def paintEvent(self, event: QPaintEvent) -> None:
         p = QPainter(self)
         p.fillRect(self.rect(), BACKGROUND)
         font = QFont(self.font())

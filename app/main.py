@@ -14,6 +14,9 @@ from speechcal_core.errors import SpeechCalError
 from speechcal_core.fsutil import folder_write_problem
 
 if TYPE_CHECKING:
+    from PySide6.QtCore import QCoreApplication, QMessageLogContext, QtMsgType
+    from PySide6.QtWidgets import QWidget
+
     from app.main_window import ReviewWindow
     from speechcal_core.sources.selection import StreamChoice
     from speechcal_core.speech.matching import TriggerSpec
@@ -48,7 +51,7 @@ def _drop_offscreen_notices() -> None:
     (every other Qt message still reaches stderr)."""
     from PySide6.QtCore import qInstallMessageHandler
 
-    def handler(_kind, _context, message: str) -> None:
+    def handler(_kind: QtMsgType, _context: QMessageLogContext, message: str) -> None:
         if message not in OFFSCREEN_NOTICES:
             print(message, file=sys.stderr)
 
@@ -140,7 +143,8 @@ def shut_down(window: ReviewWindow, timeout_s: float = STOP_WAIT_S) -> None:
     QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
 
 
-def wait_until_settled(window, app, timeout_s: float = 60.0) -> bool:
+def wait_until_settled(window: ReviewWindow, app: QCoreApplication,
+                       timeout_s: float = 60.0) -> bool:
     """Process events until loading finished and every visible tile has its frame."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
@@ -172,7 +176,7 @@ def check_screenshot_path(path: str) -> None:
         raise _screenshot_error(target, problem)
 
 
-def save_screenshot(window, path: str) -> None:
+def save_screenshot(window: QWidget, path: str) -> None:
     """Render the whole window to a PNG file (or the format the suffix names)."""
     from PySide6.QtCore import QBuffer, QByteArray, QIODevice
 

@@ -69,8 +69,13 @@ from speechcal_core.sync.estimate import clap_misread, clap_off
 from speechcal_core.text import counted, shown_name
 
 if TYPE_CHECKING:
+    from PySide6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent, QImage
+
+    from speechcal_core.review.loading import Progress
+    from speechcal_core.session.model import Session
     from speechcal_core.sources.selection import StreamChoice
     from speechcal_core.speech.matching import TriggerSpec
+    from speechcal_core.sync.model import SyncModel
     from speechcal_core.target import TargetSpec
 
 EMPTY_TEXT = (
@@ -597,7 +602,7 @@ class ReviewWindow(QMainWindow):
         self._start(lambda report: load_for_review(**args, audio_at_start=True,
                                                    progress=report), "opening…")
 
-    def _start(self, work, text: str) -> None:
+    def _start(self, work: Callable[[Progress], ReviewInputs], text: str) -> None:
         if not self._may_drop_unsaved():
             return
         self.load_error = ""
@@ -637,7 +642,7 @@ class ReviewWindow(QMainWindow):
         """Make (once) and open the synthetic demo session, off the UI thread."""
         from speechcal_core.synth.demo import ensure_demo_session
 
-        def work(report):
+        def work(report: Progress) -> ReviewInputs:
             recording, audio = ensure_demo_session(progress=report)
             return load_for_review(recording=[recording], audio=audio, progress=report)
 
@@ -991,7 +996,7 @@ class ReviewWindow(QMainWindow):
         self.info_line.set_full_text(
             set_text + f"t = {rel:.3f} s from start ({model.playhead_ns / 1e9:.3f} s)")
 
-    def _on_frame(self, stream: str, index: int, image) -> None:
+    def _on_frame(self, stream: str, index: int, image: QImage) -> None:
         tile = self.grid.tiles.get(stream)
         if tile is not None:
             tile.show_image(image, tile.caption)
@@ -1037,7 +1042,7 @@ class ReviewWindow(QMainWindow):
                 f"{counted(len(self.model.session.sets), 'frame set')}"
                 + (f" · {note}" if note else ""))
 
-    def _on_sync(self, sync) -> None:
+    def _on_sync(self, sync: SyncModel) -> None:
         model = self.model
         assert model is not None
         self.waveform.set_sync(sync)
@@ -1172,7 +1177,7 @@ class ReviewWindow(QMainWindow):
         self.sync_line.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if alerts else "")
         self.sync_line.setToolTip("\n".join([text, *notes]))  # in full, however narrow
 
-    def _autosave(self, session) -> None:
+    def _autosave(self, session: Session) -> None:
         """Save after every change (off the UI thread: :meth:`_on_saved` says how it
         went); a failure is warned about, never raised."""
         self.saver.save(session)
@@ -1358,11 +1363,11 @@ class ReviewWindow(QMainWindow):
             self.grid.toggle_enlarged()
 
     # -- drag and drop ------------------------------------------------------------------
-    def dragEnterEvent(self, event) -> None:
+    def dragEnterEvent(self, event: QDragEnterEvent) -> None:
         if event.mimeData().hasUrls():
             event.acceptProposedAction()
 
-    def dropEvent(self, event) -> None:
+    def dropEvent(self, event: QDropEvent) -> None:
         request = drop_request([u.toLocalFile() for u in event.mimeData().urls()])
         if request is None:
             self.status.say("Drop a recording together with its audio file, or a session file")
@@ -1376,7 +1381,7 @@ class ReviewWindow(QMainWindow):
                  self.similar.task, self.detector.task]
         return [t for t in tasks if t is not None]
 
-    def closeEvent(self, event) -> None:
+    def closeEvent(self, event: QCloseEvent) -> None:
         if not self._may_drop_unsaved():
             event.ignore()
             return

@@ -6,6 +6,7 @@ Row ``n`` is always the session's set ``n``; a filter hides rows, it never reord
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
 
 from PySide6.QtCore import QEvent, Qt, Signal
 from PySide6.QtGui import QBrush, QColor, QPalette
@@ -50,6 +51,11 @@ COLUMNS = (
     ("frames", "cameras with a frame for this set / cameras"),
     ("decision", "accepted, rejected or undecided"),
 )
+
+if TYPE_CHECKING:
+    from PySide6.QtCore import QModelIndex, QPersistentModelIndex
+    from PySide6.QtGui import QMouseEvent, QResizeEvent
+    from PySide6.QtWidgets import QWidget
 HEADERS = tuple(h for h, _tip in COLUMNS)
 WORD, SHARP, CORNERS, SKEW, FRAMES, DECISION = 2, 3, 4, 5, 6, 7
 MISSING = "–"  # a figure no camera has
@@ -78,7 +84,8 @@ class OwnColoursDelegate(QStyledItemDelegate):
     """Draws a selected cell's text in its own colour (decision, warning), not the
     highlight's, so the current set still shows whether it is accepted or rejected."""
 
-    def initStyleOption(self, option: QStyleOptionViewItem, index) -> None:
+    def initStyleOption(self, option: QStyleOptionViewItem,
+                        index: QModelIndex | QPersistentModelIndex) -> None:
         super().initStyleOption(option, index)
         brush = index.data(Qt.ItemDataRole.ForegroundRole)
         if brush is not None:
@@ -90,7 +97,7 @@ class SetTable(QTableWidget):
 
     set_chosen = Signal(int)  # row index == index into the session's sets
 
-    def __init__(self, parent=None) -> None:
+    def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(0, len(COLUMNS), parent)
         for col, (title, tip) in enumerate(COLUMNS):
             item = QTableWidgetItem(title)
@@ -207,7 +214,7 @@ class SetTable(QTableWidget):
             self._decisions_measured = decisions
         return self._decision_width
 
-    def viewportEvent(self, event) -> bool:
+    def viewportEvent(self, event: QEvent) -> bool:
         if event.type() == QEvent.Type.Resize:  # the list's width, or its scrollbar, changed
             self._fit_word()
         return super().viewportEvent(event)
@@ -331,7 +338,7 @@ class SetTable(QTableWidget):
             self.clearSelection()
         self._updating = False
 
-    def resizeEvent(self, event) -> None:
+    def resizeEvent(self, event: QResizeEvent) -> None:
         """Keep the current set's row in view when the list gets shorter."""
         super().resizeEvent(event)
         rows = sorted({i.row() for i in self.selectedIndexes()})
@@ -339,7 +346,7 @@ class SetTable(QTableWidget):
         if item is not None:
             self.scrollToItem(item)
 
-    def mousePressEvent(self, event) -> None:
+    def mousePressEvent(self, event: QMouseEvent) -> None:
         self._press_chose = False
         super().mousePressEvent(event)
 

@@ -16,6 +16,10 @@ from app.word_marks import Mark, WordMarks
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
+    from pyqtgraph.GraphicsScene.mouseEvents import MouseClickEvent
+    from PySide6.QtGui import QResizeEvent
+    from PySide6.QtWidgets import QWidget
+
     from speechcal_core.audio import EnvelopePyramid
     from speechcal_core.session.model import FrameSet
     from speechcal_core.sync.model import SyncModel
@@ -53,7 +57,7 @@ class WaveformView(pg.PlotWidget):
     #: the audio file could not be read again (moved?): what to tell the operator, once
     audio_unreadable = Signal(str)
 
-    def __init__(self, origin_ns: int, parent=None) -> None:
+    def __init__(self, origin_ns: int, parent: QWidget | None = None) -> None:
         super().__init__(parent, background=BACKGROUND)
         self.origin_ns = origin_ns
         self.pyramid: EnvelopePyramid | None = None
@@ -400,7 +404,7 @@ class WaveformView(pg.PlotWidget):
         x, half = self.playhead.value(), (x1 - x0) / 2
         self.setXRange(x - half, x + half, padding=0)
 
-    def resizeEvent(self, event) -> None:
+    def resizeEvent(self, event: QResizeEvent) -> None:
         """Keep the "whole session" button in the top right corner."""
         super().resizeEvent(event)
         self._place_playhead_button()
@@ -474,7 +478,7 @@ class WaveformView(pg.PlotWidget):
             span = x1 - x0
             self.setXRange(x - span * 0.1, x + span * 0.9, padding=0)
 
-    def _clicked(self, event) -> None:
+    def _clicked(self, event: MouseClickEvent) -> None:
         if event.button() != Qt.MouseButton.LeftButton:
             return
         if event.double():  # its first click moved the playhead already

@@ -10,12 +10,17 @@ and 0.18 s on each step of a held ``]``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import pyqtgraph as pg
 from PySide6.QtCore import QLineF, QPointF, QRectF, Qt
 from PySide6.QtGui import QColor, QFont, QFontMetrics, QPainter, QPen
 
 from app.style import BACKGROUND, DECISION_COLOURS, DECISION_SYMBOLS
+
+if TYPE_CHECKING:
+    from PySide6.QtGui import QTransform
+    from PySide6.QtWidgets import QStyleOptionGraphicsItem, QWidget
 
 #: the least room between two sets' labels, pixels: a label that would come closer to
 #: the one before it is hidden (its band stays) until zooming in makes room
@@ -206,7 +211,8 @@ class _Layer(pg.GraphicsObject):
         self.prepareGeometryChange()
         self.update()
 
-    def paint(self, painter: QPainter, _option, _widget=None) -> None:
+    def paint(self, painter: QPainter, _option: QStyleOptionGraphicsItem,
+              _widget: QWidget | None = None) -> None:
         box = self.getViewBox()
         if box is None:
             return
@@ -221,7 +227,8 @@ class _Layer(pg.GraphicsObject):
             self._paint_bands(painter, to_screen, top, bottom)
         painter.restore()
 
-    def _paint_bands(self, painter: QPainter, to_screen, top: float, bottom: float) -> None:
+    def _paint_bands(self, painter: QPainter, to_screen: QTransform, top: float,
+                     bottom: float) -> None:
         shift = self.marks.shift_s
         bands: dict[str, list[QRectF]] = {}
         for mark in self.marks.visible():
@@ -238,7 +245,7 @@ class _Layer(pg.GraphicsObject):
             painter.drawLines([QLineF(x, top, x, bottom) for rect in rects
                                for x in (rect.left(), rect.right())])
 
-    def _paint_labels(self, painter: QPainter, to_screen) -> None:
+    def _paint_labels(self, painter: QPainter, to_screen: QTransform) -> None:
         marks = self.marks
         pad_x, pad_y = LABEL_PAD_PX
         height = marks.label_height()
