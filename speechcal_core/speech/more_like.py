@@ -19,7 +19,7 @@ with 15 false hits in all (18 without the run-on check).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 
 import numpy as np
 from scipy.ndimage import uniform_filter1d
@@ -126,7 +126,8 @@ def find_more_like(index: SpeechIndex, start_s: float, end_s: float, word: str,
 
 
 def _spans(index: SpeechIndex, cost: np.ndarray, first: np.ndarray, order: np.ndarray,
-           length: int, taken: list[tuple[float, float]]):
+           length: int, taken: list[tuple[float, float]]
+           ) -> Iterator[tuple[float, float, float]]:
     """Non-overlapping matches (start s, end s, cost), cheapest first; ``taken`` grows."""
     for j in order:
         s_frame, e_frame = int(index.frames[first[j]]), int(index.frames[j]) + 1

@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,6 +23,10 @@ from speechcal_core.synth.camera_stamps import CameraFrames, plan_frames
 from speechcal_core.synth.image_messages import message_type, serialize_frame, typestore_for
 from speechcal_core.synth.render import FrameRenderer
 from speechcal_core.synth.timeline import Timeline
+
+if TYPE_CHECKING:
+    from rosbags.rosbag1 import Writer as Writer1
+    from rosbags.rosbag2 import Writer as Writer2
 
 CHUNK_BYTES = 48 << 20  # rendered payload per chunk (bounds memory per chunk in flight)
 CHUNK_FRAMES = 120  # at most this many frames per chunk
@@ -196,7 +201,7 @@ def _worker_task(task: _Task, ros_version: int) -> list[bytes]:
     return _render_task(renderer, renderer.timeline, task, ros_version)
 
 
-def _open_writer(fmt: str, compression: str, path: Path):
+def _open_writer(fmt: str, compression: str, path: Path) -> Writer1 | Writer2:
     """A rosbags writer (context manager) for ``fmt``."""
     if fmt == "ros1":
         from rosbags.rosbag1 import Writer as Writer1

@@ -11,6 +11,7 @@ every tag corner inside the spacing gaps.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import cv2
@@ -111,7 +112,8 @@ def apriltag_texels(tag_id: int, px_per_bit: int) -> np.ndarray:
     return np.ascontiguousarray(big[:, ::-1])
 
 
-def _draw_aprilgrid(grey: np.ndarray, target: TargetSpec, to_px, px_per_bit: int) -> None:
+def _draw_aprilgrid(grey: np.ndarray, target: TargetSpec, to_px: Callable[[float], int],
+                    px_per_bit: int) -> None:
     s, p = target.size, target.pitch
     gap = target.spacing * s
     for r in range(target.rows):
@@ -124,7 +126,8 @@ def _draw_aprilgrid(grey: np.ndarray, target: TargetSpec, to_px, px_per_bit: int
                 grey[to_px(cy) : to_px(cy + gap), to_px(cx) : to_px(cx + gap)] = INK
 
 
-def _draw_checkerboard(grey: np.ndarray, target: TargetSpec, to_px) -> None:
+def _draw_checkerboard(grey: np.ndarray, target: TargetSpec,
+                       to_px: Callable[[float], int]) -> None:
     s = target.size
     # squares i in 0..cols (x), j in 0..rows (y); square (0, 0) holds the origin corner at
     # its far side and is black, as kalibr_create_target_pdf draws it
