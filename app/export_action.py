@@ -188,9 +188,22 @@ class ExportAction(QObject):
             self._go()  # runs now, or waits on (re-scoring restarted for a newer edit)
 
     def reset(self, why: str) -> None:
-        """Another session opens: a waiting export is dropped (a running one finishes)."""
+        """Another session opens: a waiting export is dropped (a running one finishes),
+        and the export dialog or replace prompt still open is closed unanswered: it was
+        asked for the session left, and would export the one opened in its place."""
+        asked = False
+        if self.replace_box is not None and self.replace_box.isVisible():
+            self.replace_box.buttonClicked.disconnect()  # its answer would export
+            self.replace_box.reject()
+            asked = True
+        if self.dialog is not None and self.dialog.isVisible():
+            self.dialog.reject()
+            asked = True
         if self.pending is not None:
             self._drop_pending(f"Export not written: {why}")
+        elif asked:
+            self.last_error = f"Export not written: {why}"
+            self.window.status.end("export", self.last_error)
 
     def cancel(self) -> None:
         if self.pending is not None:
