@@ -1,107 +1,314 @@
-"""The frame-set list rewritten on the window's thread: time per rewrite by row count.
+"""The frame-set list in the real review window (offscreen): UI-thread time by set count.
 
-Offset edits, re-scoring and added sets rewrite the list. Measures, in the same run and
-on the same sets (seeded, 6 cameras each), with the real Qt widget (offscreen):
+A 30-minute calibration holds about 300 sets; the list is rewritten on every offset edit
+(each step of a held ``}``), at the end of re-scoring and on opening, one row changes on
+a decision, and a filter hides rows. Opens seeded sessions of 50, 300 and 1000 sets
+over one synthetic recording (4 cameras; seeded figures, warnings and decisions) in the
+real window, once with the window's list and once with the named baseline
+``QTableWidget`` list it replaced (``widget_set_table.py``, a QTableWidget item per
+cell), in the same run, and measures per action, each followed by the repaint it asks
+for:
 
-- baseline ``per-cell fit``: the header in ResizeToContents mode, as the list was, where
-  every cell written measures the whole table again;
-- ``SetTable``: as the window rewrites it now (columns fitted once per rewrite, rows
-  that show the same left alone), for a rewrite where every row changes (a new offset
-  moves every set) and one where one row changes.
+- ``offset``: ``}`` / ``{`` (every row changes: time, nearest frames, "…");
+- ``marks``: the "…" of re-scoring on every row and off again, as at the end of
+  re-scoring (``refresh_rescore_marks``);
+- ``decision``: ``A``, ``R``, ``U``, ``U`` in turn on an undecided set (one row changes;
+  "then next set" off);
+- ``filter``: ``F`` (all, undecided, accepted, rejected, all: rows hidden and shown);
+- ``open``: opening the session file, the window's thread only (building the review
+  page once the worker has loaded the session).
 
-    python benchmarks/bench_set_table.py                 # 16, 33, 66 and 132 sets
-    python benchmarks/bench_set_table.py --rows 66 --repeats 5
+Each figure is the window's whole action and, in brackets, the list's share (time inside
+the list's methods and its repaints). ``--busy`` runs a pure-Python thread beside it, as
+a re-scoring or a calibration check holds the GIL on the window's machine: every call
+between Python and Qt may then wait for the GIL (up to a switch interval, 5 ms).
+Background work the actions schedule (re-scoring, the calibration check) is kept from
+starting, so that the figures are the window's own.
 
-Prints medians and ratios; asserts nothing.
+    python benchmarks/bench_set_table.py                 # 50, 300 and 1000 sets
+    python benchmarks/bench_set_table.py --sets 300 --repeats 9 --busy
+    python benchmarks/bench_set_table.py --data /tmp/bench-list   # keep the recording
+
+Prints medians and ratios (baseline / list); asserts nothing.
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import os
+import shutil
+import statistics
 import sys
+import tempfile
+import threading
+import time
+from collections.abc import Callable
+from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 REPO = Path(__file__).resolve().parents[1]
-if str(REPO) not in sys.path:
-    sys.path.insert(0, str(REPO))
+for path in (REPO, REPO / "benchmarks"):
+    if str(path) not in sys.path:
+        sys.path.insert(0, str(path))
 
 import numpy as np  # noqa: E402
-from PySide6.QtWidgets import QApplication, QHeaderView  # noqa: E402
-from timing import median_ms  # noqa: E402
+from bench_data import session_folder  # noqa: E402
+from PySide6.QtWidgets import QApplication  # noqa: E402
+from widget_set_table import WidgetSetTable  # noqa: E402
 
+import app.main_window as main_window  # noqa: E402
 from app.set_table import SetTable  # noqa: E402
-from speechcal_core.session.model import FrameChoice, FrameSet, Trigger  # noqa: E402
+from speechcal_core.frames.nearest import nearest_frame_sets  # noqa: E402
+from speechcal_core.session.model import Session, Trigger  # noqa: E402
+from speechcal_core.session.store import save_session  # noqa: E402
+from speechcal_core.sources import open_recording  # noqa: E402
+from speechcal_core.sync.model import SyncModel  # noqa: E402
+from speechcal_core.synth.options import SynthOptions  # noqa: E402
+from speechcal_core.synth.session import generate_session  # noqa: E402
+
+DURATION_S = 150.0
+CAMERAS = 4
 
 
-def frame_sets(n: int, shift_ns: int = 0, seed: int = 0) -> list[FrameSet]:
-    rng = np.random.default_rng(seed)
-    out = []
+def make_recording(folder: Path) -> dict:
+    """The synthetic recording every session of the benchmark uses."""
+    print(f"making a {DURATION_S:.0f} s recording of {CAMERAS} cameras…", file=sys.stderr)
+    return generate_session(folder, SynthOptions(cameras=CAMERAS, duration=DURATION_S,
+                                                 width=320, height=240, seed=7), force=True)
+
+
+def make_session(folder: Path, truth: dict, n: int, out: Path) -> Path:
+    """A session of ``n`` sets spread over the recording: nearest frames with seeded
+    figures (some flagged), words (some added or found alike) and decisions."""
+    rng = np.random.default_rng(n)
+    sync = SyncModel(truth["sync"]["offset_ns"], truth["sync"]["drift"], "auto")
+    start, end = 2.0, DURATION_S - 3.0
+    step = (end - start) / n
+    triggers = []
     for i in range(n):
-        t = 1_700_000_000_000_000_000 + i * 2_700_000_000 + shift_ns
-        frames = tuple(FrameChoice(f"/cam{k}/image_raw", 40 * i + k,
-                                   t + int(rng.integers(0, 30_000_000)),
-                                   round(float(rng.uniform(0.3, 1.0)), 3),
-                                   int(rng.integers(60, 145))) for k in range(6))
-        out.append(FrameSet(i + 1, t, Trigger("capture", 2.7 * i, 2.7 * i + 0.5), frames))
+        t = start + step * (i + float(rng.uniform(0.1, 0.4)))
+        source = str(rng.choice(["detected", "manual", "similar"], p=[0.9, 0.05, 0.05]))
+        triggers.append(Trigger("capture", t - 0.2, t + 0.2, 1.0, source))
+    recording = str(folder / truth["recording"])
+    with open_recording([recording]) as source:
+        sets = nearest_frame_sets(source, sync, triggers)
+    seeded = []
+    for s in sets:
+        frames = []
+        for f in s.frames:
+            sharp = round(float(rng.uniform(0.45, 1.1)), 3)
+            corners = int(rng.integers(20, 145))
+            flags = (("blurred",) if sharp < 0.7 else ()) + (("no-target",) if corners < 24
+                                                              else ())
+            frames.append(replace(f, sharpness=sharp, corners=corners, flags=flags)
+                          if f.index >= 0 else f)
+        decision = str(rng.choice(["accepted", "rejected", "undecided"], p=[0.4, 0.15, 0.45]))
+        seeded.append(replace(s, frames=tuple(frames), decision=decision))
+    session = Session([recording], str(folder / truth["audio"]), sync, seeded,
+                      sync_evidence={"claps": truth["claps"]})
+    save_session(session, out)
     return out
 
 
+class _Share:
+    """Time spent inside the list (outermost calls only), for the list's share."""
 
-def alternating(first: list[FrameSet], second: list[FrameSet]):
-    """A function giving ``first`` and ``second`` in turn (each rewrite changes rows)."""
+    def __init__(self) -> None:
+        self.seconds = 0.0
+        self.depth = 0
+
+    @contextmanager
+    def inside(self):
+        self.depth += 1
+        start = time.perf_counter()
+        try:
+            yield
+        finally:
+            self.depth -= 1
+            if self.depth == 0:
+                self.seconds += time.perf_counter() - start
+
+
+SHARE = _Share()
+_COPIES = itertools.count()
+TIMED = ("set_sets", "update_row", "show_rows", "select_row")
+
+
+def timed_class(base: type) -> type:
+    """``base`` with its window-facing methods and repaints counted in :data:`SHARE`."""
+
+    def wrap(name: str) -> Callable:
+        real = getattr(base, name)
+
+        def method(self, *args, **kwargs):
+            with SHARE.inside():
+                return real(self, *args, **kwargs)
+        return method
+
+    def paintEvent(self, event):
+        with SHARE.inside():
+            base.paintEvent(self, event)
+
+    return type(f"Timed{base.__name__}", (base,),
+                {**{name: wrap(name) for name in TIMED}, "paintEvent": paintEvent})
+
+
+def settle(app: QApplication, window) -> None:
+    """Let the window repaint what the action changed; keep background work from
+    starting (re-scoring, the calibration check)."""
+    app.processEvents()
+    app.processEvents()
+    for action in (window.rescorer, window.checker):
+        action.timer.stop()
+
+
+def measure(app: QApplication, window, action: Callable[[], object],
+            repeats: int) -> tuple[float, float]:
+    """Median ms of ``action`` (with its repaint), and of the list's share of it."""
+    totals, shares = [], []
+    for _ in range(repeats):
+        settle(app, window)
+        SHARE.seconds = 0.0
+        start = time.perf_counter()
+        action()
+        settle(app, window)
+        totals.append(time.perf_counter() - start)
+        shares.append(SHARE.seconds)
+    return statistics.median(totals) * 1000, statistics.median(shares) * 1000
+
+
+def open_window(app: QApplication, path: Path, table_class: type):
+    """A shown window with ``path`` open; (window, ms of the window's thread building it,
+    ms of the list's share)."""
+    main_window.SetTable = table_class
+    window = main_window.ReviewWindow()
+    window.setProperty("headless", True)
+    window.resize(1400, 900)
+    window.show()
+    built: list[float] = []
+    real = window._on_loaded
+
+    def on_loaded(inputs) -> None:
+        SHARE.seconds = 0.0
+        start = time.perf_counter()
+        real(inputs)
+        app.processEvents()  # the first paint of the page
+        built.append(time.perf_counter() - start)
+
+    window._on_loaded = on_loaded
+    fresh = path.with_name(f"{path.stem}-{next(_COPIES)}.json")  # the file as made: the
+    shutil.copyfile(path, fresh)  # window saves decisions, offsets and its place in it
+    window.open(session_path=str(fresh))
+    deadline = time.monotonic() + 120
+    while not built and time.monotonic() < deadline:
+        app.processEvents()
+        time.sleep(0.002)
+    if not built:
+        raise SystemExit(f"{path} did not open")
+    share = SHARE.seconds
+    settle(app, window)
+    return window, built[0] * 1000, share * 1000
+
+
+def close_window(app: QApplication, window) -> None:
+    window.close()
+    window.deleteLater()
+    app.processEvents()
+
+
+def run_list(app: QApplication, path: Path, table_class: type, repeats: int) -> dict:
+    """Every action's (median ms, list share ms) with the window's list ``table_class``."""
+    opened = []
+    for _ in range(max(1, repeats // 3)):  # opening is slow: fewer repeats
+        window, ms, share = open_window(app, path, timed_class(table_class))
+        opened.append((ms, share))
+        close_window(app, window)
+    window, _ms, _share = open_window(app, path, timed_class(table_class))
+    model = window.model
+    window.advance_box.setChecked(False)  # decisions stay on the set
+    sets = model.session.sets
+    model.go_to_set(next(i for i in range(len(sets) // 2, len(sets))
+                         if sets[i].decision == "undecided"))
+    settle(app, window)
     turn = iter(range(10**9))
-    return lambda: first if next(turn) % 2 else second
+    figures = {"open": (statistics.median(o[0] for o in opened),
+                        statistics.median(o[1] for o in opened))}
+    figures["offset"] = measure(app, window, lambda: window.run_action(
+        ("offset_plus_frame", "offset_minus_frame")[next(turn) % 2]), repeats)
+
+    def marks() -> None:
+        window.rescorer.held = not window.rescorer.held  # held: no "…" shown
+        window.refresh_rescore_marks()
+    figures["marks"] = measure(app, window, marks, repeats)
+    decisions = iter(range(10**9))
+    figures["decision"] = measure(app, window, lambda: window.run_action(
+        ("accept", "reject", "undo", "undo")[next(decisions) % 4]), repeats)
+    figures["filter"] = measure(app, window, lambda: window.run_action("next_filter"),
+                                repeats)
+    close_window(app, window)
+    return figures
 
 
-def measure(app: QApplication, n: int, repeats: int) -> str:
-    """One line of figures for ``n`` sets."""
-    origin = 1_700_000_000_000_000_000
-    a, b = frame_sets(n), frame_sets(n, shift_ns=130_000_000)  # every row reads otherwise
-    one = [*a[:-1], a[-1].with_decision("accepted")]
-    baseline, table = SetTable(), SetTable()
-    for widget in (baseline, table):
-        widget.resize(480, 400)
-        widget.show()
-    baseline.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
-    next_all, next_one = alternating(a, b), alternating(one, a)
+@contextmanager
+def busy_thread(on: bool):
+    """A pure-Python thread holding the GIL as a worker does, while ``on``."""
+    stop = threading.Event()
 
-    def per_cell() -> None:
-        sets = next_all()
-        baseline._rows = []  # the list kept nothing: every cell written, each fit
-        baseline.setRowCount(len(sets))
-        for row, s in enumerate(sets):
-            baseline._write_row(row, s, False)
-        app.processEvents()
+    def spin() -> None:
+        while not stop.is_set():
+            sum(i * i for i in range(2000))
 
-    def every_row() -> None:
-        table.set_sets(next_all(), origin)
-        app.processEvents()
-
-    def one_row() -> None:
-        table.set_sets(next_one(), origin)
-        app.processEvents()
-
-    base = median_ms(per_cell, repeats)
-    ours = median_ms(every_row, repeats)
-    table.set_sets(a, origin)
-    single = median_ms(one_row, repeats)
-    baseline.close()
-    table.close()
-    return (f"{n:4d} sets: baseline per-cell fit {base:8.1f} ms | SetTable every row "
-            f"{ours:7.1f} ms ({base / ours:5.1f}x) | one row {single:6.1f} ms "
-            f"({base / single:6.1f}x)")
+    thread = threading.Thread(target=spin, daemon=True)
+    if on:
+        thread.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        if on:
+            thread.join()
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--rows", type=int, nargs="+", default=[16, 33, 66, 132])
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--sets", type=int, nargs="+", default=[50, 300, 1000])
+    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--busy", action="store_true",
+                        help="a pure-Python thread runs beside the window (GIL contention)")
+    parser.add_argument("--no-baseline", action="store_true",
+                        help="measure only the window's list")
+    parser.add_argument("--data", help="folder of the recording (made there once, kept)")
+    parser.add_argument("--keep", action="store_true", help="keep the temporary recording")
     args = parser.parse_args()
     app = QApplication.instance() or QApplication([])
-    for n in args.rows:
-        print(measure(app, n, args.repeats), flush=True)
+    lists = [("list", SetTable)] + ([] if args.no_baseline else [("baseline", WidgetSetTable)])
+    print(f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; "
+          f"{'a busy Python thread beside' if args.busy else 'no other thread busy'}; "
+          f"median of {args.repeats} (open: {max(1, args.repeats // 3)}); "
+          "ms: window's action [list's share]", flush=True)
+    with session_folder(args.data, args.keep, make_recording) as (folder, truth), \
+            tempfile.TemporaryDirectory(prefix="speechcal-bench-list-") as tmp:
+        for n in args.sets:
+            path = make_session(folder, truth, n, Path(tmp) / f"sets{n}.json")
+            results = {}
+            for name, cls in lists:
+                with busy_thread(args.busy):
+                    results[name] = run_list(app, path, cls, args.repeats)
+            for action in ("offset", "marks", "decision", "filter", "open"):
+                line = f"{n:5d} sets  {action:8s}"
+                for name, _cls in lists:
+                    total, share = results[name][action]
+                    line += f" | {name} {total:7.1f} [{share:6.1f}]"
+                if "baseline" in results:
+                    (base, base_share), (ours, our_share) = \
+                        results["baseline"][action], results["list"][action]
+                    line += (f" | ratio {base / max(ours, 1e-3):5.1f}x "
+                             f"[{base_share / max(our_share, 1e-3):6.1f}x]")
+                print(line, flush=True)
+            print(f"      (load average {os.getloadavg()[0]:.1f})", flush=True)
 
 
 if __name__ == "__main__":
