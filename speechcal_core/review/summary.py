@@ -11,6 +11,7 @@ its worst camera, so the summary keeps the lowest sharpness and the fewest targe
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 from speechcal_core.text import WARNING_SYMBOL, counted
@@ -103,29 +104,34 @@ class SetSummary:
     #: (stream, its flags) for every camera whose chosen frame has quality flags
     flagged: tuple[tuple[str, tuple[str, ...]], ...]
 
-    @property
+    @cached_property  # each warning asks for them (the list: 4 times per set)
     def flags(self) -> tuple[str, ...]:
         """Every flag any camera has, each once, in the order first seen."""
         return tuple(dict.fromkeys(f for _stream, fl in self.flagged for f in fl))
 
     @property
     def sharpness_warned(self) -> bool:
-        return any(f in SHARPNESS_FLAGS for f in self.flags)
+        return not _SHARPNESS_FLAGS.isdisjoint(self.flags)
 
     @property
     def corners_warned(self) -> bool:
-        return any(f in CORNER_FLAGS for f in self.flags)
+        return not _CORNER_FLAGS.isdisjoint(self.flags)
 
     @property
     def skew_warned(self) -> bool:
-        return any(f in SKEW_FLAGS for f in self.flags)
+        return not _SKEW_FLAGS.isdisjoint(self.flags)
 
     @property
     def frames_warned(self) -> bool:
         """A camera without a frame, or a flag none of the quality figures covers."""
-        figures = (*SHARPNESS_FLAGS, *CORNER_FLAGS, *SKEW_FLAGS)
         return (self.frames_found < self.frames_total
-                or any(f not in figures for f in self.flags))
+                or not _FIGURE_FLAGS.issuperset(self.flags))
+
+
+#: the flags above as sets (the list asks each set's summary for every warning)
+_SHARPNESS_FLAGS, _CORNER_FLAGS, _SKEW_FLAGS = (
+    frozenset(SHARPNESS_FLAGS), frozenset(CORNER_FLAGS), frozenset(SKEW_FLAGS))
+_FIGURE_FLAGS = _SHARPNESS_FLAGS | _CORNER_FLAGS | _SKEW_FLAGS
 
 
 def summarize(frame_set: FrameSet) -> SetSummary:
