@@ -1,22 +1,26 @@
 """The frame-set list: one row per set, decision and warnings shown by colour and symbol.
 
 Row ``n`` is always the session's set ``n``; a filter hides rows, it never reorders them.
+:class:`SetListModel` holds the sets and works out what a row shows when its set changes
+(its tooltip when asked for), telling the view which rows changed; :class:`SetTable`
+draws the rows in view, hides those the filter hides and fits the columns to their texts.
+An offset edit changes every row: the list then describes each set once (no Qt call per
+cell) and repaints the rows in view; a decision changes one row.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from collections.abc import Iterable, Sequence
 
-from PySide6.QtCore import QEvent, Qt, Signal
+from PySide6.QtCore import QAbstractTableModel, QEvent, QModelIndex, QSize, Qt, Signal
 from PySide6.QtGui import QBrush, QColor, QPalette
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QHeaderView,
+    QStyle,
     QStyledItemDelegate,
     QStyleOptionViewItem,
-    QTableWidget,
-    QTableWidgetItem,
+    QTableView,
 )
 
 from app.style import DECISION_SYMBOLS, DECISION_TEXT_COLOURS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
@@ -51,11 +55,6 @@ COLUMNS = (
     ("frames", "cameras with a frame for this set / cameras"),
     ("decision", "accepted, rejected or undecided"),
 )
-
-if TYPE_CHECKING:
-    from PySide6.QtCore import QModelIndex, QPersistentModelIndex
-    from PySide6.QtGui import QMouseEvent, QResizeEvent
-    from PySide6.QtWidgets import QWidget
 HEADERS = tuple(h for h, _tip in COLUMNS)
 WORD, SHARP, CORNERS, SKEW, FRAMES, DECISION = 2, 3, 4, 5, 6, 7
 MISSING = "–"  # a figure no camera has
@@ -80,29 +79,234 @@ def clock_text(seconds: float) -> str:
     minutes, rest = divmod(hundredths, 6000)
     return f"{'-' if seconds < 0 and hundredths else ''}{minutes:02d}:{rest / 100:05.2f}"
 
+#: the item data roles the list answers (Qt passes them as numbers)
+DISPLAY = int(Qt.ItemDataRole.DisplayRole)
+TOOLTIP = int(Qt.ItemDataRole.ToolTipRole)
+FOREGROUND = int(Qt.ItemDataRole.ForegroundRole)
+ALIGNMENT = int(Qt.ItemDataRole.TextAlignmentRole)
+#: the figures' cells are right-aligned
+RIGHT_ALIGNED = Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter
+RIGHT = int(RIGHT_ALIGNED)
+WARNING_BRUSH = QBrush(WARNING_TEXT_COLOUR)
+DECISION_BRUSHES = {d: QBrush(c) for d, c in DECISION_TEXT_COLOURS.items()}
+#: a text's shape: its digits alike (a column is as wide as its widest shape, measured
+#: once with the font's widest digit: 300 times "mm:ss.hh" are one shape)
+SHAPE = str.maketrans("123456789", "000000000")
+
+
+class RowView:
+    """What one set's row shows: texts, text colours (None: the list's own), and its
+    tooltip (worked out when first asked for: the camera lines are the dear part)."""
+
+    __slots__ = ("_tooltip", "brushes", "pending", "same", "set", "shapes", "texts")
+
+    def __init__(self, s: FrameSet, origin_ns: int, pending: bool,
+                 same: tuple[int, ...]) -> None:
+        self.set, self.pending, self.same = s, pending, same
+        q = summarize(s)
+        missing = PENDING if pending else MISSING
+        sharp = missing if q.worst_sharpness is None else f"{q.worst_sharpness:.2f}"
+        corners = missing if q.fewest_corners is None else str(q.fewest_corners)
+        # one camera (or one frame found): no two frames to lie apart
+        skew = f"{s.skew_ns / 1e6:.1f}" if q.frames_found > 1 else MISSING
+        frames = f"{q.frames_found}/{q.frames_total}"
+        word = word_text(s) + (f" · same as {listed_ids(same)}" if same else "")
+        warned = (bool(same), q.sharpness_warned, q.corners_warned, q.skew_warned,
+                  q.frames_warned)  # the columns WORD to FRAMES
+        texts = [str(s.id), clock_text((s.t_ns - origin_ns) / 1e9)]
+        brushes: list[QBrush | None] = [None, None]
+        for text, w in zip((word, sharp, corners, skew, frames), warned, strict=True):
+            texts.append(f"{WARNING_SYMBOL} {text}" if w else text)
+            brushes.append(WARNING_BRUSH if w else None)
+        texts.append(f"{DECISION_SYMBOLS[s.decision]} {s.decision}")
+        brushes.append(DECISION_BRUSHES[s.decision])
+        self.texts, self.brushes = tuple(texts), tuple(brushes)
+        self.shapes = tuple([t.translate(SHAPE) for t in texts])
+        self._tooltip: str | None = None
+
+    def shows(self, s: FrameSet, pending: bool, same: tuple[int, ...]) -> bool:
+        """Whether this row is what ``s`` (sets are immutable) shows with these marks."""
+        return self.set is s and self.pending == pending and self.same == same
+
+    @property
+    def tooltip(self) -> str:
+        if self._tooltip is None:
+            s = self.set
+            details = f"{trigger_line(s)}\n{camera_lines(s)}"
+            if self.same:
+                details = f"{same_frames_line(self.same)}\n{details}"
+            if self.pending:
+                details = f"{PENDING_TIP}\n{details}"
+            self._tooltip = details
+        return self._tooltip
+
+
+class SetListModel(QAbstractTableModel):
+    """The session's frame sets as rows (row ``n``: set ``n``) and :data:`COLUMNS`.
+
+    :meth:`set_sets` and :meth:`update_row` take the sets as they are now; rows whose set
+    (an immutable object), re-scoring mark and same-frames partners stay the same are left
+    as they are, the others are described again and announced with ``dataChanged`` (one
+    signal per run of neighbouring rows); rows beyond the new count are removed, new ones
+    appended, as a list of rows grows and shrinks at its end.
+    """
+
+    def __init__(self, parent=None) -> None:
+        super().__init__(parent)
+        self._rows: list[RowView] = []
+        self._origin_ns = 0
+        self._same: dict[int, tuple[int, ...]] = {}  # set id -> sets showing its frames
+        #: per column, how many rows show each text shape (see :data:`SHAPE`)
+        self._shapes: list[dict[str, int]] = [{} for _ in COLUMNS]
+
+    # -- Qt's model interface -----------------------------------------------------------
+    def rowCount(self, parent: QModelIndex = QModelIndex()) -> int:  # noqa: B008 (Qt's)
+        return 0 if parent.isValid() else len(self._rows)
+
+    def columnCount(self, parent: QModelIndex = QModelIndex()) -> int:  # noqa: B008
+        return 0 if parent.isValid() else len(COLUMNS)
+
+    def data(self, index: QModelIndex, role: int = DISPLAY):
+        if role == DISPLAY:
+            return self._rows[index.row()].texts[index.column()]
+        if role == FOREGROUND:
+            return self._rows[index.row()].brushes[index.column()]
+        if role == ALIGNMENT:
+            return RIGHT if SHARP <= index.column() <= FRAMES else None
+        if role == TOOLTIP:
+            return self._rows[index.row()].tooltip
+        return None
+
+    def headerData(self, section: int, orientation: Qt.Orientation, role: int = DISPLAY):
+        if orientation == Qt.Orientation.Horizontal and 0 <= section < len(COLUMNS):
+            if role == DISPLAY:
+                return COLUMNS[section][0]
+            if role == TOOLTIP:
+                return COLUMNS[section][1]
+        return None
+
+    # -- the sets -----------------------------------------------------------------------
+    def row(self, row: int) -> RowView:
+        """What row ``row`` shows."""
+        return self._rows[row]
+
+    def shapes(self, col: int) -> Iterable[str]:
+        """The shapes of the texts column ``col`` shows (see :data:`SHAPE`)."""
+        return self._shapes[col].keys()
+
+    def set_sets(self, sets: Sequence[FrameSet], origin_ns: int,
+                 pending: frozenset[int] | set[int] = frozenset()) -> set[int]:
+        """One row per set (times from ``origin_ns``); sets whose ids are in ``pending``
+        are being re-scored. Returns the columns whose texts changed shape."""
+        same = same_frames(sets)
+        moved = origin_ns != self._origin_ns  # every time changes
+        self._origin_ns, self._same = origin_ns, same
+        # a set inserted shifts the rows after it: their descriptions are kept
+        kept = {} if moved else {id(r.set): r for r in self._rows}
+        rows = []
+        for s in sets:
+            mark, partners = s.id in pending, same.get(s.id, ())
+            r = kept.get(id(s))
+            rows.append(r if r is not None and r.shows(s, mark, partners)
+                        else RowView(s, origin_ns, mark, partners))
+        changed: set[int] = set()
+        old = len(self._rows)
+        if len(rows) < old:
+            self.beginRemoveRows(QModelIndex(), len(rows), old - 1)
+            for r in self._rows[len(rows):]:
+                self._count(r, -1, changed)
+            del self._rows[len(rows):]
+            self.endRemoveRows()
+        first = None  # the first row of a run of changed rows
+        for i in range(len(self._rows)):
+            if self._rows[i] is rows[i]:
+                if first is not None:
+                    self._changed(first, i - 1)
+                    first = None
+                continue
+            self._recount(self._rows[i], rows[i], changed)
+            self._rows[i] = rows[i]
+            if first is None:
+                first = i
+        if first is not None:
+            self._changed(first, len(self._rows) - 1)
+        if len(rows) > old:
+            self.beginInsertRows(QModelIndex(), old, len(rows) - 1)
+            for r in rows[old:]:
+                self._count(r, 1, changed)
+            self._rows.extend(rows[old:])
+            self.endInsertRows()
+        return changed
+
+    def update_row(self, row: int, s: FrameSet, pending: bool = False) -> set[int]:
+        """Show ``s`` in ``row`` (its set decided); the columns whose texts changed shape."""
+        partners = self._same.get(s.id, ())
+        before = self._rows[row]
+        if before.shows(s, pending, partners):
+            return set()
+        changed: set[int] = set()
+        self._rows[row] = RowView(s, self._origin_ns, pending, partners)
+        self._recount(before, self._rows[row], changed)
+        self._changed(row, row)
+        return changed
+
+    def _changed(self, first: int, last: int) -> None:
+        self.dataChanged.emit(self.index(first, 0), self.index(last, len(COLUMNS) - 1))
+
+    def _recount(self, old: RowView, new: RowView, changed: set[int]) -> None:
+        """:meth:`_count` ``old`` out and ``new`` in (nothing to do for texts alike in
+        shape: an offset edit changes every time, rarely a shape)."""
+        if old.shapes != new.shapes:
+            self._count(old, -1, changed)
+            self._count(new, 1, changed)
+
+    def _count(self, r: RowView, step: int, changed: set[int]) -> None:
+        """Count ``r``'s shapes in (``step`` 1) or out (-1); ``changed`` gets the columns
+        where a shape appeared or went."""
+        for col, shape in enumerate(r.shapes):
+            counts = self._shapes[col]
+            n = counts.get(shape, 0) + step
+            if n:
+                counts[shape] = n
+            else:
+                del counts[shape]
+            if n == 0 or (step > 0 and n == 1):
+                changed.add(col)
+
+
 class OwnColoursDelegate(QStyledItemDelegate):
-    """Draws a selected cell's text in its own colour (decision, warning), not the
+    """Draws a cell from its row's description (:meth:`SetListModel.row`) in one call,
+    as Qt's delegate draws it from the model's data roles (eight calls into Python per
+    cell), and a selected cell's text in its own colour (decision, warning), not the
     highlight's, so the current set still shows whether it is accepted or rejected."""
 
-    def initStyleOption(self, option: QStyleOptionViewItem,
-                        index: QModelIndex | QPersistentModelIndex) -> None:
-        super().initStyleOption(option, index)
-        brush = index.data(Qt.ItemDataRole.ForegroundRole)
+    def __init__(self, model: SetListModel, parent=None) -> None:
+        super().__init__(parent)
+        self._model = model
+
+    def initStyleOption(self, option: QStyleOptionViewItem, index) -> None:
+        row, col = self._model.row(index.row()), index.column()
+        option.index = index
+        option.text = row.texts[col]
+        option.features |= QStyleOptionViewItem.ViewItemFeature.HasDisplay
+        if SHARP <= col <= FRAMES:
+            option.displayAlignment = RIGHT_ALIGNED
+        brush = row.brushes[col]
         if brush is not None:
-            option.palette.setBrush(QPalette.ColorRole.HighlightedText, brush)
+            palette = option.palette
+            palette.setBrush(QPalette.ColorRole.Text, brush)
+            palette.setBrush(QPalette.ColorRole.HighlightedText, brush)
 
 
-class SetTable(QTableWidget):
-    """Lists frame sets; selecting a row asks to go to that set."""
+class SetTable(QTableView):
+    """Lists frame sets (see :class:`SetListModel`); selecting a row asks to go to that set."""
 
     set_chosen = Signal(int)  # row index == index into the session's sets
 
-    def __init__(self, parent: QWidget | None = None) -> None:
-        super().__init__(0, len(COLUMNS), parent)
-        for col, (title, tip) in enumerate(COLUMNS):
-            item = QTableWidgetItem(title)
-            item.setToolTip(tip)
-            self.setHorizontalHeaderItem(col, item)
+    def __init__(self, parent=None) -> None:
+        super().__init__(parent)
+        self.sets_model = SetListModel(self)
+        self.setModel(self.sets_model)
         self.verticalHeader().hide()
         self.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
         self.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
@@ -112,75 +316,77 @@ class SetTable(QTableWidget):
         palette.setColor(QPalette.ColorRole.Highlight, SELECTED_ROW)
         palette.setColor(QPalette.ColorRole.HighlightedText, QColor(0, 0, 0))
         self.setPalette(palette)
-        self._delegate = OwnColoursDelegate(self)
+        self._delegate = OwnColoursDelegate(self.sets_model, self)
         self.setItemDelegate(self._delegate)
-        # measures cells for fit_columns: the same sizes (the delegate above changes a
-        # colour only) without a Python call per cell (100 sets: 700 cells a refit)
-        self._measure = QStyledItemDelegate(self)
         header = self.horizontalHeader()
-        # sized to their contents once per change (fit_columns): in ResizeToContents
-        # mode every setItem measured the whole table again, a 66-set rewrite took 1.1 s
+        # fitted to the texts' shapes once per change (fit_columns), without measuring
+        # rows: ResizeToContents measured the whole list on every change
         header.setSectionResizeMode(QHeaderView.ResizeMode.Interactive)
         header.setStretchLastSection(True)
-        self._origin_ns = 0
+        self._widths: dict[str, int] = {}  # a text shape's cell width at the list's font
+        self._widest_digit = ""
         self._word_width = 0  # the word column's width for its widest text
-        # the decision column's width, and the decisions its rows showed when measured
-        self._decision_width = 0
-        self._decisions_measured: frozenset[str] = frozenset()
+        self._decision_width = 0  # the decision column's, for its texts
         self._updating = False
-        self._rows: list[tuple] = []  # what each row shows, to skip rows that stay alike
-        self._same: dict[int, tuple[int, ...]] = {}  # set id -> sets showing its frames
-        # (id(set), pending, origin, its same-frames sets) -> (set, what its row shows): of
-        # the last rewrite (kept), and of the one under way or of the rows written since
-        self._shown_kept: dict[tuple, tuple[FrameSet, tuple]] = {}
-        self._shown_now: dict[tuple, tuple[FrameSet, tuple]] = {}
-        self.itemSelectionChanged.connect(self._selection_changed)
+        self.selectionModel().selectionChanged.connect(self._selection_changed)
         #: whether the last mouse press changed the selection (and so chose a set)
         self._press_chose = False
-        self.cellClicked.connect(self._clicked)
+        self.clicked.connect(self._clicked)
 
     def set_sets(self, sets: list[FrameSet], origin_ns: int,
                  pending: frozenset[int] | set[int] = frozenset()) -> None:
         """One row per set; sets whose ids are in ``pending`` are being re-scored."""
         self._updating = True
-        if origin_ns != self._origin_ns:
-            self._rows = []  # every time changes
-        self._origin_ns = origin_ns
-        self._same = same_frames(sets)
-        self.setUpdatesEnabled(False)
         try:
-            # rows gone may have been the widest: every column is fitted again then
-            changed = set(range(self.columnCount())) if len(sets) < self.rowCount() else set()
-            self.setRowCount(len(sets))
-            del self._rows[len(sets):]
-            # what the rows show is kept for the sets of the last two rewrites
-            self._shown_kept, self._shown_now = {**self._shown_kept, **self._shown_now}, {}
-            for row, s in enumerate(sets):
-                changed |= self._write_row(row, s, s.id in pending)
-            self._shown_kept = self._shown_now
+            changed = self.sets_model.set_sets(sets, origin_ns, pending)
             self.fit_columns(changed)
         finally:
-            self.setUpdatesEnabled(True)
             self._updating = False
 
+    def update_row(self, row: int, s: FrameSet, pending: bool = False) -> None:
+        """Show ``s`` in ``row`` (the columns whose texts changed shape refitted)."""
+        changed = self.sets_model.update_row(row, s, pending)
+        if changed:
+            self.fit_columns(changed)
+
+    # -- column widths ------------------------------------------------------------------
     def fit_columns(self, columns: Iterable[int] | None = None) -> None:
-        """Every column (of ``columns``, by default all) as wide as its widest text; the
-        last one takes the rest. Measuring a column measures each of its rows: a
-        decision, which changes only the last column, refits none. The word column
-        gives way where the list is too narrow for it (see :meth:`_fit_word`)."""
-        last = self.columnCount() - 1
-        wanted = sorted(c for c in set(range(last) if columns is None else columns) if c < last)
-        if wanted:
-            self.setItemDelegate(self._measure)
-            try:
-                for col in wanted:
-                    self.resizeColumnToContents(col)
-            finally:
-                self.setItemDelegate(self._delegate)
-            if WORD in wanted:
-                self._word_width = self.columnWidth(WORD)
-        self.horizontalHeader().setStretchLastSection(True)
+        """Every column (of ``columns``, by default all) as wide as its widest text, as
+        Qt's own fitting makes it, without measuring a row: each text shape's width is
+        measured once. The last one takes the rest; the word column gives way where the
+        list is too narrow for it (see :meth:`_fit_word`)."""
+        wanted = set(range(len(COLUMNS)) if columns is None else columns)
+        header = self.horizontalHeader()
+        for col in sorted(wanted):
+            width = max((self._cell_width(shape) for shape in self.sets_model.shapes(col)),
+                        default=0)
+            width = max(width, header.sectionSizeHint(col))
+            if col == DECISION:  # it stretches, never below its texts
+                self._decision_width = width
+            elif col == WORD:  # _fit_word sets it
+                self._word_width = width
+            elif header.sectionSize(col) != width:
+                header.resizeSection(col, width)
+        if WORD in wanted and not self.isVisible():
+            header.resizeSection(WORD, self._word_width)
         self._fit_word()
+
+    def _cell_width(self, shape: str) -> int:
+        """The width Qt's fitting gives a cell of this shape (see :data:`SHAPE`)."""
+        width = self._widths.get(shape)
+        if width is None:
+            if not self._widest_digit:
+                metrics = self.fontMetrics()
+                self._widest_digit = max("0123456789", key=metrics.horizontalAdvance)
+            option = QStyleOptionViewItem()
+            self.initViewItemOption(option)
+            option.text = shape.replace("0", self._widest_digit)
+            option.features |= QStyleOptionViewItem.ViewItemFeature.HasDisplay
+            width = self.style().sizeFromContents(
+                QStyle.ContentsType.CT_ItemViewItem, option, QSize(), self).width()
+            width += 1 if self.showGrid() else 0  # as QTableView::sizeHintForColumn
+            self._widths[shape] = width
+        return width
 
     def _fit_word(self) -> None:
         """Narrow the word column, its long texts ending in "…" (the row's tooltip says
@@ -189,168 +395,67 @@ class SetTable(QTableWidget):
         if not self.isVisible() or not self._word_width:
             return
         header = self.horizontalHeader()
-        decision = self._decision_column_width()
         # the last column stretches, but never below its own width (100 px at first)
-        header.resizeSection(DECISION, decision)
-        others = sum(self.columnWidth(c) for c in range(self.columnCount() - 1) if c != WORD)
-        room = self.viewport().width() - others - decision
+        if header.sectionSize(DECISION) != self._decision_width:
+            header.resizeSection(DECISION, self._decision_width)
+        others = sum(header.sectionSize(c) for c in range(DECISION) if c != WORD)
+        room = self.viewport().width() - others - self._decision_width
         least = header.sectionSizeHint(WORD)
         width = max(least, min(self._word_width, room))
-        if width != self.columnWidth(WORD):
-            self.setColumnWidth(WORD, width)
+        if width != header.sectionSize(WORD):
+            header.resizeSection(WORD, width)
 
-    def _decision_column_width(self) -> int:
-        """The decision column's width for its texts, measured again only when the
-        decisions its rows show change: measuring reads every row, and a decision on a
-        400-set list cost 10 ms more each."""
-        decisions = frozenset(shown[2] for shown in self._rows if shown)
-        if decisions != self._decisions_measured or not self._decision_width:
-            self.setItemDelegate(self._measure)
-            try:
-                self._decision_width = max(self.sizeHintForColumn(DECISION),
-                                           self.horizontalHeader().sectionSizeHint(DECISION))
-            finally:
-                self.setItemDelegate(self._delegate)
-            self._decisions_measured = decisions
-        return self._decision_width
+    def changeEvent(self, event) -> None:
+        """Another font or style: every text shape is measured again."""
+        super().changeEvent(event)
+        if event.type() in (QEvent.Type.FontChange, QEvent.Type.StyleChange):
+            self._widths.clear()
+            self._widest_digit = ""
+            self.fit_columns()
 
-    def viewportEvent(self, event: QEvent) -> bool:
+    def viewportEvent(self, event) -> bool:
         if event.type() == QEvent.Type.Resize:  # the list's width, or its scrollbar, changed
             self._fit_word()
         return super().viewportEvent(event)
 
-    def update_row(self, row: int, s: FrameSet, pending: bool = False) -> None:
-        """Show ``s`` in ``row`` (the columns whose texts changed refitted)."""
-        changed = self._write_row(row, s, pending)
-        if changed:
-            self.fit_columns(changed)
-
-    def _write_row(self, row: int, s: FrameSet, pending: bool) -> set[int]:
-        """Put ``s`` in ``row``; the columns whose text changed (none when the row showed
-        exactly that already)."""
-        shown = self._shown(s, pending)
-        before = self._rows[row] if row < len(self._rows) else ()
-        if before == shown:
-            return set()
-        while len(self._rows) <= row:
-            self._rows.append(())
-        self._rows[row] = shown
-        # a column's width follows its texts (the warning symbol is part of one)
-        texts = self._texts(shown)
-        old = self._texts(before) if before else None
-        changed = {col for col, text in enumerate(texts) if old is None or text != old[col]}
-        details = shown[3]
-        for col, text in enumerate(texts):
-            colour = self._colour(shown, col)
-            item = self.item(row, col) if before else None
-            if item is not None:  # the row's cells as they are: only what changed
-                # (an offset edit changes every row: each call here lets go of the GIL,
-                # which a busy worker then holds for up to a switch interval)
-                if col in changed:
-                    item.setText(text)
-                if colour != self._colour(before, col):
-                    if colour is None:
-                        item.setData(Qt.ItemDataRole.ForegroundRole, None)
-                    else:
-                        item.setForeground(QBrush(colour))
-                if details != before[3]:
-                    item.setToolTip(details)
-                continue
-            item = QTableWidgetItem(text)
-            if SHARP <= col <= FRAMES:
-                item.setTextAlignment(Qt.AlignmentFlag.AlignRight
-                                      | Qt.AlignmentFlag.AlignVCenter)
-            if colour is not None:
-                item.setForeground(QBrush(colour))
-            item.setToolTip(details)
-            self.setItem(row, col, item)
-        return changed
-
-    @staticmethod
-    def _colour(shown: tuple, col: int) -> QColor | None:
-        """The text colour of a cell of a row as :meth:`_write_row` keeps it (None: the
-        list's own)."""
-        if dict(shown[1]).get(col):
-            return WARNING_TEXT_COLOUR
-        return DECISION_TEXT_COLOURS[shown[2]] if col == DECISION else None
-
-    def _shown(self, s: FrameSet, pending: bool) -> tuple:
-        """What ``s``'s row shows: texts, warnings, decision, tooltip; kept per set object
-        (sets are immutable; re-scoring rewrites the whole list after each batch, most
-        rows as they were, and the tooltip's camera lines are the dear part)."""
-        key = (id(s), pending, self._origin_ns, self._same.get(s.id, ()))
-        kept = self._shown_kept.get(key)
-        if kept is not None and kept[0] is s:
-            self._shown_now[key] = kept
-            return kept[1]
-        shown = self._describe(s, pending)
-        self._shown_now[key] = (s, shown)
-        return shown
-
-    def _describe(self, s: FrameSet, pending: bool) -> tuple:
-        """:meth:`_shown`, computed."""
-        rel = (s.t_ns - self._origin_ns) / 1e9
-        q = summarize(s)
-        missing = PENDING if pending else MISSING
-        sharp = missing if q.worst_sharpness is None else f"{q.worst_sharpness:.2f}"
-        corners = missing if q.fewest_corners is None else str(q.fewest_corners)
-        same = self._same.get(s.id, ())
-        word = word_text(s) + (f" · same as {listed_ids(same)}" if same else "")
-        values = (str(s.id), clock_text(rel), word,
-                  sharp, corners,
-                  # one camera (or one frame found): no two frames to lie apart
-                  f"{s.skew_ns / 1e6:.1f}" if q.frames_found > 1 else MISSING,
-                  f"{q.frames_found}/{q.frames_total}",
-                  f"{DECISION_SYMBOLS[s.decision]} {s.decision}")
-        warned = {WORD: bool(same), SHARP: q.sharpness_warned, CORNERS: q.corners_warned,
-                  SKEW: q.skew_warned, FRAMES: q.frames_warned}
-        details = f"{trigger_line(s)}\n{camera_lines(s)}"
-        if same:
-            details = f"{same_frames_line(same)}\n{details}"
-        if pending:
-            details = f"{PENDING_TIP}\n{details}"
-        return (values, tuple(sorted(warned.items())), s.decision, details)
-
-    @staticmethod
-    def _texts(shown: tuple) -> list[str]:
-        """The cell texts of a row as :meth:`_write_row` kept it."""
-        values, warned = shown[0], dict(shown[1])
-        return [f"{WARNING_SYMBOL} {v}" if warned.get(col) else v
-                for col, v in enumerate(values)]
-
+    # -- rows shown and chosen ----------------------------------------------------------
     def show_rows(self, rows: list[int], current: int) -> None:
-        """Hide every row not in ``rows``; select ``current`` if it is shown, else none."""
+        """Hide every row not in ``rows``; select ``current`` if it is shown, else none.
+        Only the rows whose state changes are told (a decision hides one at most)."""
         self._updating = True
-        keep = set(rows)
-        for row in range(self.rowCount()):
-            self.setRowHidden(row, row not in keep)
-        self._updating = False
+        try:
+            keep = set(rows)
+            for row in range(self.sets_model.rowCount()):
+                hide = row not in keep
+                if self.isRowHidden(row) != hide:
+                    self.setRowHidden(row, hide)
+        finally:
+            self._updating = False
         self.select_row(current)
 
     def select_row(self, row: int) -> None:
         self._updating = True
-        if 0 <= row < self.rowCount() and not self.isRowHidden(row):
-            self.selectRow(row)
-            item = self.item(row, 0)
-            if item is not None:
-                self.scrollToItem(item)
-        else:
-            self.clearSelection()
-        self._updating = False
+        try:
+            if 0 <= row < self.sets_model.rowCount() and not self.isRowHidden(row):
+                self.selectRow(row)
+                self.scrollTo(self.sets_model.index(row, 0))
+            else:
+                self.clearSelection()
+        finally:
+            self._updating = False
 
-    def resizeEvent(self, event: QResizeEvent) -> None:
+    def resizeEvent(self, event) -> None:
         """Keep the current set's row in view when the list gets shorter."""
         super().resizeEvent(event)
-        rows = sorted({i.row() for i in self.selectedIndexes()})
-        item = self.item(rows[0], 0) if rows else None
-        if item is not None:
-            self.scrollToItem(item)
+        rows = self.selectionModel().selectedRows()
+        if rows:
+            self.scrollTo(rows[0])
 
-    def mousePressEvent(self, event: QMouseEvent) -> None:
+    def mousePressEvent(self, event) -> None:
         self._press_chose = False
         super().mousePressEvent(event)
 
-    def _selection_changed(self) -> None:
+    def _selection_changed(self, *_args: object) -> None:
         if self._updating:
             return
         rows = {i.row() for i in self.selectedIndexes() if not self.isRowHidden(i.row())}
@@ -358,8 +463,8 @@ class SetTable(QTableWidget):
             self._press_chose = True
             self.set_chosen.emit(min(rows))
 
-    def _clicked(self, row: int, _column: int) -> None:
+    def _clicked(self, index: QModelIndex) -> None:
         """A click on the row already selected goes back to its set (the playhead may
         have moved off it); a click that changed the selection chose it already."""
-        if not self._press_chose and not self.isRowHidden(row):
-            self.set_chosen.emit(row)
+        if not self._press_chose and not self.isRowHidden(index.row()):
+            self.set_chosen.emit(index.row())

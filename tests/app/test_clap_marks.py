@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 from PySide6.QtCore import Qt
+from set_list_cells import cell
 
 from speechcal_core.session.store import load_session, save_session
 
@@ -135,7 +136,7 @@ def test_info_line_says_when_the_word_was_said_as_the_list_does(
     window = open_window(truth_session_file)
     window.model.go_to_set(2)
     row = window.model.session.sets.index(window.model.current_set)
-    listed = window.table.item(row, 1).text()
+    listed = cell(window.table, row, 1).text
     assert f" · said at {listed} · t = " in window.info_line.full_text
 
 

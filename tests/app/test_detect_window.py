@@ -19,7 +19,7 @@ def _find(qtbot, dialog, text: str) -> None:
 def test_the_word_typed_fills_the_empty_list(qtbot, open_window,
                                              wrong_word_session_file: Path) -> None:
     window = open_window(wrong_word_session_file)
-    assert window.table.rowCount() == 0
+    assert window.table.model().rowCount() == 0
     assert "Edit ▸ Find trigger words… (Ctrl+F) looks for it" in window.no_sets_label.text()
     assert window.detect_action.isEnabled()
     qtbot.keyClick(window, Qt.Key.Key_F, Qt.KeyboardModifier.ControlModifier)
@@ -41,7 +41,7 @@ def test_the_word_typed_fills_the_empty_list(qtbot, open_window,
     qtbot.waitUntil(lambda: window.detector.last is not None, timeout=60_000)
 
     result, added = window.detector.last
-    assert window.table.rowCount() == len(added) >= 2
+    assert window.table.model().rowCount() == len(added) >= 2
     assert not window.no_sets_label.isVisible()
     # the line under the grid counts the new sets
     qtbot.waitUntil(lambda: f"/{len(added)}) · skew" in window.info_line.full_text,
@@ -53,7 +53,7 @@ def test_the_word_typed_fills_the_empty_list(qtbot, open_window,
     assert window.detector.dialog.sensitivity == 0.6
     window.detector.dialog.reject()
     window.run_action("undo")  # one undo takes them all back
-    assert window.table.rowCount() == 0
+    assert window.table.model().rowCount() == 0
 
 
 def test_a_detection_can_be_cancelled(qtbot, open_window,
@@ -65,7 +65,7 @@ def test_a_detection_can_be_cancelled(qtbot, open_window,
     window.cancel_task()
     qtbot.waitUntil(lambda: not window.detector.busy(), timeout=60_000)
     assert "finding trigger words cancelled" in window.status_text.text()
-    assert window.table.rowCount() == 0 and window.detector.last is None
+    assert window.table.model().rowCount() == 0 and window.detector.last is None
 
 
 def test_a_dialog_left_open_closes_when_another_session_opens(

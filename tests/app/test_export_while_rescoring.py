@@ -8,6 +8,7 @@ import threading
 from pathlib import Path
 
 from PySide6.QtCore import Qt
+from set_list_cells import cell
 
 from app.set_table import MISSING, PENDING, column
 from speechcal_core.frames.analysis import checks_basis
@@ -32,7 +33,7 @@ def test_export_waits_for_rescoring_even_after_a_cancel_and_writes_best_still_fr
     gate.set()  # the worker sees the cancel
     qtbot.waitUntil(lambda: window.rescorer.task is None, timeout=30_000)
     gate.clear()
-    assert window.rescorer.held and window.table.item(0, column("worst sharp")).text() == MISSING
+    assert window.rescorer.held and cell(window.table, 0, column("worst sharp")).text == MISSING
 
     out = tmp_path / "kalibr"
     window.exporter.start("kalibr", out)  # the accepted set shows its nearest frames
@@ -42,7 +43,7 @@ def test_export_waits_for_rescoring_even_after_a_cancel_and_writes_best_still_fr
     assert text.startswith("re-scoring") and "waits for 1 frame set to be re-scored" in text
     assert str(out) in text and window.cancel_button.isVisible()
     assert not window.export_button.isEnabled()
-    assert window.table.item(0, column("worst sharp")).text() == PENDING
+    assert cell(window.table, 0, column("worst sharp")).text == PENDING
     assert not out.exists()
     gate.set()
     qtbot.waitUntil(lambda: not window.exporter.busy(), timeout=30_000)

@@ -17,21 +17,21 @@ def test_s_on_an_added_set_adds_rows_for_words_like_it(qtbot, open_window,
     model.set_playhead(missed[0]["session_ns"])
     qtbot.keyClick(window, Qt.Key.Key_T)
     marked = model.current_set
-    rows = window.table.rowCount()
+    rows = window.table.model().rowCount()
     qtbot.keyClick(window, Qt.Key.Key_S)
     assert window.status.running("similar")
     # the added set may still be re-scoring: the status line shows both jobs side by side
     assert f"finding more like set {marked.id}" in window.status_text.text()
-    qtbot.waitUntil(lambda: window.table.rowCount() > rows, timeout=30_000)
+    qtbot.waitUntil(lambda: window.table.model().rowCount() > rows, timeout=30_000)
 
     new = [s for s in model.session.sets if s.trigger.source == SIMILAR_SOURCE]
-    assert len(new) == window.table.rowCount() - rows >= 2
+    assert len(new) == window.table.model().rowCount() - rows >= 2
     assert all(s.decision == "undecided" for s in new)
     assert model.current_set.id == marked.id  # still current (perhaps re-scored meanwhile)
     assert f"found {len(new)} more like set {marked.id}" in window.status_text.text()
     assert not window.similar.busy()
     qtbot.keyClick(window, Qt.Key.Key_U)  # one undo takes them all back
-    assert window.table.rowCount() == rows
+    assert window.table.model().rowCount() == rows
 
 
 def test_s_without_speech_near_the_set_says_so(qtbot, open_window, missed_voice_file,
@@ -40,11 +40,11 @@ def test_s_without_speech_near_the_set_says_so(qtbot, open_window, missed_voice_
     model = window.model
     model.set_playhead(int(model.session.sync.to_session(quiet_time_s(noisy_synth[1]))))
     qtbot.keyClick(window, Qt.Key.Key_T)
-    rows = window.table.rowCount()
+    rows = window.table.model().rowCount()
     qtbot.keyClick(window, Qt.Key.Key_S)
     qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
     assert "no speech near" in window.status_text.text()
-    assert window.table.rowCount() == rows
+    assert window.table.model().rowCount() == rows
 
 
 def test_a_set_removed_while_its_search_runs_gets_nothing_added(
@@ -72,8 +72,8 @@ def test_a_set_removed_while_its_search_runs_gets_nothing_added(
     qtbot.keyClick(window, Qt.Key.Key_S)
     qtbot.keyClick(window, Qt.Key.Key_Delete)
     assert all(s.id != marked for s in model.session.sets)
-    rows = window.table.rowCount()
+    rows = window.table.model().rowCount()
     gate.set()
     qtbot.waitUntil(lambda: not window.similar.busy(), timeout=30_000)
-    assert window.table.rowCount() == rows
+    assert window.table.model().rowCount() == rows
     assert f"set #{marked} was removed while its search ran" in window.status_text.text()

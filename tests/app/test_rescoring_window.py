@@ -6,14 +6,15 @@ import threading
 from pathlib import Path
 
 from PySide6.QtCore import Qt
+from set_list_cells import cell
 
 from app.set_table import MISSING, PENDING, column
 from speechcal_core.session.store import load_session
 
 
 def figures(window) -> list[str]:
-    return [window.table.item(r, column("worst sharp")).text()
-            for r in range(window.table.rowCount())]
+    return [cell(window.table, r, column("worst sharp")).text
+            for r in range(window.table.model().rowCount())]
 
 
 def test_offset_nudge_rescores_in_the_background_and_the_list_gets_figures_again(

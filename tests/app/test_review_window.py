@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QLabel
+from set_list_cells import cell
 
 from app.frame_grid import band_text
 from app.main_window import ReviewWindow
@@ -32,7 +33,7 @@ def test_session_opens_with_one_tile_per_camera_and_the_heard_word(window) -> No
     assert set(window.grid.tiles) == set(model.streams)
     assert len(window.grid.tiles) == 3
     assert window.grid.word == "capture"
-    assert window.table.rowCount() == len(model.session.sets)
+    assert window.table.model().rowCount() == len(model.session.sets)
     assert window.windowTitle() == "SpeechCal — recording.bag + audio.ogg"
 
 
@@ -41,7 +42,7 @@ def test_keys_accept_reject_undo_and_autosave(qtbot, window, truth_session_file)
     window.saver.flush()  # the save written off the UI thread
     assert window.model.session.sets[0].decision == "accepted"
     assert load_session(truth_session_file).sets[0].decision == "accepted"
-    assert "accepted" in window.table.item(0, column("decision")).text()
+    assert "accepted" in cell(window.table, 0, column("decision")).text
     assert window.saved_label.text() == "saved just now"
     assert window.model.current == 1  # "then next set": on to the next set
     qtbot.keyClick(window, Qt.Key.Key_R)
@@ -99,7 +100,7 @@ def test_arrow_keys_step_a_frame_of_any_camera_or_with_shift_of_every_one(
 
 
 def test_clicking_a_row_jumps_to_that_set(qtbot, window) -> None:
-    last = window.table.rowCount() - 1
+    last = window.table.model().rowCount() - 1
     window.table.selectRow(last)
     assert window.model.current == last
     assert window.model.playhead_ns == set_time_ns(window.model.session.sets[last])
@@ -286,23 +287,23 @@ def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
     qtbot, window, truth_session_file
 ) -> None:
     model = window.model
-    rows = window.table.rowCount()
+    rows = window.table.model().rowCount()
     a, b = (set_time_ns(s) for s in model.session.sets[:2])
     model.set_playhead((a + b) // 2)
     marks = {i: window.waveform.mark_extent(i) for i in window.waveform.marks.ids()}
     qtbot.keyClick(window, Qt.Key.Key_T)
     window.saver.flush()  # the save written off the UI thread
-    assert window.table.rowCount() == rows + 1
+    assert window.table.model().rowCount() == rows + 1
     assert len(window.waveform.marks) == rows + 1
     assert {i: window.waveform.mark_extent(i) for i in marks} == marks
     assert window.table.selectedIndexes()[0].row() == 1 == model.current
-    assert window.table.item(1, 0).text() == str(model.current_set.id)
-    assert window.table.item(1, column("word")).text().endswith(" · added")
+    assert cell(window.table, 1, 0).text == str(model.current_set.id)
+    assert cell(window.table, 1, column("word")).text.endswith(" · added")
     assert len(load_session(truth_session_file).sets) == rows + 1
     assert "T add · Del remove" in window.help_line.text()
     qtbot.keyClick(window, Qt.Key.Key_Delete)
     window.saver.flush()  # the save written off the UI thread
-    assert window.table.rowCount() == rows
+    assert window.table.model().rowCount() == rows
     assert {i: window.waveform.mark_extent(i) for i in window.waveform.marks.ids()} == marks
     assert len(load_session(truth_session_file).sets) == rows
     assert window.counts_label.text().endswith(f"? {rows} undecided")
@@ -342,18 +343,19 @@ def test_with_every_set_removed_the_list_and_band_say_so(qtbot, window) -> None:
     assert band_text(window.grid.word_band.word, None, "", window.grid.word_band.decides) \
         == "no frame sets · T adds one at the playhead"
     qtbot.keyClick(window, Qt.Key.Key_U)
-    assert window.table.rowCount() == 1 and not window.no_sets_label.isVisible()
+    assert window.table.model().rowCount() == 1 and not window.no_sets_label.isVisible()
 
 
 def test_add_and_remove_buttons_do_what_t_and_delete_do(qtbot, window) -> None:
     model = window.model
-    rows = window.table.rowCount()
+    rows = window.table.model().rowCount()
     a, b = (set_time_ns(s) for s in model.session.sets[:2])
     model.set_playhead((a + b) // 2)
     qtbot.mouseClick(window.add_button, Qt.MouseButton.LeftButton)
-    assert window.table.rowCount() == rows + 1 and model.current_set.trigger.source == "manual"
+    assert window.table.model().rowCount() == rows + 1
+    assert model.current_set.trigger.source == "manual"
     qtbot.mouseClick(window.remove_button, Qt.MouseButton.LeftButton)
-    assert window.table.rowCount() == rows
+    assert window.table.model().rowCount() == rows
     assert all(s.trigger.source != "manual" for s in model.session.sets)
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QFileDialog
+from set_list_cells import cell
 
 import app.main_window
 from app.main_window import ReviewWindow
@@ -83,7 +84,7 @@ def test_failed_autosave_warns_keeps_decisions_and_clears_after_a_later_save(
         window.saver.flush()  # the save written off the UI thread
     assert raised == []
     assert window.model.session.sets[0].decision == "accepted"
-    assert "accepted" in window.table.item(0, column("decision")).text()
+    assert "accepted" in cell(window.table, 0, column("decision")).text
     assert_warned(window)
     window._update_saved_label()  # the clock's tick keeps the warning
     assert_warned(window)
@@ -329,7 +330,7 @@ def test_a_closed_window_opens_the_session_again_at_the_set_it_showed(
 
     again = open_window(session_in_folder)
     assert (again.model.current, again.model.filter) == (3, "undecided")
-    assert again.table.currentRow() == 3
+    assert again.table.currentIndex().row() == 3
     assert again.filter_buttons["undecided"].isChecked()
 
 

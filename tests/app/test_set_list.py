@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 from PySide6.QtCore import Qt
+from set_list_cells import cell, cell_rect, cells
 
 from app.set_table import column
 from app.style import WARNING_SYMBOL, WARNING_TEXT_COLOUR
@@ -15,7 +16,7 @@ from speechcal_core.session.store import load_session, save_session
 
 
 def shown_rows(window) -> list[int]:
-    return [r for r in range(window.table.rowCount()) if not window.table.isRowHidden(r)]
+    return [r for r in range(window.table.model().rowCount()) if not window.table.isRowHidden(r)]
 
 
 def selected_rows(window) -> list[int]:
@@ -38,18 +39,19 @@ def test_quality_columns_show_the_worst_camera_and_warn_in_amber_with_a_symbol(
     save_session(session, truth_session_file)
     window = open_window(truth_session_file)
     table = window.table
-    sharp, corners = table.item(0, column("worst sharp")), table.item(0, column("fewest corners"))
-    assert sharp.text() == "▲ 0.18"
-    assert sharp.foreground().color() == WARNING_TEXT_COLOUR
-    assert corners.text() == "96"
-    assert corners.foreground().color() != WARNING_TEXT_COLOUR
+    sharp, corners = cell(table, 0, column("worst sharp")), cell(table, 0, column("fewest corners"))
+    assert sharp.text == "▲ 0.18"
+    assert sharp.colour == WARNING_TEXT_COLOUR
+    assert corners.text == "96"
+    assert corners.colour != WARNING_TEXT_COLOUR
     cam1 = first.frames[1].stream
-    assert f"{cam1}: sharpness 0.18, 96 corners  ▲ blurred" in sharp.toolTip()
+    assert f"{cam1}: sharpness 0.18, 96 corners  ▲ blurred" in sharp.tooltip
     # nearest-frame sets carry no figures
-    assert table.item(1, column("worst sharp")).text() == "–"
-    assert table.item(1, column("fewest corners")).text() == "–"
-    header = table.horizontalHeaderItem(column("worst sharp"))
-    assert "relative to its frames of the board held still" in header.toolTip()
+    assert cell(table, 1, column("worst sharp")).text == "–"
+    assert cell(table, 1, column("fewest corners")).text == "–"
+    header = table.model().headerData(column("worst sharp"), Qt.Orientation.Horizontal,
+                                      Qt.ItemDataRole.ToolTipRole)
+    assert "relative to its frames of the board held still" in header
 
 
 
@@ -63,8 +65,8 @@ def test_skew_needs_two_frames(qtbot, truth_session_file: Path) -> None:
     table = SetTable()
     qtbot.addWidget(table)
     table.set_sets([lone, second], first.t_ns)
-    assert table.item(0, column("skew ms")).text() == "–"
-    assert table.item(1, column("skew ms")).text() == f"{second.skew_ns / 1e6:.1f}"
+    assert cell(table, 0, column("skew ms")).text == "–"
+    assert cell(table, 1, column("skew ms")).text == f"{second.skew_ns / 1e6:.1f}"
 
 def test_sets_showing_the_same_frames_say_so_in_the_word_column(
         qtbot, truth_session_file: Path) -> None:
@@ -78,16 +80,16 @@ def test_sets_showing_the_same_frames_say_so_in_the_word_column(
     qtbot.addWidget(table)
     table.set_sets([first, second, twin], first.t_ns)
     word = column("word")
-    assert table.item(0, word).text() == "capture"
-    assert table.item(1, word).text() == f"▲ capture · same as #{twin.id}"
-    assert table.item(2, word).text() == f"▲ capture · same as #{second.id}"
-    assert table.item(2, word).foreground().color() == WARNING_TEXT_COLOUR
-    assert table.item(2, word).toolTip().startswith(
+    assert cell(table, 0, word).text == "capture"
+    assert cell(table, 1, word).text == f"▲ capture · same as #{twin.id}"
+    assert cell(table, 2, word).text == f"▲ capture · same as #{second.id}"
+    assert cell(table, 2, word).colour == WARNING_TEXT_COLOUR
+    assert cell(table, 2, word).tooltip.startswith(
         f"▲ the same frames as set #{second.id}: two trigger words in one still hold")
 
 
 def test_filter_buttons_and_f_hide_and_show_rows(qtbot, window) -> None:
-    n = window.table.rowCount()
+    n = window.table.model().rowCount()
     window.advance_box.setChecked(False)  # the decided set stays current
     qtbot.keyClick(window, Qt.Key.Key_A)  # set 0 accepted
     qtbot.keyClick(window, Qt.Key.Key_K)
@@ -149,18 +151,18 @@ def test_sets_added_or_removed_while_filtered_keep_rows_and_sets_in_step(
     qtbot, window
 ) -> None:
     model = window.model
-    n = window.table.rowCount()
+    n = window.table.model().rowCount()
     click_filter(qtbot, window, "accepted")  # none yet: every row hidden
     assert shown_rows(window) == [] and window.shown_label.text() == f"none of {n}"
     a, b = (set_time_ns(s) for s in model.session.sets[:2])
     model.set_playhead((a + b) // 2)
     qtbot.keyClick(window, Qt.Key.Key_T)  # a new undecided set, hidden by the filter
-    assert window.table.rowCount() == n + 1 and shown_rows(window) == []
+    assert window.table.model().rowCount() == n + 1 and shown_rows(window) == []
     qtbot.keyClick(window, Qt.Key.Key_A)
     assert shown_rows(window) == [1] and selected_rows(window) == [1]
-    assert window.table.item(1, 0).text() == str(model.session.sets[1].id)
+    assert cell(window.table, 1, 0).text == str(model.session.sets[1].id)
     qtbot.keyClick(window, Qt.Key.Key_Delete)
-    assert window.table.rowCount() == n and shown_rows(window) == []
+    assert window.table.model().rowCount() == n and shown_rows(window) == []
     click_filter(qtbot, window, "all")
     assert shown_rows(window) == list(range(n))
     assert selected_rows(window) == [model.current]
@@ -168,64 +170,66 @@ def test_sets_added_or_removed_while_filtered_keep_rows_and_sets_in_step(
 
 def test_rewriting_the_list_keeps_unchanged_rows_and_fits_the_columns(
         qtbot, truth_session_file: Path) -> None:
-    """Re-scoring and offset edits rewrite the list: rows that show the same are left as
-    they are, and the columns are fitted once (each cell written measured the whole table
-    again: a 66-set list took 1.1 s on the window's thread)."""
+    """Re-scoring and offset edits rewrite the list: only the rows that show something
+    else are announced (and repainted), and the columns fit their texts (each cell
+    written measured the whole table again: a 66-set list took 1.1 s on the window's
+    thread)."""
     from app.set_table import SetTable
 
     sets = load_session(truth_session_file).sets
     table = SetTable()
     qtbot.addWidget(table)
     table.set_sets(sets, sets[0].t_ns)
-    kept = table.item(0, 0)
+    announced: list[tuple[int, int]] = []
+    table.model().dataChanged.connect(
+        lambda first, last, _roles: announced.append((first.row(), last.row())))
     changed = [sets[0], sets[1].with_decision("accepted"), *sets[2:]]
     table.set_sets(changed, sets[0].t_ns)
-    assert table.item(0, 0) is kept  # unchanged: not rewritten
-    decision = table.item(1, column("decision"))
-    assert decision.text() == "✔ accepted"
-    width = table.fontMetrics().horizontalAdvance(table.item(1, column("word")).text())
+    assert announced == [(1, 1)]  # the unchanged rows are left alone
+    assert cell(table, 1, column("decision")).text == "✔ accepted"
+    width = table.fontMetrics().horizontalAdvance(cell(table, 1, column("word")).text)
     assert table.columnWidth(column("word")) >= width
     table.resize(600, 300)
     table.show()
     qtbot.waitUntil(table.isVisible)
-    header, last = table.horizontalHeader(), table.columnCount() - 1
+    header, last = table.horizontalHeader(), table.model().columnCount() - 1
     assert header.sectionPosition(last) + header.sectionSize(last) >= \
         table.viewport().width() - 1  # the decision column takes the rest
 
 
-def test_a_change_refits_only_the_columns_whose_texts_changed(
-        qtbot, truth_session_file: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Fitting a column measures every row of it (tens of milliseconds for a hundred
-    sets, on each decision): a decision (the last column, which takes the rest) refits
-    none, a set whose time moved its time column; rows removed refit them all."""
+def test_columns_follow_their_widest_text(qtbot, truth_session_file: Path) -> None:
+    """A column widens when a wider text appears in it and narrows when the widest goes
+    (a set at 100 minutes widens the time column), and a decision resizes none (the
+    decision column, last, takes the rest)."""
     from app.set_table import SetTable
 
     sets = load_session(truth_session_file).sets
     table = SetTable()
     qtbot.addWidget(table)
     table.set_sets(sets, sets[0].t_ns)
-    fitted: list[int] = []
-    real = SetTable.resizeColumnToContents
-    monkeypatch.setattr(SetTable, "resizeColumnToContents",
-                        lambda self, col: fitted.append(col) or real(self, col))
+    time_col = column("time")
+    widths = [table.columnWidth(c) for c in range(table.model().columnCount() - 1)]
+    resized: list[int] = []
+    table.horizontalHeader().sectionResized.connect(lambda col, _old, _new: resized.append(col))
     table.update_row(1, sets[1].with_decision("accepted"))
-    assert fitted == [] and table.item(1, column("decision")).text() == "✔ accepted"
-    moved = replace(sets[2], t_ns=sets[2].t_ns + 5 * 10**9)
-    table.set_sets([*sets[:2], moved, *sets[3:]], sets[0].t_ns)
-    assert fitted == [column("time")]
-    fitted.clear()
-    table.set_sets(sets[:-1], sets[0].t_ns)
-    assert fitted == list(range(table.columnCount() - 1))
+    assert resized == [] and cell(table, 1, column("decision")).text == "✔ accepted"
+    late = replace(sets[2], t_ns=sets[0].t_ns + 6000 * 10**9)
+    table.set_sets([*sets[:2], late, *sets[3:]], sets[0].t_ns)
+    assert cell(table, 2, time_col).text == "100:00.00"
+    assert set(resized) == {time_col} and table.columnWidth(time_col) > widths[time_col]
+    table.set_sets(sets, sets[0].t_ns)
+    assert [table.columnWidth(c) for c in range(table.model().columnCount() - 1)] == widths
 
 
-def test_fitting_the_columns_measures_as_the_list_draws_without_python_per_cell(
+def test_fitting_the_columns_gives_qts_widths_without_reading_a_row(
         qtbot, truth_session_file: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """The columns are measured with a plain delegate: the widths are those the list's
-    own delegate (which changes a selected cell's colour only) gives, and no cell is
-    measured through Python (700 calls for 100 sets, on every refit)."""
+    """The columns are as wide as Qt's own fitting makes them (every cell measured
+    through the list's delegate), though fitting reads no row: each text shape is
+    measured once (a hundred sets: 800 cells, each read through Python, on every
+    refit)."""
     from PySide6.QtWidgets import QTableView
 
-    from app.set_table import OwnColoursDelegate, SetTable
+    from app.set_table import SetListModel, SetTable
 
     sets = load_session(truth_session_file).sets
     sets = [*sets, replace(sets[0], id=99, trigger=replace(sets[0].trigger, source="similar"))]
@@ -234,66 +238,45 @@ def test_fitting_the_columns_measures_as_the_list_draws_without_python_per_cell(
     table.resize(1000, 300)  # room for every column (a narrow list narrows the word's)
     table.show()
     table.set_sets(sets, sets[0].t_ns)
-    last = table.columnCount() - 1
-    for col in range(last):
-        table.setColumnWidth(col, 5)
-    for col in range(last):  # as the list's own delegate measures them
+    last = table.model().columnCount() - 1
+    fitted = [table.columnWidth(col) for col in range(last)]
+    for col in range(last):  # as Qt measures them
         QTableView.resizeColumnToContents(table, col)
-    own = [table.columnWidth(col) for col in range(last)]
-    calls: list[int] = []
-    real = OwnColoursDelegate.initStyleOption
-    monkeypatch.setattr(OwnColoursDelegate, "initStyleOption",
-                        lambda self, option, index: calls.append(1) or real(self, option, index))
+    assert [table.columnWidth(col) for col in range(last)] == fitted
+    reads: list[int] = []
+    real = SetListModel.data
+    monkeypatch.setattr(SetListModel, "data",
+                        lambda self, index, role=0: reads.append(1) or real(self, index, role))
     for col in range(last):
         table.setColumnWidth(col, 5)
     table.fit_columns()
-    assert [table.columnWidth(col) for col in range(last)] == own
-    assert calls == []
-    assert table.itemDelegate() is table._delegate  # drawn with its own again
+    assert [table.columnWidth(col) for col in range(last)] == fitted
+    assert reads == []
 
 
-def test_a_rewrite_describes_only_the_sets_that_changed(
-        qtbot, truth_session_file: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Re-scoring rewrites the whole list after each batch of sets: a set (an immutable
-    object) shown as it was is not described again (its tooltip's camera lines), and
-    the rows say what a list written afresh says."""
-    import app.set_table as set_table
+def test_a_rewrite_shows_what_a_list_written_afresh_shows(
+        qtbot, truth_session_file: Path) -> None:
+    """Rows rewritten in place (re-scoring rewrites the whole list after each batch of
+    sets) say what a list written afresh says: texts, tooltips and colours (a warning
+    that comes and goes, a decision, a re-scoring mark)."""
     from app.set_table import SetTable
 
     sets = load_session(truth_session_file).sets
-    described: list[int] = []
-    real = set_table.camera_lines
-    monkeypatch.setattr(set_table, "camera_lines",
-                        lambda s: described.append(s.id) or real(s))
     table = SetTable()
     qtbot.addWidget(table)
     table.set_sets(sets, sets[0].t_ns, {sets[0].id})
-    described.clear()
     changed = [sets[0], sets[1].with_decision("rejected"), *sets[2:]]
-    table.set_sets(changed, sets[0].t_ns)  # the first is re-scored, the second decided
-    assert described == [sets[0].id, sets[1].id]
     lost = replace(sets[2], frames=tuple(replace(f, index=-1) if k == 0 else f
                                          for k, f in enumerate(sets[2].frames)))
-    # cells rewritten in place: texts, tooltips and colours (a warning that comes and
-    # goes, a decision) as a list written afresh has them
-    for version in (changed, [*changed[:2], lost, *changed[3:]], sets):
+    for version in (changed, [*changed[:2], lost, *changed[3:]], sets, changed[:-1], sets):
         table.set_sets(version, sets[0].t_ns)
         fresh = SetTable()
         qtbot.addWidget(fresh)
         fresh.set_sets(version, sets[0].t_ns)
-        assert _cells(table) == _cells(fresh)
-    assert any(WARNING_SYMBOL in t for row in _cells(fresh) for t, _tip, _c in row) is False
+        assert cells(table) == cells(fresh)
+    assert any(WARNING_SYMBOL in c.text for row in cells(fresh) for c in row) is False
     table.set_sets([*changed[:2], lost, *changed[3:]], sets[0].t_ns)
-    assert any(WARNING_SYMBOL in t for t, _tip, _c in _cells(table)[2])
-
-
-def _cells(table) -> list[list[tuple[str, str, str | None]]]:
-    """Each row's cells: text, tooltip, text colour (None: the list's own)."""
-    def colour(item) -> str | None:
-        brush = item.data(Qt.ItemDataRole.ForegroundRole)
-        return None if brush is None else brush.color().name()
-    return [[(table.item(r, c).text(), table.item(r, c).toolTip(), colour(table.item(r, c)))
-             for c in range(table.columnCount())] for r in range(table.rowCount())]
+    assert any(WARNING_SYMBOL in c.text for c in cells(table)[2])
 
 
 def test_the_current_row_stays_in_view_when_the_list_gets_shorter(qtbot) -> None:
@@ -313,7 +296,7 @@ def test_the_current_row_stays_in_view_when_the_list_gets_shorter(qtbot) -> None
     table.resize(480, 200)
     qtbot.waitUntil(lambda: table.viewport().height() < 200)
     qtbot.wait(50)
-    rect = table.visualItemRect(table.item(25, 0))
+    rect = cell_rect(table, 25)
     assert table.viewport().rect().contains(rect)
 
 
@@ -326,10 +309,10 @@ def test_a_click_on_the_selected_row_goes_back_to_its_set(qtbot, window) -> None
     model.set_playhead((a + b) // 2)
     chosen: list[int] = []
     table.set_chosen.connect(chosen.append)
-    row_1 = table.visualItemRect(table.item(1, 0)).center()
+    row_1 = cell_rect(table, 1).center()
     qtbot.mouseClick(table.viewport(), Qt.MouseButton.LeftButton, pos=row_1)
     assert chosen == [1] and model.playhead_ns == a
-    row_2 = table.visualItemRect(table.item(2, 0)).center()
+    row_2 = cell_rect(table, 2).center()
     qtbot.mouseClick(table.viewport(), Qt.MouseButton.LeftButton, pos=row_2)
     assert chosen == [1, 2] and model.current == 2
 
@@ -352,12 +335,12 @@ def test_a_long_word_cell_gives_way_to_the_decision_column(
     table.set_sets(sets, first.t_ns)
     word, decision = column("word"), column("decision")
     wide = table.columnWidth(word)
-    assert table.item(1, word).text().endswith("same as #1, #3")
+    assert cell(table, 1, word).text.endswith("same as #1, #3")
     table.resize(480, 300)  # the list's pane at its least width
     qtbot.waitUntil(lambda: table.columnWidth(word) < wide)
     assert table.horizontalScrollBar().maximum() == 0
     assert table.columnWidth(decision) >= table.sizeHintForColumn(decision)
     assert table.columnWidth(word) >= table.horizontalHeader().sectionSizeHint(word)
-    assert table.item(1, word).toolTip().startswith("▲ the same frames as set #1, #3")
+    assert cell(table, 1, word).tooltip.startswith("▲ the same frames as set #1, #3")
     table.resize(1000, 300)  # room again: the whole text
     qtbot.waitUntil(lambda: table.columnWidth(word) == wide)

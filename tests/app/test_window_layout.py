@@ -4,6 +4,7 @@ its decision colour, the key hints fit on one line."""
 from __future__ import annotations
 
 from PySide6.QtCore import QPoint, QRect, Qt
+from set_list_cells import cell_rect
 
 from app.set_table import column
 from app.style import DECISION_TEXT_COLOURS
@@ -38,7 +39,7 @@ def test_selected_row_still_shows_its_decision_colour(qtbot, window) -> None:
     table = window.table
     assert [i.row() for i in table.selectedIndexes()][:1] == [0]
     image = table.viewport().grab().toImage()
-    rect = table.visualItemRect(table.item(0, column("decision")))
+    rect = cell_rect(table, 0, column("decision"))
     assert _pixels_like(image, rect, DECISION_TEXT_COLOURS["accepted"]) > 10
 
 
