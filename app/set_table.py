@@ -87,6 +87,11 @@ ALIGNMENT = int(Qt.ItemDataRole.TextAlignmentRole)
 #: the figures' cells are right-aligned
 RIGHT_ALIGNED = Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter
 RIGHT = int(RIGHT_ALIGNED)
+#: a cell's features as the list draws it: a text, wrapped as QTableView wraps words (set
+#: whole, not read and added to: each Qt flag read or combined in Python costs
+#: microseconds, 8 columns by 20 rows a paint)
+HAS_TEXT = (QStyleOptionViewItem.ViewItemFeature.HasDisplay
+            | QStyleOptionViewItem.ViewItemFeature.WrapText)
 WARNING_BRUSH = QBrush(WARNING_TEXT_COLOUR)
 DECISION_BRUSHES = {d: QBrush(c) for d, c in DECISION_TEXT_COLOURS.items()}
 #: a text's shape: its digits alike (a column is as wide as its widest shape, measured
@@ -254,24 +259,30 @@ class SetListModel(QAbstractTableModel):
         self.dataChanged.emit(self.index(first, 0), self.index(last, len(COLUMNS) - 1))
 
     def _recount(self, old: RowView, new: RowView, changed: set[int]) -> None:
-        """:meth:`_count` ``old`` out and ``new`` in (nothing to do for texts alike in
-        shape: an offset edit changes every time, rarely a shape)."""
-        if old.shapes != new.shapes:
-            self._count(old, -1, changed)
-            self._count(new, 1, changed)
+        """Count ``old``'s shapes out and ``new``'s in, where they differ (an offset
+        edit changes every time, rarely a shape); ``changed`` gets the columns where a
+        shape appeared or went."""
+        if old.shapes == new.shapes:
+            return
+        for col, (was, now) in enumerate(zip(old.shapes, new.shapes, strict=True)):
+            if was != now:
+                self._count_shape(col, was, -1, changed)
+                self._count_shape(col, now, 1, changed)
 
     def _count(self, r: RowView, step: int, changed: set[int]) -> None:
-        """Count ``r``'s shapes in (``step`` 1) or out (-1); ``changed`` gets the columns
-        where a shape appeared or went."""
+        """Count ``r``'s shapes in (``step`` 1) or out (-1)."""
         for col, shape in enumerate(r.shapes):
-            counts = self._shapes[col]
-            n = counts.get(shape, 0) + step
-            if n:
-                counts[shape] = n
-            else:
-                del counts[shape]
-            if n == 0 or (step > 0 and n == 1):
-                changed.add(col)
+            self._count_shape(col, shape, step, changed)
+
+    def _count_shape(self, col: int, shape: str, step: int, changed: set[int]) -> None:
+        counts = self._shapes[col]
+        n = counts.get(shape, 0) + step
+        if n:
+            counts[shape] = n
+        else:
+            del counts[shape]
+        if n == 0 or (step > 0 and n == 1):
+            changed.add(col)
 
 
 class OwnColoursDelegate(QStyledItemDelegate):
@@ -288,7 +299,7 @@ class OwnColoursDelegate(QStyledItemDelegate):
         row, col = self._model.row(index.row()), index.column()
         option.index = index
         option.text = row.texts[col]
-        option.features |= QStyleOptionViewItem.ViewItemFeature.HasDisplay
+        option.features = HAS_TEXT  # the view's (see SetTable) and a text
         if SHARP <= col <= FRAMES:
             option.displayAlignment = RIGHT_ALIGNED
         brush = row.brushes[col]
@@ -312,6 +323,7 @@ class SetTable(QTableView):
         self.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
         self.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
         self.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+        self.setWordWrap(True)  # as Qt's default (see HAS_TEXT); no alternating colours
         palette = self.palette()
         palette.setColor(QPalette.ColorRole.Highlight, SELECTED_ROW)
         palette.setColor(QPalette.ColorRole.HighlightedText, QColor(0, 0, 0))
