@@ -19,9 +19,11 @@ for:
   page once the worker has loaded the session).
 
 Each figure is the window's whole action and, in brackets, the list's share (time inside
-the list's methods and its repaints). ``--busy`` runs a pure-Python thread beside it, as
-a re-scoring or a calibration check holds the GIL on the window's machine: every call
-between Python and Qt may then wait for the GIL (up to a switch interval, 5 ms).
+the list's methods and its repaints), as wall time and as CPU time of the window's thread
+(which other programs' load on the machine disturbs less). ``--busy`` runs a pure-Python
+thread beside it, as a re-scoring or a calibration check holds the GIL on the window's
+machine: every call between Python and Qt may then wait for the GIL (up to a switch
+interval, 5 ms).
 Background work the actions schedule (re-scoring, the calibration check) is kept from
 starting, so that the figures are the window's own.
 
@@ -114,22 +116,27 @@ def make_session(folder: Path, truth: dict, n: int, out: Path) -> Path:
 
 
 class _Share:
-    """Time spent inside the list (outermost calls only), for the list's share."""
+    """Time spent inside the list (outermost calls only), for the list's share: wall
+    and the window's thread's CPU time."""
 
     def __init__(self) -> None:
-        self.seconds = 0.0
+        self.seconds = self.cpu = 0.0
         self.depth = 0
 
     @contextmanager
     def inside(self):
         self.depth += 1
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.thread_time()
         try:
             yield
         finally:
             self.depth -= 1
             if self.depth == 0:
                 self.seconds += time.perf_counter() - start
+                self.cpu += time.thread_time() - cpu
+
+    def reset(self) -> None:
+        self.seconds = self.cpu = 0.0
 
 
 SHARE = _Share()
@@ -165,24 +172,31 @@ def settle(app: QApplication, window) -> None:
         action.timer.stop()
 
 
+Figures = tuple[float, float, float, float]  # ms: wall, CPU, and the list's wall, CPU
+
+
+def medians(runs: list[Figures]) -> Figures:
+    return tuple(statistics.median(column) for column in zip(*runs, strict=True))
+
+
 def measure(app: QApplication, window, action: Callable[[], object],
-            repeats: int) -> tuple[float, float]:
-    """Median ms of ``action`` (with its repaint), and of the list's share of it."""
-    totals, shares = [], []
+            repeats: int) -> Figures:
+    """Medians of ``action`` (with its repaint) and of the list's share of it."""
+    runs = []
     for _ in range(repeats):
         settle(app, window)
-        SHARE.seconds = 0.0
-        start = time.perf_counter()
+        SHARE.reset()
+        start, cpu = time.perf_counter(), time.thread_time()
         action()
         settle(app, window)
-        totals.append(time.perf_counter() - start)
-        shares.append(SHARE.seconds)
-    return statistics.median(totals) * 1000, statistics.median(shares) * 1000
+        runs.append(((time.perf_counter() - start) * 1000, (time.thread_time() - cpu) * 1000,
+                     SHARE.seconds * 1000, SHARE.cpu * 1000))
+    return medians(runs)
 
 
 def open_window(app: QApplication, path: Path, table_class: type):
-    """A shown window with ``path`` open; (window, ms of the window's thread building it,
-    ms of the list's share)."""
+    """A shown window with ``path`` open; (window, :data:`Figures` of the window's thread
+    building the review page)."""
     main_window.SetTable = table_class
     window = main_window.ReviewWindow()
     window.setProperty("headless", True)
@@ -192,11 +206,12 @@ def open_window(app: QApplication, path: Path, table_class: type):
     real = window._on_loaded
 
     def on_loaded(inputs) -> None:
-        SHARE.seconds = 0.0
-        start = time.perf_counter()
+        SHARE.reset()
+        start, cpu = time.perf_counter(), time.thread_time()
         real(inputs)
         app.processEvents()  # the first paint of the page
-        built.append(time.perf_counter() - start)
+        built.append(((time.perf_counter() - start) * 1000,
+                      (time.thread_time() - cpu) * 1000, SHARE.seconds * 1000, SHARE.cpu * 1000))
 
     window._on_loaded = on_loaded
     fresh = path.with_name(f"{path.stem}-{next(_COPIES)}.json")  # the file as made: the
@@ -208,9 +223,8 @@ def open_window(app: QApplication, path: Path, table_class: type):
         time.sleep(0.002)
     if not built:
         raise SystemExit(f"{path} did not open")
-    share = SHARE.seconds
     settle(app, window)
-    return window, built[0] * 1000, share * 1000
+    return window, built[0]
 
 
 def close_window(app: QApplication, window) -> None:
@@ -223,10 +237,10 @@ def run_list(app: QApplication, path: Path, table_class: type, repeats: int) -> 
     """Every action's (median ms, list share ms) with the window's list ``table_class``."""
     opened = []
     for _ in range(max(1, repeats // 3)):  # opening is slow: fewer repeats
-        window, ms, share = open_window(app, path, timed_class(table_class))
-        opened.append((ms, share))
+        window, figures = open_window(app, path, timed_class(table_class))
+        opened.append(figures)
         close_window(app, window)
-    window, _ms, _share = open_window(app, path, timed_class(table_class))
+    window, _figures = open_window(app, path, timed_class(table_class))
     model = window.model
     window.advance_box.setChecked(False)  # decisions stay on the set
     sets = model.session.sets
@@ -234,8 +248,7 @@ def run_list(app: QApplication, path: Path, table_class: type, repeats: int) -> 
                          if sets[i].decision == "undecided"))
     settle(app, window)
     turn = iter(range(10**9))
-    figures = {"open": (statistics.median(o[0] for o in opened),
-                        statistics.median(o[1] for o in opened))}
+    figures = {"open": medians(opened)}
     figures["offset"] = measure(app, window, lambda: window.run_action(
         ("offset_plus_frame", "offset_minus_frame")[next(turn) % 2]), repeats)
 
@@ -287,8 +300,8 @@ def main() -> None:
     lists = [("list", SetTable)] + ([] if args.no_baseline else [("baseline", WidgetSetTable)])
     print(f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; "
           f"{'a busy Python thread beside' if args.busy else 'no other thread busy'}; "
-          f"median of {args.repeats} (open: {max(1, args.repeats // 3)}); "
-          "ms: window's action [list's share]", flush=True)
+          f"median of {args.repeats} (open: {max(1, args.repeats // 3)}); ms of the "
+          "window's action, wall (CPU of its thread), [the list's share of it]", flush=True)
     with session_folder(args.data, args.keep, make_recording) as (folder, truth), \
             tempfile.TemporaryDirectory(prefix="speechcal-bench-list-") as tmp:
         for n in args.sets:
@@ -300,13 +313,13 @@ def main() -> None:
             for action in ("offset", "marks", "decision", "filter", "open"):
                 line = f"{n:5d} sets  {action:8s}"
                 for name, _cls in lists:
-                    total, share = results[name][action]
-                    line += f" | {name} {total:7.1f} [{share:6.1f}]"
+                    wall, cpu, share, share_cpu = results[name][action]
+                    line += f" | {name} {wall:6.1f} ({cpu:6.1f}) [{share:6.1f} ({share_cpu:5.1f})]"
                 if "baseline" in results:
-                    (base, base_share), (ours, our_share) = \
-                        results["baseline"][action], results["list"][action]
-                    line += (f" | ratio {base / max(ours, 1e-3):5.1f}x "
-                             f"[{base_share / max(our_share, 1e-3):6.1f}x]")
+                    base, ours = results["baseline"][action], results["list"][action]
+                    ratios = [b / max(o, 1e-3) for b, o in zip(base, ours, strict=True)]
+                    line += (" | baseline/list {:4.1f}x ({:4.1f}x) [{:5.1f}x ({:5.1f}x)]"
+                             .format(*ratios))
                 print(line, flush=True)
             print(f"      (load average {os.getloadavg()[0]:.1f})", flush=True)
 
