@@ -79,6 +79,7 @@ def clock_text(seconds: float) -> str:
     minutes, rest = divmod(hundredths, 6000)
     return f"{'-' if seconds < 0 and hundredths else ''}{minutes:02d}:{rest / 100:05.2f}"
 
+
 #: the item data roles the list answers (Qt passes them as numbers)
 DISPLAY = int(Qt.ItemDataRole.DisplayRole)
 TOOLTIP = int(Qt.ItemDataRole.ToolTipRole)
