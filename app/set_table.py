@@ -95,9 +95,10 @@ HAS_TEXT = (QStyleOptionViewItem.ViewItemFeature.HasDisplay
             | QStyleOptionViewItem.ViewItemFeature.WrapText)
 WARNING_BRUSH = QBrush(WARNING_TEXT_COLOUR)
 DECISION_BRUSHES = {d: QBrush(c) for d, c in DECISION_TEXT_COLOURS.items()}
-#: a text's shape: its digits alike (a column is as wide as its widest shape, measured
-#: once with the font's widest digit: 300 times "mm:ss.hh" are one shape)
-SHAPE = str.maketrans("123456789", "000000000")
+#: a text's shape: its UTF-8 with every digit a 0 (a column is as wide as its widest
+#: shape, measured once with the font's widest digit: 300 times "mm:ss.hh" are one
+#: shape; bytes, as str.translate maps the list's "▲ 0.52" a character at a time)
+SHAPE = bytes.maketrans(b"123456789", b"000000000")
 
 
 class RowView:
@@ -127,7 +128,7 @@ class RowView:
         texts.append(f"{DECISION_SYMBOLS[s.decision]} {s.decision}")
         brushes.append(DECISION_BRUSHES[s.decision])
         self.texts, self.brushes = tuple(texts), tuple(brushes)
-        self.shapes = tuple([t.translate(SHAPE) for t in texts])
+        self.shapes = tuple([t.encode().translate(SHAPE) for t in texts])
         self._tooltip: str | None = None
 
     def shows(self, s: FrameSet, pending: bool, same: tuple[int, ...]) -> bool:
@@ -163,7 +164,7 @@ class SetListModel(QAbstractTableModel):
         self._origin_ns = 0
         self._same: dict[int, tuple[int, ...]] = {}  # set id -> sets showing its frames
         #: per column, how many rows show each text shape (see :data:`SHAPE`)
-        self._shapes: list[dict[str, int]] = [{} for _ in COLUMNS]
+        self._shapes: list[dict[bytes, int]] = [{} for _ in COLUMNS]
 
     # -- Qt's model interface -----------------------------------------------------------
     def rowCount(self, parent: QModelIndex = QModelIndex()) -> int:  # noqa: B008 (Qt's)
@@ -196,7 +197,7 @@ class SetListModel(QAbstractTableModel):
         """What row ``row`` shows."""
         return self._rows[row]
 
-    def shapes(self, col: int) -> Iterable[str]:
+    def shapes(self, col: int) -> Iterable[bytes]:
         """The shapes of the texts column ``col`` shows (see :data:`SHAPE`)."""
         return self._shapes[col].keys()
 
@@ -275,7 +276,7 @@ class SetListModel(QAbstractTableModel):
         for col, shape in enumerate(r.shapes):
             self._count_shape(col, shape, step, changed)
 
-    def _count_shape(self, col: int, shape: str, step: int, changed: set[int]) -> None:
+    def _count_shape(self, col: int, shape: bytes, step: int, changed: set[int]) -> None:
         counts = self._shapes[col]
         n = counts.get(shape, 0) + step
         if n:
@@ -336,7 +337,7 @@ class SetTable(QTableView):
         # rows: ResizeToContents measured the whole list on every change
         header.setSectionResizeMode(QHeaderView.ResizeMode.Interactive)
         header.setStretchLastSection(True)
-        self._widths: dict[str, int] = {}  # a text shape's cell width at the list's font
+        self._widths: dict[bytes, int] = {}  # a text shape's cell width at the list's font
         self._widest_digit = ""
         self._word_width = 0  # the word column's width for its widest text
         self._decision_width = 0  # the decision column's, for its texts
@@ -384,7 +385,7 @@ class SetTable(QTableView):
             header.resizeSection(WORD, self._word_width)
         self._fit_word()
 
-    def _cell_width(self, shape: str) -> int:
+    def _cell_width(self, shape: bytes) -> int:
         """The width Qt's fitting gives a cell of this shape (see :data:`SHAPE`)."""
         width = self._widths.get(shape)
         if width is None:
@@ -393,7 +394,7 @@ class SetTable(QTableView):
                 self._widest_digit = max("0123456789", key=metrics.horizontalAdvance)
             option = QStyleOptionViewItem()
             self.initViewItemOption(option)
-            option.text = shape.replace("0", self._widest_digit)
+            option.text = shape.decode().replace("0", self._widest_digit)
             option.features |= QStyleOptionViewItem.ViewItemFeature.HasDisplay
             width = self.style().sizeFromContents(
                 QStyle.ContentsType.CT_ItemViewItem, option, QSize(), self).width()
