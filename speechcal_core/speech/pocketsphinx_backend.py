@@ -17,7 +17,9 @@ Finally the recording is searched for spans that sound like the triggers found (
 speaker, same word: see ``self_similarity``), which recovers words the recogniser lost
 (in noise, or a trigger word it knows less well than "capture"); spans it heard as a
 near-homophone need a much closer match. Spans it took for an inflection are searched
-too: some voices say "capture" so that it hears "capturing". Before the search, the
+too: some voices say "capture" so that it hears "capturing"; such a span said on its own
+is also searched with, as a template of that voice, and taken with the spans it finds
+where it finds one. Before the search, the
 noisiest spans where the recogniser heard nothing are decoded again more sensitively: a
 voice it hardly hears gets templates there. Where it hears too few triggers for the
 search to start from (a short recording in loud noise), all the speech is.
@@ -202,6 +204,8 @@ class Heard:
     words: list[Word] = field(default_factory=list)
     running_on: list[Word] = field(default_factory=list)
     heard_ends: dict[Word, float] = field(default_factory=dict)
+    #: the words of ``words`` followed by a pause (not the start of something longer)
+    alone: set[Word] = field(default_factory=set)
 
     def triggers(self, spec: TriggerSpec) -> list[Word]:
         """The trigger words heard (not those running on)."""
@@ -212,7 +216,8 @@ class Heard:
         added = other.triggers(spec)
         return Heard(sorted(self.words + added, key=lambda w: w.start_s), self.running_on,
                      {**self.heard_ends,
-                      **{w: end for w, end in other.heard_ends.items() if w in added}})
+                      **{w: end for w, end in other.heard_ends.items() if w in added}},
+                     self.alone | (other.alone & set(added)))
 
 
 def _too_few_to_search(triggers: list[Word]) -> bool:
@@ -289,6 +294,7 @@ class PocketsphinxBackend:
                       and w.word not in self._confusables]
             others += running_on
             contested = [w for w in refined if w.word in self._confusables]
+            inflected = [w for w in refined if w.word in self._rivals and w in heard.alone]
             levels = [activity.level_db(w.start_s, w.end_s) for w in seeds]
             search, (lo, hi), slope = _search_for(levels)
             clear = [level >= CHECKED_FROM_DB for level in levels]
@@ -296,7 +302,8 @@ class PocketsphinxBackend:
                                              lo + (hi - lo) * spec.sensitivity,
                                              verify=SEED_CHECK, checked=clear, search=search,
                                              contested=contested, level_slope=slope,
-                                             clear_from_db=CHECKED_FROM_DB)
+                                             clear_from_db=CHECKED_FROM_DB,
+                                             inflected=inflected)
             out += kept + [w for w in extra
                            if activity.level_db(w.start_s, w.end_s) >= EXPAND_MIN_DB]
         triggers = [w for w in out if w.word in spec.words]
@@ -367,6 +374,8 @@ class PocketsphinxBackend:
             # longer ("captured it?"): not reported, and no template for the search below
             running_on = bounds.runs_on and w.word in spec.words
             (heard.running_on if running_on else heard.words).append(word)
+            if not bounds.runs_on:
+                heard.alone.add(word)
         return heard
 
     def decode_chunk(self, spec: TriggerSpec, chunk: Chunk) -> list[Word]:

@@ -260,3 +260,37 @@ def test_finds_in_a_door_bangs_echo_neither_overlap_nor_squeeze_the_word(
     truth_t = [(t["start_s"] + t["end_s"]) / 2 for t in truth.triggers]
     assert all(any(abs(w.t - t) < 0.1 for w in words) for t in truth_t)
     assert len([w for w in words if w.source.endswith("similarity")]) <= 1
+
+
+def test_a_span_heard_as_an_inflection_that_finds_its_voice_is_taken_with_it(
+        tmp_path: Path) -> None:
+    """A voice whose triggers the recogniser hears as "captured" has no seed, and the
+    other voice's seeds do not find it. One of its spans said on its own, searched with,
+    finds the others it sounds like; with two or more found it is taken with them. One
+    that finds fewer is not (an operator may say "captured", and repeat it)."""
+    items = [("capture", "rms/capture_1"), ("capture", "slt/capture_1"),
+             ("capture", "rms/capture_2"), ("okay", "slt/okay_1"),
+             ("capture", "slt/capture_2"), ("capture", "rms/capture_3"),
+             ("hold on", "rms/hold_on_1"), ("capture", "slt/capture_3"),
+             ("picture", "slt/picture_1"), ("capture", "slt/capture_4"),
+             ("capture", "slt/capture_5")]
+    scene = make_scene(tmp_path / "voices.wav", items, snr_db=12.0, seed=3)
+    spans = scene.spans("capture")
+    rms, slt = [spans[0], spans[2], spans[4]], [spans[1], spans[3], spans[5], spans[6]]
+    seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in rms]
+    activity = voice_activity(scene.samples, 16000)
+
+    def search(heard_as_captured: tuple[float, float]) -> list[Word]:
+        inflected = [Word("captured", *heard_as_captured, 0.5, "pocketsphinx")]
+        _, extra = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
+                                      inflected=inflected)
+        return extra
+
+    _, without = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[])
+    assert without == []
+    found = search(slt[2])
+    assert [round(w.t - (a + b) / 2, 1) for w, (a, b) in zip(found, slt, strict=True)] \
+        == [0.0] * 4
+    assert all(w.word == "capture" and w.source.endswith("similarity") for w in found)
+    assert search(slt[0]) == []  # it finds fewer than two like it
+    assert search(scene.spans("okay")[0]) == []
