@@ -1,6 +1,7 @@
 """The frame-set list as it was before the model/view list: a QTableWidget whose rows are
 rewritten item by item (kept verbatim from commit c44fce3 as the named baseline of
-``bench_set_table.py``; not used by the app)."""
+``bench_set_table.py``; not used by the app). Its columns, texts and colours are the app's
+list's own, unchanged since."""
 
 from __future__ import annotations
 
@@ -17,8 +18,21 @@ from PySide6.QtWidgets import (
     QTableWidgetItem,
 )
 
+from app.set_table import (
+    COLUMNS,
+    CORNERS,
+    DECISION,
+    FRAMES,
+    MISSING,
+    PENDING,
+    PENDING_TIP,
+    SELECTED_ROW,
+    SHARP,
+    SKEW,
+    WORD,
+    clock_text,
+)
 from app.style import DECISION_SYMBOLS, DECISION_TEXT_COLOURS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
-from speechcal_core.frames.sets import BLURRED_BELOW, BLURRED_BELOW_SESSION, MIN_CORNERS
 from speechcal_core.review.summary import (
     camera_lines,
     listed_ids,
@@ -30,48 +44,6 @@ from speechcal_core.review.summary import (
 from speechcal_core.session.model import FrameSet
 from speechcal_core.session.same_frames import same_frames
 
-#: (header, header tooltip) per column
-COLUMNS = (
-    ("#", "the set's number (as on the waveform markers)"),
-    ("time", "when the trigger word was said, from the first frame (min:s); the chosen "
-             "frames are the stillest moment near it, often a little later"),
-    ("word", "the trigger word heard; \"added\": added by hand (T), \"similar\": found "
-             "like another set (S)"),
-    ("worst\nsharp", "the least sharp of the set's chosen frames. Each camera's sharpness is "
-                     "relative to its frames of the board held still around the trigger: "
-                     "1.00 is as sharp as the still board there; below "
-                     f"{BLURRED_BELOW:.2f} a frame is flagged blurred (where the board "
-                     "never stops: relative to its sharp frames in this session, flagged "
-                     f"below {BLURRED_BELOW_SESSION:.2f})"),
-    ("fewest\ncorners", "the fewest target corners found in any camera's chosen frame; "
-                        f"under {MIN_CORNERS} the camera is flagged as not seeing the target"),
-    ("skew\nms", "the largest stamp difference between the set's frames"),
-    ("frames", "cameras with a frame for this set / cameras"),
-    ("decision", "accepted, rejected or undecided"),
-)
-HEADERS = tuple(h for h, _tip in COLUMNS)
-WORD, SHARP, CORNERS, SKEW, FRAMES, DECISION = 2, 3, 4, 5, 6, 7
-MISSING = "–"  # a figure no camera has
-PENDING = "…"  # a figure the re-scoring of the set (after an offset edit) will bring
-PENDING_TIP = ("re-scoring: the frames nearest the trigger are shown until the best still "
-               "frames are chosen and measured")
-
-
-#: the selected row's background: light, so the decision and warning colours stay legible
-SELECTED_ROW = QColor(196, 222, 250)
-
-
-def column(name: str) -> int:
-    """The column whose header is ``name`` (line breaks read as spaces)."""
-    return [h.replace("\n", " ") for h in HEADERS].index(name)
-
-
-def clock_text(seconds: float) -> str:
-    """A time from the first frame as the set list's time column shows it (min:s, to
-    the hundredth: 59.996 s is "01:00.00", a time before the first frame "-00:00.40")."""
-    hundredths = round(abs(seconds) * 100)
-    minutes, rest = divmod(hundredths, 6000)
-    return f"{'-' if seconds < 0 and hundredths else ''}{minutes:02d}:{rest / 100:05.2f}"
 
 class OwnColoursDelegate(QStyledItemDelegate):
     """Draws a selected cell's text in its own colour (decision, warning), not the
