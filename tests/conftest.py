@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -13,6 +15,9 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 TINY = dict(cameras=3, fisheye=1, duration=14.0, width=256, height=192, seed=21, claps=1)
 SNAPSHOT = dict(cameras=1, duration=14.0, width=160, height=120, seed=21, claps=1,
                 trigger_word="snapshot")
+#: one pinhole camera filming a checkerboard (its target.yaml beside the recording)
+CHECKERBOARD = dict(cameras=1, fisheye=0, duration=14.0, width=256, height=192, seed=21,
+                    claps=1, target_kind="checkerboard")
 #: noisy speech (5 dB SNR), 12 triggers in four voices, five of them in the voice "rms"
 NOISY = dict(cameras=1, duration=40.0, width=160, height=120, seed=3, snr_db=5.0, claps=1)
 
@@ -31,6 +36,35 @@ def _synth(factory: pytest.TempPathFactory, name: str, options: dict) -> tuple[P
     out = factory.mktemp(name) / "session"
     generate_session(out, SynthOptions(**options))
     return out, json.loads((out / "truth.json").read_text())
+
+
+@pytest.fixture(scope="session")
+def processed_tiny(tiny_synth: tuple[Path, dict], tmp_path_factory: pytest.TempPathFactory
+                   ) -> Callable[[str | None], Path]:
+    """Factory ``where -> folder``: a folder holding ``rec/`` (the tiny session's recording
+    and audio) and the session the review's ``load_for_review`` made of them at ``where``
+    (a path relative to the folder; None: beside the recording, where the review keeps
+    it), made once per test run for each ``where``. Read only: a test copies the folder
+    (``shutil.copytree(folder, tmp_path, dirs_exist_ok=True)``) to open or change it."""
+    from speechcal_core.review.loading import load_for_review
+
+    made: dict[str | None, Path] = {}
+    source, truth = tiny_synth
+
+    def make(where: str | None = None) -> Path:
+        if where not in made:
+            folder = tmp_path_factory.mktemp("processed")
+            shutil.copytree(source, folder / "rec")
+            session_path = None if where is None else folder / where
+            if session_path is not None:
+                session_path.parent.mkdir(parents=True, exist_ok=True)
+            load_for_review(recording=[str(folder / "rec" / truth["recording"])],
+                            audio=str(folder / "rec" / truth["audio"]),
+                            new_session_path=session_path).close()
+            made[where] = folder
+        return made[where]
+
+    return make
 
 
 @pytest.fixture
@@ -91,6 +125,12 @@ def wrong_word_session_file(_capture_session_of_snapshots, tmp_path: Path) -> Pa
     path = tmp_path / "wrong-word.json"
     save_session(copy.deepcopy(_capture_session_of_snapshots), path)
     return path
+
+
+@pytest.fixture(scope="session")
+def checkerboard_synth(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
+    """A 14 s, 1-camera synthetic session filming a checkerboard (folder, truth)."""
+    return _synth(tmp_path_factory, "checkerboard", CHECKERBOARD)
 
 
 @pytest.fixture(scope="session")

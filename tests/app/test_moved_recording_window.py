@@ -9,20 +9,16 @@ from pathlib import Path
 
 import pytest
 
-from speechcal_core.review.loading import load_for_review
 from speechcal_core.session.store import load_session, save_session
 
 
 @pytest.fixture
-def moved(tiny_synth, tmp_path: Path) -> tuple[Path, Path, str]:
+def moved(processed_tiny, tiny_synth, tmp_path: Path) -> tuple[Path, Path, str]:
     """(session file, the folder its recording and audio are in now, the bag's name)."""
-    folder, truth = tiny_synth
-    shutil.copytree(folder, tmp_path / "rec")
+    _folder, truth = tiny_synth
+    shutil.copytree(processed_tiny("reviews/lab.json"), tmp_path, dirs_exist_ok=True)
     recording = tmp_path / "rec" / truth["recording"]
     session_path = tmp_path / "reviews" / "lab.json"
-    session_path.parent.mkdir()
-    load_for_review(recording=[str(recording)], audio=str(tmp_path / "rec" / "audio.ogg"),
-                    new_session_path=session_path).close()
     reviewed = load_session(session_path)
     reviewed.replace_set(reviewed.sets[1].with_decision("rejected"))
     save_session(reviewed, session_path)

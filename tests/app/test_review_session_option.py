@@ -4,6 +4,7 @@ PATH, e.g. when the recording lies on read-only media."""
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -25,16 +26,16 @@ def test_a_recording_is_reviewed_with_its_session_kept_where_asked(
 
 
 def test_a_recording_with_its_session_reopens_without_the_audio(
-        tiny_synth: tuple[Path, dict], tmp_path: Path,
+        processed_tiny, tiny_synth: tuple[Path, dict], tmp_path: Path,
         capsys: pytest.CaptureFixture[str]) -> None:
     """The session knows its audio: ``review RECORDING --session S`` opens S as it is (it
     asked for --audio before); without a session there the audio is still needed."""
-    folder, truth = tiny_synth
-    recording, audio = folder / truth["recording"], folder / truth["audio"]
-    target = tmp_path / "mine.json"
+    _folder, truth = tiny_synth
+    # the session a review of the recording and its audio made at reviews/lab.json
+    shutil.copytree(processed_tiny("reviews/lab.json"), tmp_path, dirs_exist_ok=True)
+    recording, audio = tmp_path / "rec" / truth["recording"], tmp_path / "rec" / truth["audio"]
+    target = tmp_path / "reviews" / "lab.json"
     shot = str(tmp_path / "x.png")
-    assert main(["review", str(recording), "--audio", str(audio), "--session", str(target),
-                 "--screenshot", shot]) == 0
     assert main(["review", str(recording), "--session", str(target), "--screenshot", shot]) == 0
     assert json.loads(target.read_text())["audio"].endswith(audio.name)
     assert main(["review", str(recording), "--session", str(tmp_path / "none.json"),

@@ -37,17 +37,11 @@ def test_trigger_options_with_a_session_file_are_a_usage_error(
 
 
 def test_the_review_looks_for_the_board_it_is_given(
-        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+        checkerboard_synth: tuple[Path, dict], tmp_path: Path,
+        capsys: pytest.CaptureFixture[str]) -> None:
     """A checkerboard recording opened with its target.yaml: the new session has its
     corners, with no second processing run."""
-    from speechcal_core.synth.options import SynthOptions
-    from speechcal_core.synth.session import generate_session
-
-    folder = tmp_path / "checkerboard"
-    generate_session(folder, SynthOptions(cameras=1, fisheye=0, duration=14.0, width=256,
-                                          height=192, seed=21, claps=1,
-                                          target_kind="checkerboard"))
-    truth = json.loads((folder / "truth.json").read_text())
+    folder, truth = checkerboard_synth
     session_path = tmp_path / "review.json"
     assert main(["review", str(folder / truth["recording"]), "--audio",
                  str(folder / truth["audio"]), "--target", str(folder / "target.yaml"),

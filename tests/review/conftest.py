@@ -7,22 +7,18 @@ from pathlib import Path
 
 import pytest
 
-from speechcal_core.review.loading import load_for_review
 from speechcal_core.session.store import load_session, save_session
 
 
 @pytest.fixture
-def moved_session(tiny_synth, tmp_path: Path) -> tuple[Path, Path, str, str]:
+def moved_session(processed_tiny, tiny_synth, tmp_path: Path) -> tuple[Path, Path, str, str]:
     """A reviewed session (set 1 accepted) in a folder of its own, whose recording folder
     (bag and audio) moved: (session file, the folder they are in now, the bag's name,
     the audio's name)."""
-    folder, truth = tiny_synth
-    shutil.copytree(folder, tmp_path / "rec")
+    _folder, truth = tiny_synth
+    shutil.copytree(processed_tiny("reviews/lab.json"), tmp_path, dirs_exist_ok=True)
     recording, audio = tmp_path / "rec" / truth["recording"], tmp_path / "rec" / truth["audio"]
     session_path = tmp_path / "reviews" / "lab.json"
-    session_path.parent.mkdir()
-    load_for_review(recording=[str(recording)], audio=str(audio),
-                    new_session_path=session_path).close()
     reviewed = load_session(session_path)
     reviewed.replace_set(reviewed.sets[0].with_decision("accepted"))
     save_session(reviewed, session_path)

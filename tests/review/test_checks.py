@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import pytest
@@ -140,18 +139,13 @@ def test_export_waits_for_the_sets_it_holds_that_show_nearest_frames(
     assert model.export_waits_for(include_undecided=True) == []
 
 
-def test_no_camera_fitting_says_which_board_was_looked_for(tmp_path: Path) -> None:
+def test_no_camera_fitting_says_which_board_was_looked_for(checkerboard_synth,
+                                                           tmp_path: Path) -> None:
     """A checkerboard recording processed without --target (so as the default AprilGrid)
     fits no camera: the check line says what it looked for and what to do."""
     from speechcal_core.pipeline import process_recording
-    from speechcal_core.synth.options import SynthOptions
-    from speechcal_core.synth.session import generate_session
 
-    folder = tmp_path / "checkerboard"
-    generate_session(folder, SynthOptions(cameras=1, fisheye=0, duration=14.0, width=256,
-                                          height=192, seed=21, claps=1,
-                                          target_kind="checkerboard"))
-    truth = json.loads((folder / "truth.json").read_text())
+    folder, truth = checkerboard_synth
     words = tmp_path / "words.csv"  # the true triggers: this is about the board
     words.write_text("word,start,end\n" + "".join(
         f"capture,{t['start_s']:.4f},{t['end_s']:.4f}\n" for t in truth["triggers"]))

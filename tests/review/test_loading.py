@@ -22,6 +22,16 @@ def _copy_of(tiny_synth: tuple[Path, dict], tmp_path: Path) -> tuple[str, str]:
     return str(out / truth["recording"]), str(out / truth["audio"])
 
 
+def _with_its_session(processed_tiny, tiny_synth: tuple[Path, dict], tmp_path: Path,
+                      where: str | None = None) -> tuple[str, str]:
+    """As :func:`_copy_of`, with the session a first review of them made at ``where``
+    (relative to ``tmp_path``; default: beside the recording)."""
+    _folder, truth = tiny_synth
+    shutil.copytree(processed_tiny(where), tmp_path, dirs_exist_ok=True)
+    out = tmp_path / "rec"
+    return str(out / truth["recording"]), str(out / truth["audio"])
+
+
 def test_a_new_session_goes_where_asked(tiny_synth, tmp_path: Path) -> None:
     recording, audio = _copy_of(tiny_synth, tmp_path)
     target = tmp_path / "elsewhere" / "mine.json"
@@ -45,9 +55,8 @@ def test_an_unwritable_session_folder_fails_before_processing_and_says_what_to_d
 
 
 def test_an_existing_session_with_other_audio_is_opened_with_a_note(
-        tiny_synth, tmp_path: Path) -> None:
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    load_for_review(recording=[recording], audio=audio).close()
+        processed_tiny, tiny_synth, tmp_path: Path) -> None:
+    recording, audio = _with_its_session(processed_tiny, tiny_synth, tmp_path)
     other = Path(tmp_path / "other.ogg")
     shutil.copy(audio, other)
     inputs = load_for_review(recording=[recording], audio=str(other))
@@ -61,10 +70,10 @@ def test_an_existing_session_with_other_audio_is_opened_with_a_note(
 
 
 def test_a_given_session_of_another_recording_is_opened_with_a_note(
-        tiny_synth, tmp_path: Path) -> None:
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    target = tmp_path / "session.json"
-    load_for_review(recording=[recording], audio=audio, new_session_path=target).close()
+        processed_tiny, tiny_synth, tmp_path: Path) -> None:
+    recording, audio = _with_its_session(processed_tiny, tiny_synth, tmp_path,
+                                         "reviews/lab.json")
+    target = tmp_path / "reviews" / "lab.json"
     other = tmp_path / "other.bag"
     shutil.copy(recording, other)
     inputs = load_for_review(recording=[str(other)], audio=audio, new_session_path=target)
@@ -83,10 +92,9 @@ def _open_files() -> set[str]:
 
 @pytest.mark.skipif(not Path("/proc/self/fd").is_dir(), reason="needs /proc")
 @pytest.mark.parametrize("step", ["reading audio", "ready"])
-def test_a_cancel_late_in_opening_closes_the_recording(tiny_synth, tmp_path: Path,
-                                                       step: str) -> None:
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    load_for_review(recording=[recording], audio=audio).close()  # the session exists now
+def test_a_cancel_late_in_opening_closes_the_recording(processed_tiny, tiny_synth,
+                                                       tmp_path: Path, step: str) -> None:
+    recording, audio = _with_its_session(processed_tiny, tiny_synth, tmp_path)
 
     class Cancelled(Exception):
         pass
@@ -100,9 +108,9 @@ def test_a_cancel_late_in_opening_closes_the_recording(tiny_synth, tmp_path: Pat
     assert not any(p.startswith(str(Path(recording).parent)) for p in _open_files())
 
 
-def test_a_moved_recording_says_how_to_keep_the_decisions(tiny_synth, tmp_path: Path) -> None:
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    load_for_review(recording=[recording], audio=audio).close()
+def test_a_moved_recording_says_how_to_keep_the_decisions(processed_tiny, tiny_synth,
+                                                          tmp_path: Path) -> None:
+    recording, _audio = _with_its_session(processed_tiny, tiny_synth, tmp_path)
     session_path = default_session_path([recording])
     moved = tmp_path / "moved" / Path(recording).name
     moved.parent.mkdir()
@@ -135,15 +143,14 @@ def test_a_moved_recording_given_with_the_session_is_followed_and_the_review_kep
 
 
 def test_another_recording_of_the_same_name_is_not_taken_for_the_moved_one(
-        tiny_synth, snapshot_synth, tmp_path: Path) -> None:
+        processed_tiny, tiny_synth, snapshot_synth, tmp_path: Path) -> None:
     """Every take is recording.bag: the session's own gone, another take of that name
     was taken for it, saved, and shown with the old decisions on other frames."""
     from speechcal_core.errors import UsageError
 
-    recording, audio = _copy_of(tiny_synth, tmp_path)
+    recording, audio = _with_its_session(processed_tiny, tiny_synth, tmp_path,
+                                         "reviews/lab.json")
     session_path = tmp_path / "reviews" / "lab.json"
-    session_path.parent.mkdir()
-    load_for_review(recording=[recording], audio=audio, new_session_path=session_path).close()
     shutil.rmtree(Path(recording).parent)
     folder, truth = snapshot_synth
     other = tmp_path / "other"
@@ -159,17 +166,16 @@ def test_another_recording_of_the_same_name_is_not_taken_for_the_moved_one(
     assert session_path.read_text() == before
 
 
-def _moved_with_other_audio(tiny_synth, tmp_path: Path, keep_share: float
+def _moved_with_other_audio(processed_tiny, tiny_synth, tmp_path: Path, keep_share: float
                             ) -> tuple[Path, Path, Path]:
     """A session made from a recording and its audio, then the folder moved with the
     audio replaced by another take of the same name (its first ``keep_share``): the
     session file, the moved recording and the other audio."""
     import soundfile as sf
 
-    recording, audio = _copy_of(tiny_synth, tmp_path)
+    recording, audio = _with_its_session(processed_tiny, tiny_synth, tmp_path,
+                                         "reviews/lab.json")
     session_path = tmp_path / "reviews" / "lab.json"
-    session_path.parent.mkdir()
-    load_for_review(recording=[recording], audio=audio, new_session_path=session_path).close()
     moved = tmp_path / "archive" / "rec"
     shutil.move(str(Path(recording).parent), moved)
     other = moved / Path(audio).name
@@ -179,12 +185,13 @@ def _moved_with_other_audio(tiny_synth, tmp_path: Path, keep_share: float
 
 
 def test_another_take_of_the_audio_is_not_taken_for_the_moved_one(
-        tiny_synth, tmp_path: Path) -> None:
+        processed_tiny, tiny_synth, tmp_path: Path) -> None:
     """Every take's audio may be mic.wav: relinking took any file of that name."""
     from speechcal_core.audio.identity import AUDIO_FILE_KEY
     from speechcal_core.errors import UsageError
 
-    session_path, recording, other = _moved_with_other_audio(tiny_synth, tmp_path, 0.995)
+    session_path, recording, other = _moved_with_other_audio(processed_tiny, tiny_synth, tmp_path,
+                                                             0.995)
     assert load_session(session_path).extra[AUDIO_FILE_KEY]["channels"] == 1
     before = session_path.read_text()
     with pytest.raises(UsageError) as refused:
@@ -198,13 +205,14 @@ def test_another_take_of_the_audio_is_not_taken_for_the_moved_one(
 
 
 def test_a_session_without_the_audio_record_checks_the_length_against_its_words(
-        tiny_synth, tmp_path: Path) -> None:
+        processed_tiny, tiny_synth, tmp_path: Path) -> None:
     """Sessions saved before the audio's record was kept: an audio too short for the
     session's trigger words is another take."""
     from speechcal_core.audio.identity import AUDIO_FILE_KEY
     from speechcal_core.errors import UsageError
 
-    session_path, recording, other = _moved_with_other_audio(tiny_synth, tmp_path, 0.5)
+    session_path, recording, other = _moved_with_other_audio(processed_tiny, tiny_synth, tmp_path,
+                                                             0.5)
     old = load_session(session_path)
     del old.extra[AUDIO_FILE_KEY]
     save_session(old, session_path)
@@ -214,11 +222,10 @@ def test_a_session_without_the_audio_record_checks_the_length_against_its_words(
 
 
 def test_an_existing_session_keeps_its_trigger_words_and_says_so(
-        tiny_synth, tmp_path: Path) -> None:
+        processed_tiny, tiny_synth, tmp_path: Path) -> None:
     from speechcal_core.speech.matching import TriggerSpec
 
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    load_for_review(recording=[recording], audio=audio).close()
+    recording, audio = _with_its_session(processed_tiny, tiny_synth, tmp_path)
     inputs = load_for_review(recording=[recording], audio=audio,
                              triggers=TriggerSpec(("snapshot",)), channel=0)
     inputs.close()
@@ -247,13 +254,14 @@ def test_an_existing_session_keeps_its_trigger_words_and_says_so(
 
 
 def test_a_new_session_looks_for_the_board_given_and_an_existing_one_says_it_keeps_its_own(
-        tiny_synth, tmp_path: Path) -> None:
+        checkerboard_synth, tmp_path: Path) -> None:
     """review RECORDING --target: a checkerboard operator gets corners from the start, not
     after processing again into a new session (review work lost)."""
     from speechcal_core.target import TargetSpec
 
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    board = TargetSpec(kind="checkerboard", rows=7, cols=6, size=0.03)
+    recording, audio = _copy_of(checkerboard_synth, tmp_path)
+    board = TargetSpec.from_kalibr_yaml(Path(recording).parent / "target.yaml")
+    assert board.kind == "checkerboard"
     inputs = load_for_review(recording=[recording], audio=audio, target=board)
     inputs.close()
     assert TargetSpec.from_stored(inputs.session.extra["target"]) == board
@@ -309,11 +317,10 @@ def test_a_new_session_uses_the_streams_chosen_and_an_existing_one_leaves_more_o
 
 
 def test_a_session_whose_audio_was_replaced_in_place_opens_with_a_note(
-        tiny_synth, tmp_path: Path) -> None:
+        processed_tiny, tiny_synth, tmp_path: Path) -> None:
     import soundfile as sf
 
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    load_for_review(recording=[recording], audio=audio).close()
+    recording, audio = _with_its_session(processed_tiny, tiny_synth, tmp_path)
     session_path = default_session_path([recording])
     inputs = load_for_review(session_path=session_path)
     inputs.close()
@@ -327,10 +334,10 @@ def test_a_session_whose_audio_was_replaced_in_place_opens_with_a_note(
     assert "put the session's own audio back there" in inputs.note
 
 
-def test_an_existing_session_opens_without_the_audio_given(tiny_synth, tmp_path: Path) -> None:
+def test_an_existing_session_opens_without_the_audio_given(processed_tiny, tiny_synth,
+                                                           tmp_path: Path) -> None:
     """The session knows its audio; a new one cannot do without it."""
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    load_for_review(recording=[recording], audio=audio).close()
+    recording, audio = _with_its_session(processed_tiny, tiny_synth, tmp_path)
     inputs = load_for_review(recording=[recording])
     inputs.close()
     assert "nothing decided in it yet" in inputs.note
@@ -341,29 +348,28 @@ def test_an_existing_session_opens_without_the_audio_given(tiny_synth, tmp_path:
 
 
 def test_review_work_in_the_bak_of_an_undecided_session_is_set_aside_before_saving(
-        tiny_synth, tmp_path: Path) -> None:
+        processed_tiny, tiny_synth, tmp_path: Path) -> None:
     """``process --force`` keeps the reviewed file as .bak beside its fresh, undecided
     session; the window's first save kept that undecided file as .bak over it, and the
     decisions were gone."""
-    recording, audio = _copy_of(tiny_synth, tmp_path)
-    path = tmp_path / "session.json"
-    load_for_review(recording=[recording], audio=audio, new_session_path=path).close()
+    _with_its_session(processed_tiny, tiny_synth, tmp_path, "reviews/lab.json")
+    path = tmp_path / "reviews" / "lab.json"
     reviewed = load_session(path)
     reviewed.sets[:2] = [s.with_decision("accepted") for s in reviewed.sets[:2]]
-    bak = tmp_path / "session.json.bak"
+    bak = path.parent / "lab.json.bak"
     save_session(reviewed, bak, backup=False)  # as process --force leaves it
-    (tmp_path / "session.json.bak.1").write_text("an older one, left alone")
+    (path.parent / "lab.json.bak.1").write_text("an older one, left alone")
     inputs = load_for_review(session_path=path)
     inputs.close()
-    assert ("session.json.bak holds review work (2 decisions) and session.json none: it is "
-            "kept as session.json.bak.2") in inputs.note
+    assert ("lab.json.bak holds review work (2 decisions) and lab.json none: it is kept as "
+            "lab.json.bak.2") in inputs.note
     inputs.session.sets[0] = inputs.session.sets[0].with_decision("rejected")
     save_session(inputs.session, path)  # the window's autosave
-    kept = load_session(tmp_path / "session.json.bak.2")
+    kept = load_session(path.parent / "lab.json.bak.2")
     assert [s.decision for s in kept.sets[:2]] == ["accepted", "accepted"]
-    assert (tmp_path / "session.json.bak.1").read_text() == "an older one, left alone"
+    assert (path.parent / "lab.json.bak.1").read_text() == "an older one, left alone"
     # a session holding review work of its own keeps the .bak as the previous version
     again = load_for_review(session_path=path)
     again.close()
     assert "kept as" not in again.note and bak.exists()
-    assert not (tmp_path / "session.json.bak.3").exists()
+    assert not (path.parent / "lab.json.bak.3").exists()
