@@ -229,6 +229,15 @@ def test_force_replaces_only_a_session_file(synth, tmp_path: Path, capsys, kind:
     assert not victim.with_name(victim.name + ".bak").exists()
 
 
+def _true_words(truth: dict, folder: Path) -> Path:
+    """A transcript of the session's true trigger words (for tests of what ``--force``
+    keeps, which need sets to decide on, not their detection)."""
+    words = folder / "words.csv"
+    words.write_text("word,start,end\n" + "".join(
+        f"{t['word']},{t['start_s']:.4f},{t['end_s']:.4f}\n" for t in truth["triggers"]))
+    return words
+
+
 def test_a_second_force_leaves_the_bak_that_holds_the_review_work(
         synth, tmp_path: Path, capsys) -> None:
     """The first --force keeps the reviewed file as .bak; a second one used to replace
@@ -238,7 +247,8 @@ def test_a_second_force_leaves_the_bak_that_holds_the_review_work(
     out, truth = synth
     path = tmp_path / "session.json"
     run = ["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
-           "--offset-ns", str(truth["sync"]["offset_ns"]), "-o", str(path)]
+           "--offset-ns", str(truth["sync"]["offset_ns"]),
+           "--transcript", str(_true_words(truth, tmp_path)), "-o", str(path)]
     assert main(run) == 0
     reviewed = load_session(path)
     reviewed.sets[:3] = [s.with_decision("accepted") for s in reviewed.sets[:3]]
@@ -264,7 +274,8 @@ def test_a_force_over_reviewed_files_keeps_the_older_review_work_too(
     out, truth = synth
     path = tmp_path / "session.json"
     run = ["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
-           "--offset-ns", str(truth["sync"]["offset_ns"]), "-o", str(path)]
+           "--offset-ns", str(truth["sync"]["offset_ns"]),
+           "--transcript", str(_true_words(truth, tmp_path)), "-o", str(path)]
 
     def review(n: int) -> None:
         reviewed = load_session(path)
