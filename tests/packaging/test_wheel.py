@@ -52,7 +52,7 @@ def test_the_installed_wheel_makes_a_session_from_its_own_resources(
         "print(json.dumps([speechcal_core.__file__, app.main_window.__file__,"
         " str(resource('voices'))]))\n"
         "sys.exit(main(['synth', sys.argv[1], '--cameras', '1', '--duration', '12',"
-        " '--triggers', '2', '--seed', '3']))\n"
+        " '--triggers', '2', '--size', '160x120', '--seed', '3']))\n"
     )
     env = {**os.environ, "PYTHONPATH": str(site), "QT_QPA_PLATFORM": "offscreen"}
     run = subprocess.run([sys.executable, "-c", script, str(tmp_path / "session")],
