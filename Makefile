@@ -13,8 +13,10 @@ QT_DEBS := libegl1 libgl1 libxkbcommon0 libdbus-1-3 libxcb-cursor0 libfontconfig
 demo: $(STAMP)
 	$(BIN)/speechcal demo
 
+# One test process per core (pytest-xdist), each test file kept in one process so that
+# its module fixtures are made once.
 test: $(STAMP)
-	QT_QPA_PLATFORM=offscreen $(BIN)/python -m pytest
+	QT_QPA_PLATFORM=offscreen $(BIN)/python -m pytest -n auto --dist loadfile
 
 lint: $(STAMP)
 	$(BIN)/ruff check .
