@@ -306,6 +306,7 @@ def load_session(path: str | Path) -> Session:
         _check_set_ids(data["sets"] if isinstance(data.get("sets"), list) else [])
         _check_streams(data.get(STREAMS_KEY))
         _check_coverage(data.get("coverage"))
+        _check_calibration(data.get("calibration"))
         known = {"schema", "recording", "audio", "audio_channel", "trigger_words", "sync",
                  "sets", "calibration"}
         return Session(
@@ -381,6 +382,32 @@ def _check_coverage(value: Any) -> None:
             if isinstance(figure, bool) or not isinstance(figure, (int, float)):
                 raise ValueError(f"the coverage of {stream}: its progress {name} is "
                                  f"{figure!r}, not a number{fix}")
+
+
+def _check_calibration(value: Any) -> None:
+    """ValueError naming a damaged ``calibration`` entry (a hand edit), as a damaged
+    ``coverage`` is named: the window's calibration line reads each camera's RMS as a number
+    and counts its views. Derived too: deleting the key is a fix."""
+    if value is None:
+        return
+    fix = ("; deleting the 'calibration' key is a fix too: the next calibration check "
+           "writes it")
+    if not isinstance(value, dict):
+        raise ValueError(f"'calibration' is {value!r}, not the cameras' fitted models{fix}")
+    for stream, entry in value.items():
+        if entry is None:
+            continue
+        if not isinstance(entry, dict):
+            raise ValueError(f"the calibration of {stream} is {entry!r}, not its fitted "
+                             f"model{fix}")
+        rms = entry.get("rms_px")
+        if rms is not None and (isinstance(rms, bool) or not isinstance(rms, (int, float))):
+            raise ValueError(f"the calibration of {stream}: its rms_px is {rms!r}, not a "
+                             f"number{fix}")
+        views = entry.get("views")
+        if views is not None and not isinstance(views, list):
+            raise ValueError(f"the calibration of {stream}: its views is {views!r}, not a "
+                             f"list{fix}")
 
 
 def _channel(value: Any) -> int | None:

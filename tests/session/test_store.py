@@ -349,6 +349,13 @@ def _edited(tmp_path: Path, edit) -> Path:
     (lambda d: d.update(coverage={"/cam0/image_raw": {"views": 4, "progress": {"x": "30%"}}}),
      "the coverage of /cam0/image_raw: its progress x is '30%', not a number; deleting the "
      "'coverage' key is a fix too"),
+    (lambda d: d.update(calibration="good"),
+     "'calibration' is 'good', not the cameras' fitted models"),
+    (lambda d: d.update(calibration={"/cam0/image_raw": {"model": "pinhole", "rms_px": "0.1"}}),
+     "the calibration of /cam0/image_raw: its rms_px is '0.1', not a number; deleting the "
+     "'calibration' key is a fix too"),
+    (lambda d: d.update(calibration={"/cam0/image_raw": {"rms_px": 0.1, "views": 12}}),
+     "the calibration of /cam0/image_raw: its views is 12, not a list"),
 ])
 def test_a_hand_edit_gone_wrong_names_the_set_and_what_is_wrong(tmp_path: Path, edit,
                                                                  says: str) -> None:
