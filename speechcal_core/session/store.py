@@ -353,25 +353,46 @@ def _check_streams(value: Any) -> None:
         raise ValueError(f"'{STREAMS_KEY}' is {value!r}, not a list of stream names")
 
 
+def _derived_fix(key: str) -> str:
+    """What to tell of a damaged derived key: deleting it is a fix too."""
+    return f"; deleting the '{key}' key is a fix too: the next calibration check writes it"
+
+
+def _camera_entries(value: Any, key: str, whole: str, each: str
+                    ) -> list[tuple[str, dict[str, Any]]]:
+    """The cameras' entries of a derived per-camera key (``coverage``, ``calibration``):
+    ValueError unless ``value`` is absent or a dict whose entries are dicts or null
+    (``whole`` and ``each`` say what they should be)."""
+    if value is None:
+        return []
+    if not isinstance(value, dict):
+        raise ValueError(f"'{key}' is {value!r}, not {whole}{_derived_fix(key)}")
+    entries = []
+    for stream, entry in value.items():
+        if entry is not None and not isinstance(entry, dict):
+            raise ValueError(f"the {key} of {stream} is {entry!r}, not {each}"
+                             f"{_derived_fix(key)}")
+        if entry is not None:
+            entries.append((stream, entry))
+    return entries
+
+
+def _is_number(value: Any) -> bool:
+    """Whether ``value`` is a JSON number (not a bool, which Python counts as one)."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
 def _check_coverage(value: Any) -> None:
     """ValueError naming a damaged ``coverage`` entry (a hand edit), as a set's damaged
     quality figure is named: the window's calibration line reads each camera's views and
     progress as numbers. The key is derived, so deleting it is a fix too: the next
     calibration check writes it again."""
-    if value is None:
-        return
-    fix = "; deleting the 'coverage' key is a fix too: the next calibration check writes it"
-    if not isinstance(value, dict):
-        raise ValueError(f"'coverage' is {value!r}, not the cameras' coverage{fix}")
-    for stream, entry in value.items():
-        if entry is None:
-            continue
-        if not isinstance(entry, dict):
-            raise ValueError(f"the coverage of {stream} is {entry!r}, not its views and "
-                             f"progress{fix}")
+    fix = _derived_fix("coverage")
+    for stream, entry in _camera_entries(value, "coverage", "the cameras' coverage",
+                                         "its views and progress"):
         views = entry.get("views")
-        if views is not None and (isinstance(views, bool) or not isinstance(views, int)
-                                  or views < 0):
+        if views is not None and not (isinstance(views, int) and _is_number(views)
+                                      and views >= 0):
             raise ValueError(f"the coverage of {stream}: its views is {views!r}, not a "
                              f"count{fix}")
         progress = entry.get("progress")
@@ -379,7 +400,7 @@ def _check_coverage(value: Any) -> None:
             raise ValueError(f"the coverage of {stream}: its progress is {progress!r}, not "
                              f"x, y, size and skew{fix}")
         for name, figure in (progress or {}).items():
-            if isinstance(figure, bool) or not isinstance(figure, (int, float)):
+            if not _is_number(figure):
                 raise ValueError(f"the coverage of {stream}: its progress {name} is "
                                  f"{figure!r}, not a number{fix}")
 
@@ -388,20 +409,11 @@ def _check_calibration(value: Any) -> None:
     """ValueError naming a damaged ``calibration`` entry (a hand edit), as a damaged
     ``coverage`` is named: the window's calibration line reads each camera's RMS as a number
     and counts its views. Derived too: deleting the key is a fix."""
-    if value is None:
-        return
-    fix = ("; deleting the 'calibration' key is a fix too: the next calibration check "
-           "writes it")
-    if not isinstance(value, dict):
-        raise ValueError(f"'calibration' is {value!r}, not the cameras' fitted models{fix}")
-    for stream, entry in value.items():
-        if entry is None:
-            continue
-        if not isinstance(entry, dict):
-            raise ValueError(f"the calibration of {stream} is {entry!r}, not its fitted "
-                             f"model{fix}")
+    fix = _derived_fix("calibration")
+    for stream, entry in _camera_entries(value, "calibration", "the cameras' fitted models",
+                                         "its fitted model"):
         rms = entry.get("rms_px")
-        if rms is not None and (isinstance(rms, bool) or not isinstance(rms, (int, float))):
+        if rms is not None and not _is_number(rms):
             raise ValueError(f"the calibration of {stream}: its rms_px is {rms!r}, not a "
                              f"number{fix}")
         views = entry.get("views")
