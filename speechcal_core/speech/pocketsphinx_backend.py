@@ -19,10 +19,10 @@ speaker, same word: see ``self_similarity``), which recovers words the recognise
 near-homophone need a much closer match. Spans it took for an inflection are searched
 too: some voices say "capture" so that it hears "capturing"; such a span said on its own
 is also searched with, as a template of that voice, and taken with the spans it finds
-where it finds one. Before the search, the
-noisiest spans where the recogniser heard nothing are decoded again more sensitively: a
-voice it hardly hears gets templates there. Where it hears too few triggers for the
-search to start from (a short recording in loud noise), all the speech is.
+where it finds two or more. Before the search, the noisiest spans where the recogniser
+heard nothing are decoded again more sensitively: a voice it hardly hears gets
+templates there. Where it hears too few triggers for the search to start from (a short
+recording in loud noise), all the speech is.
 A trigger, recognised or found, whose sound runs on without a pause, or resumes after a
 pause too short to end a phrase, is dropped: it is the start of something longer
 ("captured it?"). Operators say the trigger word on its own.

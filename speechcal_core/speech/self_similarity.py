@@ -95,9 +95,9 @@ FOUND_THROUGH_INFLECTION = 2
 # false finds' lay lower than the true ones' on every third), how closely the second to
 # fifth closest seeds match, MFCC and posteriorgram costs combined (5 dB, seeds
 # 101-124: at best 8 false alarms fewer for 4 triggers lost), per-seed limits from each
-# seed's closest sibling, a template averaged over a voice's seeds (aligned by DTW). Spans just over
-# the limit that sound alike among themselves (a voice with no seed) gave 4 of the 54
-# missed triggers. Posteriorgram mixtures trained only on frames well above the noise
+# seed's closest sibling, a template averaged over a voice's seeds (aligned by DTW).
+# Spans just over the limit that sound alike among themselves (a voice with no seed) gave
+# 4 of the 54 missed triggers. Posteriorgram mixtures trained only on frames well above the noise
 # floor moved along the same trade-off, below it (8 dB: 957 / 190, at a stricter limit
 # 907 / 93). Seeds also read as said by a vocal tract 6-12 % shorter or longer (eight
 # seeds most unlike each other, 5 % dearer) found more of a voice with few seeds, mostly
