@@ -27,7 +27,6 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from app.audio_player import AudioPlayer
 from app.checks_action import ChecksAction
 from app.detect_action import DetectAction
 from app.elided_label import ElidedLabel, EllipsisLabel
@@ -42,9 +41,9 @@ from app.similar_action import SimilarAction
 from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from app.tasks import BackgroundTask, start
+from app.transport import Transport
 from app.waveform import WaveformView
 from speechcal_core.audio import AUDIO_SUFFIXES
-from speechcal_core.audio.playback import RestartThrottle, word_span
 from speechcal_core.errors import SpeechCalError
 from speechcal_core.resources import resource
 from speechcal_core.review.checks import check_summary
@@ -96,11 +95,6 @@ def opening_text(stage: str, fraction: float) -> str:
             "The status line below has Cancel.</p>")
 
 
-#: the play button's text and tooltip, stopped and playing
-PLAY_STATES = {False: ("▶ play", "play from the playhead, with the sound  (Space)"),
-               True: ("❚❚ pause", "pause  (Space)")}
-#: play from a playhead this close to the session's end starts again from its start
-END_SLACK_NS = 100_000_000
 #: the sync line's tooltip when few words fall at a still board (see word_stillness)
 MOVING_WORDS_TIP = (
     "The board is held still at each trigger word, yet here many words fall while it "
@@ -249,8 +243,6 @@ class ReviewWindow(QMainWindow):
         self.on_opened: Callable[[str], None] | None = None
         self._pending_tiles: set[str] = set()
         self.undo_button: QPushButton | None = None  # on the review page, once built
-        self._playing = False
-        self._stepping = False  # the playhead moves because play goes on (not a jump)
         #: previously opened sessions, closed once no export, re-scoring or decode reads them
         self._retired: list[ReviewInputs] = []
         #: frame loaders of those sessions, until their last decode ends
@@ -267,19 +259,12 @@ class ReviewWindow(QMainWindow):
         self.checker = ChecksAction(self)
         self.similar = SimilarAction(self)
         self.detector = DetectAction(self)
-        self.player = AudioPlayer(self, say=lambda text: self.status.end("audio", text))
+        self.transport = Transport(self, say=lambda text: self.status.end("audio", text))
         self._build_actions()
         self.setAcceptDrops(True)
         self._save_clock = QTimer(self)
         self._save_clock.timeout.connect(self._update_saved_label)
         self._save_clock.start(1000)
-        self._play_timer = QTimer(self)
-        self._play_timer.setInterval(40)
-        self._play_timer.timeout.connect(self._play_step)
-        self._restarts = RestartThrottle()  # a playhead dragged while playing
-        self._restart_timer = QTimer(self)
-        self._restart_timer.setSingleShot(True)
-        self._restart_timer.timeout.connect(self._restart_sound)
 
     def fit_to_screen(self) -> None:
         """Make the window no larger than the room its screen has (less a margin for its
@@ -396,8 +381,8 @@ class ReviewWindow(QMainWindow):
                 continue  # the Edit menu's actions carry these
             shortcut = QShortcut(QKeySequence(key), self)
             shortcut.activated.connect(lambda a=action: self.run_action(a))
-        QShortcut(QKeySequence("Space"), self).activated.connect(self.toggle_play)
-        QShortcut(QKeySequence("W"), self).activated.connect(self.hear_word)
+        QShortcut(QKeySequence("Space"), self).activated.connect(self.transport.toggle)
+        QShortcut(QKeySequence("W"), self).activated.connect(self.transport.hear_word)
         QShortcut(QKeySequence("Escape"), self).activated.connect(self._leave_enlarged)
         for number in range(1, 10):  # a camera alone, as a double-click on it
             QShortcut(QKeySequence(str(number)), self).activated.connect(
@@ -688,14 +673,11 @@ class ReviewWindow(QMainWindow):
         row = QHBoxLayout()
         previous = self._action_button("◀◀", "previous_set", "previous frame set  (J)")
         row.addWidget(previous)
-        self.play_button = QPushButton()
-        self.play_button.setFocusPolicy(Qt.FocusPolicy.NoFocus)
-        self._show_play_state()
-        self.play_button.clicked.connect(lambda _=False: self.toggle_play())
-        row.addWidget(self.play_button)
+        play = self.transport.make_button()
+        row.addWidget(play)
         following = self._action_button("▶▶", "next_set", "next frame set  (K)")
         row.addWidget(following)
-        self.transport_buttons = (previous, self.play_button, following)
+        self.transport_buttons = (previous, play, following)
         for button in (previous, following):  # two glyphs: the line beside them needs the room
             button.setMaximumWidth(6 * button.fontMetrics().horizontalAdvance("◀"))
         self.info_line = ElidedLabel("")  # never widens the window; the tooltip has it whole
@@ -809,11 +791,9 @@ class ReviewWindow(QMainWindow):
             inputs.close()
             self.status.say("not opened: the current session's decisions are not saved")
             return
-        if self._playing:
-            self.toggle_play()
+        self.transport.stop()
         if self.model is not None and not self.saver.unsaved:
             self.model.save_place()  # the session left opens again where it was
-        self.player.set_source(inputs.session.audio, inputs.session.audio_channel)
         if self.loader is not None:
             self.loader.shutdown()
             if self.loader.reading():  # its recording stays open until the decode ends
@@ -842,7 +822,7 @@ class ReviewWindow(QMainWindow):
         self.loader.failed.connect(self._on_frame_failed)
         self._build_review_page(inputs)
         self.model.connect("playhead", lambda _t: self._refresh_playhead())
-        self.model.connect("playhead", self._on_playhead_moved)
+        self.transport.follow(self.model)
         self.model.connect("current_set", self.table.select_row)
         self.model.connect("current_set", lambda _row: self._on_current_set())
         self.model.connect("decision", self._on_decision)
@@ -928,7 +908,7 @@ class ReviewWindow(QMainWindow):
         if model is None or self.loader is None:
             return
         self.waveform.set_playhead(model.playhead_ns)
-        if self._playing:
+        if self.transport.playing:
             self.waveform.follow(model.playhead_ns)
         current = model.set_at_playhead()
         chosen = "chosen frame"
@@ -939,7 +919,7 @@ class ReviewWindow(QMainWindow):
         for tile in model.tiles():
             widget = self.grid.tiles[tile.stream]
             decision = current.decision if current else None
-            if tile.index < 0 and self._playing and not tile.chosen and tile.stamp_ns \
+            if tile.index < 0 and self.transport.playing and not tile.chosen and tile.stamp_ns \
                     and widget.image is not None:  # a dropped frame: no blank flash
                 widget.hold_dimmed(DROPPED_CAPTION)
                 widget.set_state(decision)
@@ -1258,106 +1238,6 @@ class ReviewWindow(QMainWindow):
         clicked = box.clickedButton()
         return "save_as" if clicked is save else "discard" if clicked is discard else "cancel"
 
-    # -- playback -----------------------------------------------------------------------
-    def toggle_play(self) -> None:
-        """Space: play from the playhead, with the audio from there; again: pause."""
-        if self.model is None:
-            return
-        start_ns, end_ns = self.model.time_range_ns()
-        if not self._playing and self.model.playhead_ns >= end_ns - END_SLACK_NS:
-            self.model.set_playhead(start_ns)  # play at the end: from the start again
-        self._playing = not self._playing
-        self._show_play_state()
-        self._restart_timer.stop()
-        self._restarts.cancel()
-        if self._playing:
-            self._play_timer.start()
-            self._play_sound()
-        else:
-            self._play_timer.stop()
-            self.player.stop()
-
-    def _show_play_state(self) -> None:
-        text, tip = PLAY_STATES[self._playing]
-        self.play_button.setText(text)
-        self.play_button.setToolTip(tip)
-
-    def _play_sound(self, quiet: bool = False) -> None:
-        """The audio from the playhead on (until paused), and the clock the playhead
-        follows where there is no sound; ``quiet``: say nothing when there is no sound
-        (it was said when play started)."""
-        assert self.model is not None
-        now = time.monotonic()
-        self._play_started = (now, self.model.playhead_ns)
-        t_s = float(self.model.session.sync.to_audio(self.model.playhead_ns))
-        self._restarts.done(now)
-        self.player.play(t_s, quiet=quiet, lead_in=True)
-
-    def _play_step(self) -> None:
-        """The playhead follows the sound: where the audio output has got to, so what is
-        seen is what is heard; by the clock only while nothing plays (no audio output,
-        or past the audio's end). It waits while a restart is due (see
-        :meth:`_on_playhead_moved`)."""
-        if self.model is None or self._restarts.pending:
-            return
-        now = time.monotonic()
-        heard = self.player.heard_s()
-        if heard is not None:
-            target = int(self.model.session.sync.to_session(heard))
-            self._play_started = (now, target)  # the clock goes on from here if sound ends
-        else:
-            t0, p0 = self._play_started
-            target = p0 + int((now - t0) * 1e9)
-        if target >= self.model.time_range_ns()[1]:
-            self.toggle_play()
-        self._stepping = True
-        try:
-            self.model.set_playhead(target)
-        finally:
-            self._stepping = False
-
-    def _on_playhead_moved(self, playhead_ns: int) -> None:
-        """The operator moved the playhead (or the offset) while playing: play on from
-        there, the sound too; a drag restarts the sound at most once per
-        :data:`~speechcal_core.audio.playback.RESTART_INTERVAL_S`, from where the
-        playhead is by then."""
-        if not self._playing or self._stepping:
-            return
-        wait = self._restarts.request(time.monotonic())
-        if wait == 0:
-            self._play_sound(quiet=True)
-        elif wait is not None:
-            self._restart_timer.start(max(1, round(wait * 1000)))
-
-    def _restart_sound(self) -> None:
-        """A restart waited for the drag's interval: the sound from the playhead now."""
-        if self._playing and self.model is not None:
-            self._play_sound(quiet=True)
-        else:
-            self._restarts.cancel()
-
-    def hear_word(self) -> None:
-        """W: play the trigger word of the set under the playhead (the playhead stays)."""
-        model = self.model
-        if model is None:
-            return
-        frame_set = model.set_at_playhead()
-        if frame_set is None:
-            self.status.end("audio", "no frame set at the playhead: J / K go to one")
-            return
-        if self._playing:
-            self.toggle_play()
-        span = word_span(frame_set.trigger)
-        if not self.player.play(span.start_s, span.end_s):
-            return
-        if span.by_hand:
-            text = (f"set {frame_set.id} was added by hand and has no word bounds: playing "
-                    f"{span.end_s - span.start_s:.0f} s around its time")
-        else:
-            text = (f"playing set {frame_set.id}'s word \"{frame_set.trigger.word}\" "
-                    f"({span.end_s - span.start_s:.2f} s with margins)")
-        self.status.end("audio", text)
-
     def _leave_enlarged(self) -> None:
         if self.model is not None and self.grid._enlarged:
             self.grid.toggle_enlarged()
@@ -1392,9 +1272,7 @@ class ReviewWindow(QMainWindow):
         # save) a session the operator has left, or start more work for it
         for task in self.background_tasks():
             task.abandon()
-        self._play_timer.stop()
-        self._restart_timer.stop()
-        self.player.shutdown()
+        self.transport.shutdown()
         self.exporter.shutdown()
         self.rescorer.shutdown()
         self.checker.shutdown()

@@ -50,14 +50,14 @@ def test_w_plays_the_word_under_the_playhead_and_leaves_the_playhead(qtbot, wind
     playhead = model.playhead_ns
     qtbot.keyClick(window, Qt.Key.Key_W)
     trigger = frame_set.trigger
-    assert window.player.asked == pytest.approx((trigger.start_s - WORD_MARGIN_S,
+    assert window.transport.player.asked == pytest.approx((trigger.start_s - WORD_MARGIN_S,
                                                   trigger.end_s + WORD_MARGIN_S))
     assert model.playhead_ns == playhead
     text = window.status_text.text()
     if _has_output():
-        assert window.player.playing
+        assert window.transport.player.playing
         assert f"playing set {frame_set.id}'s word \"{trigger.word}\"" in text
-        qtbot.waitUntil(lambda: not window.player.playing, timeout=5_000)  # ~1 s word
+        qtbot.waitUntil(lambda: not window.transport.player.playing, timeout=5_000)  # ~1 s word
     else:
         assert "no audio output: no sound device found" in text
         qtbot.keyClick(window, Qt.Key.Key_W)
@@ -76,7 +76,7 @@ def test_w_on_a_set_added_by_hand_plays_a_second_around_it(qtbot, window) -> Non
     assert added.trigger.source == "manual"
     qtbot.keyClick(window, Qt.Key.Key_W)
     t_s = added.trigger.t_s
-    assert window.player.asked == pytest.approx((t_s - 0.5, t_s + 0.5))
+    assert window.transport.player.asked == pytest.approx((t_s - 0.5, t_s + 0.5))
     if _has_output():
         assert (f"set {added.id} was added by hand and has no word bounds: playing 1 s "
                 "around its time") in window.status_text.text()
@@ -90,7 +90,7 @@ def test_w_away_from_any_set_says_where_to_go(qtbot, window) -> None:
     assert model.set_at_playhead() is None
     qtbot.keyClick(window, Qt.Key.Key_W)
     assert "no frame set at the playhead" in window.status_text.text()
-    assert window.player.asked is None
+    assert window.transport.player.asked is None
 
 
 def test_space_moves_the_playhead_and_a_jump_plays_on_from_there(qtbot, window) -> None:
@@ -98,19 +98,19 @@ def test_space_moves_the_playhead_and_a_jump_plays_on_from_there(qtbot, window) 
     model.go_to_set(0)
     start = model.playhead_ns
     qtbot.keyClick(window, Qt.Key.Key_Space)
-    assert window.player.asked[0] == pytest.approx(model.session.sync.to_audio(start))
+    assert window.transport.player.asked[0] == pytest.approx(model.session.sync.to_audio(start))
     qtbot.waitUntil(lambda: model.playhead_ns > start + 200_000_000, timeout=5_000)
     if not _has_output():
         assert window.status_text.text().count("no audio output: no sound device found") == 1
     qtbot.keyClick(window, Qt.Key.Key_K)  # a jump while playing: play goes on from there
     jumped = set_time_ns(model.session.sets[1])
-    assert window.player.asked[0] == pytest.approx(model.session.sync.to_audio(jumped))
+    assert window.transport.player.asked[0] == pytest.approx(model.session.sync.to_audio(jumped))
     qtbot.waitUntil(lambda: model.playhead_ns > jumped + 100_000_000, timeout=5_000)
     assert model.playhead_ns < jumped + 2_000_000_000  # not back where play started
     if not _has_output():
         assert window.status_text.text().count("no audio output") == 1  # said once
     qtbot.keyClick(window, Qt.Key.Key_Space)  # pause: playhead and sound stop
-    assert not window.player.playing
+    assert not window.transport.player.playing
     paused = model.playhead_ns
     qtbot.wait(150)
     assert model.playhead_ns == paused
@@ -131,7 +131,7 @@ def test_transport_buttons_under_the_grid_step_sets_and_play_and_pause(qtbot, wi
     assert play.text() == "❚❚ pause" and "Space" in play.toolTip()
     qtbot.waitUntil(lambda: model.playhead_ns > start + 100_000_000, timeout=5_000)
     qtbot.mouseClick(play, Qt.MouseButton.LeftButton)
-    assert play.text() == "▶ play" and not window.player.playing
+    assert play.text() == "▶ play" and not window.transport.player.playing
     paused = model.playhead_ns
     qtbot.wait(150)
     assert model.playhead_ns == paused
@@ -145,13 +145,13 @@ def test_play_button_shows_play_again_when_the_session_ends(qtbot, window) -> No
     model = window.model
     _, end_ns = model.time_range_ns()
     model.set_playhead(end_ns - 200_000_000)
-    qtbot.mouseClick(window.play_button, Qt.MouseButton.LeftButton)
-    qtbot.waitUntil(lambda: window.play_button.text() == "▶ play", timeout=5_000)
-    assert not window._playing
+    qtbot.mouseClick(window.transport.button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.transport.button.text() == "▶ play", timeout=5_000)
+    assert not window.transport.playing
     start_ns, _ = model.time_range_ns()
-    qtbot.mouseClick(window.play_button, Qt.MouseButton.LeftButton)  # again: from the start
-    assert window._playing and model.playhead_ns < start_ns + 200_000_000
-    qtbot.mouseClick(window.play_button, Qt.MouseButton.LeftButton)
+    qtbot.mouseClick(window.transport.button, Qt.MouseButton.LeftButton)  # again: from the start
+    assert window.transport.playing and model.playhead_ns < start_ns + 200_000_000
+    qtbot.mouseClick(window.transport.button, Qt.MouseButton.LeftButton)
 
 
 def test_without_qtmultimedia_the_window_says_so_and_plays_on(
@@ -272,10 +272,10 @@ def test_the_playhead_shows_what_is_heard_not_the_clock(qtbot, window) -> None:
     start = model.playhead_ns
     t0 = time.monotonic()
     qtbot.keyClick(window, Qt.Key.Key_Space)
-    assert window.player.playing
+    assert window.transport.player.playing
     qtbot.waitUntil(lambda: model.playhead_ns > start + 300_000_000, timeout=6_000)
     for _ in range(10):
-        heard = window.player.heard_s()
+        heard = window.transport.player.heard_s()
         assert heard is not None
         # one step (40 ms) apart at most, the sound's pace in between
         assert abs(model.playhead_ns - sync.to_session(heard)) < 70_000_000
@@ -284,7 +284,7 @@ def test_the_playhead_shows_what_is_heard_not_the_clock(qtbot, window) -> None:
         assert model.playhead_ns < clock - BUFFER_S / 2 * 1e9
         qtbot.wait(30)
     qtbot.keyClick(window, Qt.Key.Key_Space)
-    assert not window.player.playing
+    assert not window.transport.player.playing
 
 
 def _play_from_set_1(qtbot, window) -> tuple[int, int]:
@@ -294,7 +294,7 @@ def _play_from_set_1(qtbot, window) -> tuple[int, int]:
     start = window.model.playhead_ns
     qtbot.keyClick(window, Qt.Key.Key_Space)
     qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)
-    return start, window.player.plays
+    return start, window.transport.player.plays
 
 
 def _drag(qtbot, window, move, positions) -> list[int]:
@@ -317,16 +317,16 @@ def test_dragging_the_playhead_while_playing_restarts_the_sound_now_and_then(
     after = _drag(qtbot, window, model.set_playhead, positions)
     dragged_s = time.monotonic() - t0
     qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)  # the last restart, from the last move
-    restarts = window.player.plays - plays
+    restarts = window.transport.player.plays - plays
     assert 2 <= restarts <= dragged_s / RESTART_INTERVAL_S + 2  # not one a move
     sync = model.session.sync
-    assert window.player.asked[0] == pytest.approx(sync.to_audio(positions[-1]))
+    assert window.transport.player.asked[0] == pytest.approx(sync.to_audio(positions[-1]))
     # the playhead stays with the mouse: sound of the stretch before does not pull it back
     for pos, now in zip(positions, after, strict=True):
         assert pos <= now < pos + 60_000_000
-    assert window._playing
+    assert window.transport.playing
     qtbot.keyClick(window, Qt.Key.Key_Space)
-    assert not window.player.playing
+    assert not window.transport.player.playing
 
 
 def test_dragging_the_clap_while_playing_restarts_the_sound_now_and_then(
@@ -337,12 +337,13 @@ def test_dragging_the_clap_while_playing_restarts_the_sound_now_and_then(
     t0 = time.monotonic()
     _drag(qtbot, window, window.waveform.clap_dragging.emit, shifts)
     dragged_s = time.monotonic() - t0  # 0.4 s and more: a busy machine stretches it
-    assert window.player.plays - plays <= dragged_s / RESTART_INTERVAL_S + 3  # not one a move
+    restarts = window.transport.player.plays - plays
+    assert restarts <= dragged_s / RESTART_INTERVAL_S + 3  # not one a move
     window.waveform.clap_moved.emit(shifts[-1])  # released: the offset is applied
     qtbot.wait(int(RESTART_INTERVAL_S * 1000) + 50)
     moved_ns = set_time_ns(model.current_set)
     assert model.current == 1 and moved_ns != set_ns  # the set moved with the offset
     # and the sound plays on from it, through the new offset
-    assert window.player.asked[0] == pytest.approx(model.session.sync.to_audio(moved_ns))
+    assert window.transport.player.asked[0] == pytest.approx(model.session.sync.to_audio(moved_ns))
     qtbot.keyClick(window, Qt.Key.Key_Space)
-    assert not window.player.playing
+    assert not window.transport.player.playing

@@ -120,7 +120,7 @@ def test_during_playback_a_dropped_frame_keeps_the_last_image_dimmed(qtbot, wind
     tiles = window.grid.tiles.values()
     qtbot.waitUntil(lambda: all(t.image is not None for t in tiles), timeout=10_000)
     _start, end = window.model.time_range_ns()
-    window._playing = True
+    window.transport.playing = True
     try:
         window.model.playhead_ns = end + 10**9  # no frame near: as in a gap
         window._refresh_playhead()
@@ -128,7 +128,7 @@ def test_during_playback_a_dropped_frame_keeps_the_last_image_dimmed(qtbot, wind
             assert tile.image is not None and tile.dimmed
             assert tile.caption == "dropped frame" and tile.warning == ""
     finally:
-        window._playing = False
+        window.transport.playing = False
     window._refresh_playhead()  # stopped: the tile says there is no frame
     assert all(t.image is None and t.message == "no frame near the playhead" for t in tiles)
 
