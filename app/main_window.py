@@ -6,7 +6,7 @@ import html
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, TypedDict
+from typing import TYPE_CHECKING
 
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QIcon, QKeySequence, QShortcut
@@ -34,6 +34,7 @@ from app.export_action import ExportAction
 from app.frame_grid import DROPPED_CAPTION, NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
 from app.leave_out_action import LeaveOutAction
+from app.open_request import OpenRequest, drop_request
 from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver, free_name_beside
 from app.set_table import MISSING, SetTable, clock_text
@@ -43,7 +44,6 @@ from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from app.tasks import BackgroundTask, start
 from app.transport import Transport
 from app.waveform import WaveformView
-from speechcal_core.audio import AUDIO_SUFFIXES
 from speechcal_core.errors import SpeechCalError
 from speechcal_core.resources import resource
 from speechcal_core.review.checks import check_summary
@@ -62,7 +62,7 @@ from speechcal_core.review.summary import (
     flag_words,
     no_sets_hint,
 )
-from speechcal_core.session.store import SessionChangedError, SessionFileError, load_session
+from speechcal_core.session.store import SessionChangedError, SessionFileError
 from speechcal_core.sync.errors import SyncError
 from speechcal_core.sync.estimate import clap_misread, clap_off
 from speechcal_core.text import counted, shown_name
@@ -145,53 +145,6 @@ HINTS_TIP = (
     "click on a set's word goes to that set), a double-click (or the 'whole session' "
     "button) shows the whole session\n"
     "Ctrl+F find trigger words: other words or another sensitivity")
-
-
-#: dropped files with these endings (any case) are audio; ``.json`` ones are session files
-
-
-class OpenRequest(TypedDict, total=False):
-    """:meth:`ReviewWindow.open` arguments, as ``load_for_review`` takes them."""
-
-    session_path: str | None
-    recording: list[str] | None
-    audio: str | None
-    new_session_path: str | None
-    triggers: TriggerSpec | None
-    channel: int | None
-    target: TargetSpec | None
-    streams: StreamChoice | None
-
-
-def drop_request(paths: list[str]) -> OpenRequest | None:
-    """What to open for dropped files, as :meth:`ReviewWindow.open` arguments; None if
-    nothing fits.
-
-    A dropped session file is opened (it names its recording and audio). A recording
-    dropped with its audio is opened (the loader picks up a session file beside it)
-    whatever other JSON comes with them (``speechcal synth`` writes a truth.json beside
-    the two); a JSON that is no session is opened, to say why, only when there is no pair.
-    """
-    jsons = [p for p in paths if p.lower().endswith(".json")]
-    audio = [p for p in paths if p.lower().endswith(AUDIO_SUFFIXES)]
-    recording = [p for p in paths if p not in jsons and p not in audio]
-    sessions = [p for p in jsons if is_session_file(p)]
-    if sessions:
-        return {"session_path": sessions[0]}
-    if recording and audio:
-        return {"recording": recording, "audio": audio[0]}
-    if jsons:
-        return {"session_path": jsons[0]}
-    return None
-
-
-def is_session_file(path: str) -> bool:
-    """Whether ``path`` reads as a SpeechCal session file."""
-    try:
-        load_session(path)
-    except SessionFileError:
-        return False
-    return True
 
 
 def audio_start_text(lead_s: float) -> str:
