@@ -54,6 +54,16 @@ from speechcal_core.review.similar import (
     similar_request,
 )
 from speechcal_core.review.summary import FILTERS, shown_indices
+from speechcal_core.review.undo_steps import (
+    Added,
+    AddedMany,
+    Decided,
+    OffsetChanged,
+    Removed,
+    RemovedMany,
+    UndoStep,
+    step_label,
+)
 from speechcal_core.session.model import (
     FRAMES_BEFORE_EDIT_KEY,
     REVIEW_PLACE_KEY,
@@ -142,14 +152,8 @@ class ReviewModel:
         self.source = source
         self._autosave = autosave
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
-        # undo/redo entries: ("decision", set id, decision to restore),
-        # ("sync", sync model, sets, {MEASURED_FOR_SYNC key: value}, sync evidence) for
-        # an offset edit,
-        # ("add", set id) and ("remove", set, its index, its frame details or None),
-        # ("add_many", set ids) and ("remove_many", [(set, index, details)...]) for the
-        # sets one search added
-        self._undo: list[tuple] = []
-        self._redo: list[tuple] = []
+        self._undo: list[UndoStep] = []
+        self._redo: list[UndoStep] = []
         #: per set, the frames it showed before an offset edit whose re-scoring has not
         #: landed yet (what a decision made before the edit looked at)
         self._shown_before_edit = _read_frames_before_edit(
@@ -447,14 +451,14 @@ class ReviewModel:
                 self._shown_before_edit[frame_set.id] = _frame_keys(frame_set)
         self._change_sync(sync)
 
-    def _sync_state(self) -> tuple:
-        """An undo entry restoring the sync as it is now, with the sets' frames, their
+    def _sync_state(self) -> OffsetChanged:
+        """An undo step restoring the sync as it is now, with the sets' frames, their
         details and what their figures were judged against (MEASURED_FOR_SYNC), all
         measured for it (undoing an edit needs no re-scoring)."""
         measured = {key: dict(value) for key in MEASURED_FOR_SYNC
                     if isinstance(value := self.session.extra.get(key), dict)}
-        return ("sync", self.session.sync, list(self.session.sets), measured,
-                copy.deepcopy(self.session.sync_evidence))
+        return OffsetChanged(self.session.sync, tuple(self.session.sets), measured,
+                             copy.deepcopy(self.session.sync_evidence))
 
     def _change_sync(self, sync: SyncModel) -> None:
         self.session.sync = sync
@@ -489,7 +493,7 @@ class ReviewModel:
             self.go_to_set(self._index_of(current.id))
         self.last_decided = current.id
         if current.decision != decision:
-            self._undo.append(("decision", current.id, current.decision))
+            self._undo.append(Decided(current.id, current.decision))
             self._redo.clear()
             self._apply(current.id, decision)
         if self.advance_after_decision:
@@ -506,63 +510,58 @@ class ReviewModel:
     @property
     def removed_here(self) -> bool:
         """Whether a set removed in this review could still be put back (undo)."""
-        return any(step[0] == "remove" for step in self._undo)
+        return any(isinstance(step, Removed) for step in self._undo)
 
     @property
     def undo_label(self) -> str:
         """What :meth:`undo` would take back, in words ("" when nothing), for a menu."""
-        return _step_label(self._undo[-1]) if self._undo else ""
+        return step_label(self._undo[-1]) if self._undo else ""
 
     @property
     def redo_label(self) -> str:
         """What :meth:`redo` would do again, in words ("" when nothing)."""
-        return _step_label(self._redo[-1], redo=True) if self._redo else ""
+        return step_label(self._redo[-1], redo=True) if self._redo else ""
 
-    def _revert(self, entry: tuple) -> tuple:
-        """Undo one stack entry; returns the entry that undoes this in turn."""
-        kind = entry[0]
-        if kind == "sync":
-            _kind, sync, sets, measured, evidence = entry
+    def _revert(self, step: UndoStep) -> UndoStep:
+        """Take one step back; returns the step that takes this back in turn."""
+        if isinstance(step, OffsetChanged):
             now = self._sync_state()
-            self.session.sync_evidence = copy.deepcopy(evidence)  # a clap C moved
+            self.session.sync_evidence = copy.deepcopy(step.evidence)  # a clap C moved
             # the stack holds no later step, so the same sets are in: only their frames
             # (and figures) differ, measured for the other sync
-            by_id = {s.id: s for s in sets}
+            by_id = {s.id: s for s in step.sets}
             self.session.sets[:] = [replace(s, frames=by_id[s.id].frames, t_ns=by_id[s.id].t_ns)
                                     if s.id in by_id else s for s in self.session.sets]
             for key in MEASURED_FOR_SYNC:  # a session may have had none of them
-                if key in measured:
-                    self.session.extra[key] = dict(measured[key])
+                if key in step.measured:
+                    self.session.extra[key] = dict(step.measured[key])
                 else:
                     self.session.extra.pop(key, None)
             waiting = set(self.rescore_ids())  # the others show scored frames again
             self._shown_before_edit = {i: keys for i, keys in self._shown_before_edit.items()
                                        if i in waiting}
-            self._change_sync(sync)
+            self._change_sync(step.sync)
             return now
-        if kind == "decision":
-            _kind, set_id, decision = entry
-            previous = self.session.set_by_id(set_id).decision
-            self._apply(set_id, decision, select=True)
-            return ("decision", set_id, previous)
-        if kind == "add":
-            index = self._index_of(entry[1])
+        if isinstance(step, Decided):
+            now_decided = self.session.set_by_id(step.set_id).decision
+            self._apply(step.set_id, step.previous, select=True)
+            return Decided(step.set_id, now_decided)
+        if isinstance(step, Added):
+            index = self._index_of(step.set_id)
             frame_set = self.session.sets[index]  # as it is now (re-scored, decided)
-            details = self._drop_set(index)
-            return ("remove", frame_set, index, details)
-        if kind in ("add_many", "remove_many"):
-            # an entry may carry detection settings: to put back now, and the ones now
-            settings = entry[2:]
-            if settings:
-                restore_settings(self.session, settings[0])
-            if kind == "add_many":
-                undone: tuple = ("remove_many", self._drop_sets(entry[1]))
-            else:
-                undone = ("add_many", self._insert_sets(entry[1]))
-            return (*undone, *settings[::-1])
-        _kind, frame_set, index, details = entry
-        self._insert_set(frame_set, index, details)
-        return ("add", frame_set.id)
+            return Removed(frame_set, index, self._drop_set(index))
+        if isinstance(step, Removed):
+            self._insert_set(step.frame_set, step.index, step.details)
+            return Added(step.frame_set.id)
+        # a search's sets; the step may carry detection settings: to put back now, and
+        # the ones now, put back when this is taken back in turn
+        swapped = None
+        if step.settings is not None:
+            restore_settings(self.session, step.settings[0])
+            swapped = (step.settings[1], step.settings[0])
+        if isinstance(step, AddedMany):
+            return RemovedMany(tuple(self._drop_sets(list(step.set_ids))), swapped)
+        return AddedMany(tuple(self._insert_sets(list(step.items))), swapped)
 
     def _apply(self, set_id: int, decision: str, select: bool = False) -> None:
         self.session.replace_set(self.session.set_by_id(set_id).with_decision(decision))
@@ -594,7 +593,7 @@ class ReviewModel:
         new = self._new_set(Trigger(word, t_s, t_s, 1.0, OPERATOR_SOURCE), self.playhead_ns)
         index = sum(1 for s in self.session.sets if s.t_ns <= new.t_ns)
         self._frame_details()  # from now on, sets without details are re-scored
-        self._undo.append(("add", new.id))
+        self._undo.append(Added(new.id))
         self._redo.clear()
         self._insert_set(new, index, None)
 
@@ -673,7 +672,9 @@ class ReviewModel:
         added = self._add_found([Trigger(w.word, w.start_s, w.end_s, w.score,
                                          w.source or "detector") for w in result.words])
         if added:  # undo restores the settings, redo records them again
-            self._undo[-1] = (*self._undo[-1], before, settings_of(self.session))
+            step = self._undo[-1]
+            assert isinstance(step, AddedMany)
+            self._undo[-1] = replace(step, settings=(before, settings_of(self.session)))
         elif result.words:
             self._save()  # the settings changed, no set did
         return added
@@ -695,7 +696,7 @@ class ReviewModel:
             return []
         self._frame_details()  # from now on, sets without details are re-scored
         ids = self._insert_sets(added)
-        self._undo.append(("add_many", ids))
+        self._undo.append(AddedMany(tuple(ids)))
         self._redo.clear()
         return ids
 
@@ -707,7 +708,7 @@ class ReviewModel:
             return
         index = self._index_of(current.id)
         details = self._drop_set(index)
-        self._undo.append(("remove", current, index, details))
+        self._undo.append(Removed(current, index, details))
         self._redo.clear()
 
     def _index_of(self, set_id: int) -> int:
@@ -1012,24 +1013,3 @@ def _read_frames_before_edit(stored: object, waiting: set[int]
 def _frame_keys(frame_set: FrameSet) -> tuple[tuple[str, int], ...]:
     """Which frame of each stream a set shows."""
     return tuple((f.stream, f.index) for f in frame_set.frames)
-
-
-#: a redo entry holds the inverse of the step it redoes (undoing an add stores a remove)
-_INVERSE = {"add": "remove", "remove": "add", "add_many": "remove_many",
-            "remove_many": "add_many"}
-
-
-def _step_label(entry: tuple, redo: bool = False) -> str:
-    """A stack entry in words: on the undo stack the step it takes back, on the redo
-    stack (``redo``) the step it does again."""
-    kind = _INVERSE.get(entry[0], entry[0]) if redo else entry[0]
-    if kind == "sync":
-        return "audio offset change"
-    if kind == "decision":
-        return f"decision on set {entry[1]}"
-    if kind in ("add", "remove"):
-        set_id = entry[1] if entry[0] == "add" else entry[1].id
-        return f"{'adding' if kind == 'add' else 'removing'} set {set_id}"
-    n = len(entry[1])
-    sets = f"{n} set{'' if n == 1 else 's'}"
-    return f"adding {sets}" if kind == "add_many" else f"removing {sets}"
