@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import pytest
+from export_sessions import PATTERN, write_session
+from ros2_humble_layout import as_humble_records_it
 from rosbags.highlevel import AnyReader
 
 from speechcal_core.export import export_session_file
@@ -71,6 +74,26 @@ def test_a_ros2_bag_has_metadata_that_humble_and_iron_can_read(session_file,
     assert info["version"] == 8 and info["storage_identifier"] == "sqlite3"
     topics = [t["topic_metadata"] for t in info["topics_with_message_count"]]
     assert topics and all(isinstance(t["offered_qos_profiles"], str) for t in topics)
+
+
+@pytest.mark.parametrize("export_fmt", ["rosbag1", "rosbag2"])
+def test_a_bag_recorded_by_ros2_humble_exports_to_either_ros_version(
+        small_recording, tmp_path: Path, export_fmt: str) -> None:
+    # Humble stores no message definitions: the export writes the standard ones
+    recorded, truth = small_recording("ros2-sqlite3", "png")
+    folder = tmp_path / "session"
+    shutil.copytree(recorded, folder)
+    as_humble_records_it(folder / truth["recording"])
+    path = write_session(folder, truth, tmp_path / "review" / "session.json", PATTERN)
+    expected = _expected(path)
+    result = export_session_file(path, export_fmt, tmp_path / "bag")
+    got = _read(tmp_path / "bag" / BAG[export_fmt])
+    assert set(got) == set(expected) and result.frames == len(expected) > 0
+    for key, (log_time, rawdata, _ser) in expected.items():
+        src = parse_image(rawdata, True, True)  # png: a CompressedImage
+        _log, _raw, msg, msgtype = got[key]
+        assert _log == log_time and msgtype == "sensor_msgs/msg/CompressedImage"
+        assert msg.format == src.encoding and bytes(msg.data) == bytes(src.data)
 
 
 @pytest.mark.parametrize(("source_fmt", "encoding", "export_fmt"), [
