@@ -4,7 +4,9 @@ A mark is a band over the spoken word's extent, tinted and edged in its set's de
 colour, and a label along the top (decision symbol and set id). One item paints every
 band under the playhead and one every label over it. A pyqtgraph region and text item
 per set cost 2 ms each to make and move: 0.95 s on the window's thread to open 400 sets
-and 0.18 s on each step of a held ``]``.
+and 0.18 s on each step of a held ``]``. A decision or a change of the current set
+repaints only the columns of the band and labels that change: a whole view's repaint cost
+10 ms of the window's thread at 300 sets.
 """
 
 from __future__ import annotations
@@ -30,6 +32,12 @@ LABEL_PAD_PX = (4, 2)
 #: the data height the labels hang from (the waveform's y range is -1..1)
 LABEL_TOP_Y = 1.0
 BAND_ALPHA = 70
+#: a band's or label's repaint reaches this far beyond it, pixels (its edge lines, and
+#: the view's rounding of the area to whole pixels)
+REPAINT_PAD_PX = 3
+#: the order bands are painted in, by decision (where two bands overlap, the later one's
+#: tint lies on top), the same for a repaint of one band and of the whole view
+BAND_ORDER = tuple(DECISION_COLOURS)
 
 
 @dataclass
@@ -60,6 +68,10 @@ class WordMarks:
         self._by_middle: list[Mark] = []
         self.shift_s = 0.0
         self.current: int | None = None  # the set under the playhead: its label always shows
+        self._version = 0  # counts changes of the marks' places, texts and decisions
+        self._shown_key: tuple | None = None  # what the labels shown were thinned for
+        self._shown: list[Mark] = []
+        self._widths: dict[tuple[str, bool], float] = {}  # a label's width by text, bold
         self.font = QFont()
         self._metrics = QFontMetrics(self.font)
         self.current_font = QFont(self.font)
@@ -89,18 +101,24 @@ class WordMarks:
         self._changed()
 
     def set_decision(self, set_id: int, decision: str) -> None:
-        """Colour a set's mark for its new decision."""
+        """Colour a set's mark for its new decision (its band and the labels that change
+        are repainted)."""
         mark = self._marks.get(set_id)
-        if mark is not None and mark.decision != decision:
-            mark.decision = decision
-            self.bands.update()
-            self.labels.update()
+        if mark is None or mark.decision == decision:
+            return
+        labels = self._label_places()
+        mark.decision = decision
+        self._version += 1  # its label's width may change, and so the labels shown
+        self.bands.update_columns([self.extent(set_id)])
+        self._update_labels(labels)
 
     def set_current(self, set_id: int | None) -> None:
-        """The set under the playhead: its label is drawn bold and never thinned out."""
+        """The set under the playhead: its label is drawn bold and never thinned out (the
+        labels that change are repainted)."""
         if set_id != self.current:
+            labels = self._label_places()
             self.current = set_id
-            self.labels.update()
+            self._update_labels(labels)
 
     def set_shift(self, shift_s: float) -> None:
         """Draw every mark ``shift_s`` later than its extent (0: where it is)."""
@@ -142,10 +160,18 @@ class WordMarks:
         """The marks whose labels show in the view as it is now, from the left: one that
         would touch the last shown is left out ("?20?21" when two words lie close in the
         whole session's view), and so is one that would touch the current set's label,
-        which always shows."""
+        which always shows. Worked out again only when the view or the marks changed."""
         box = self.plot.getViewBox()
         (x0, x1), _y = box.viewRange()
         width = box.width()
+        key = (x0, x1, width, self.shift_s, self.current, self._version)
+        if key != self._shown_key:
+            self._shown = self._thin_labels(x0, x1, width)
+            self._shown_key = key
+        return list(self._shown)
+
+    def _thin_labels(self, x0: float, x1: float, width: float) -> list[Mark]:
+        """:meth:`shown_labels` worked out for the view ``x0``..``x1``, ``width`` pixels."""
         if x1 <= x0 or width <= 0:
             return []
         per_x = width / (x1 - x0)
@@ -172,21 +198,56 @@ class WordMarks:
 
     def label_width(self, mark: Mark) -> float:
         """A label's width on screen, pixels, its padding included (bold when current)."""
-        metrics = self._current_metrics if mark.set_id == self.current else self._metrics
-        return metrics.horizontalAdvance(mark.text) + 2 * LABEL_PAD_PX[0]
+        key = (mark.text, mark.set_id == self.current)
+        width = self._widths.get(key)
+        if width is None:
+            metrics = self._current_metrics if key[1] else self._metrics
+            width = self._widths[key] = metrics.horizontalAdvance(key[0]) + 2 * LABEL_PAD_PX[0]
+        return width
 
     def label_height(self) -> float:
         """A label's height on screen, pixels, its padding included."""
         return self._metrics.height() + 2 * LABEL_PAD_PX[1]
 
     def _changed(self) -> None:
+        self._version += 1
         for item in (self.bands, self.labels):
             item.prepareGeometryChange()
             item.update()
 
-    def visible(self) -> list[Mark]:
-        """The marks that overlap the view (drawn shifted)."""
-        (x0, x1), _y = self.plot.getViewBox().viewRange()
+    def _label_places(self) -> dict[int, tuple]:
+        """Per label shown, what its drawing depends on: where (x of its middle, width in
+        pixels), its text, decision (colour) and boldness."""
+        return {m.set_id: (m.middle + self.shift_s, self.label_width(m), m.text, m.decision,
+                           m.set_id == self.current) for m in self.shown_labels()}
+
+    def _update_labels(self, before: dict[int, tuple]) -> None:
+        """Repaint the labels whose place or look changed since ``before`` (as
+        :meth:`_label_places` gave it), where they were and where they are."""
+        box = self.plot.getViewBox()
+        (x0, x1), _y = box.viewRange()
+        width = box.width()
+        if x1 <= x0 or width <= 0:
+            return
+        per_px = (x1 - x0) / width
+        after = self._label_places()
+        spans = []
+        for set_id in before.keys() | after.keys():
+            was, now = before.get(set_id), after.get(set_id)
+            if was == now:
+                continue
+            for place in (was, now):
+                if place is not None:
+                    middle, label_px = place[:2]
+                    half = label_px / 2 * per_px
+                    spans.append((middle - half, middle + half))
+        self.labels.update_columns(spans)
+
+    def visible(self, x0: float | None = None, x1: float | None = None) -> list[Mark]:
+        """The marks that overlap the view (drawn shifted), or the span ``x0``..``x1``."""
+        (v0, v1), _y = self.plot.getViewBox().viewRange()
+        x0 = v0 if x0 is None else x0
+        x1 = v1 if x1 is None else x1
         s = self.shift_s
         return [m for m in self._marks.values() if m.end + s >= x0 and m.start + s <= x1]
 
@@ -198,6 +259,9 @@ class _Layer(pg.GraphicsObject):
         super().__init__()
         self.marks = marks
         self.is_labels = labels
+        # paint() is told the area to repaint (option.exposedRect): a decision repaints
+        # one band's column, not every band
+        self.setFlag(self.GraphicsItemFlag.ItemUsesExtendedStyleOption)
 
     def boundingRect(self) -> QRectF:
         """The view: marks are painted where they show, in screen pixels."""
@@ -211,32 +275,52 @@ class _Layer(pg.GraphicsObject):
         self.prepareGeometryChange()
         self.update()
 
-    def paint(self, painter: QPainter, _option: QStyleOptionGraphicsItem,
+    def update_columns(self, spans: list[tuple[float, float]]) -> None:
+        """Repaint the view's whole height over these spans of x (seconds), a few pixels
+        wider; the rest of the view is not painted again."""
+        box = self.getViewBox()
+        if box is None or not spans:
+            return
+        (x0, x1), (y0, y1) = box.viewRange()
+        width = box.width()
+        if x1 <= x0 or width <= 0:
+            return
+        pad = REPAINT_PAD_PX * (x1 - x0) / width
+        for a, b in spans:
+            self.update(QRectF(a - pad, y0, b - a + 2 * pad, y1 - y0))
+
+    def paint(self, painter: QPainter, option: QStyleOptionGraphicsItem,
               _widget: QWidget | None = None) -> None:
         box = self.getViewBox()
         if box is None:
             return
         to_screen = painter.transform()
         (_x0, _x1), (y0, y1) = box.viewRange()
+        exposed = option.exposedRect  # what is repainted (seconds): marks beyond it are not
         painter.save()
         painter.resetTransform()
         if self.is_labels:
-            self._paint_labels(painter, to_screen)
+            screen = to_screen.mapRect(exposed)
+            self._paint_labels(painter, to_screen, screen.left() - REPAINT_PAD_PX,
+                               screen.right() + REPAINT_PAD_PX)
         else:
             top, bottom = to_screen.map(QPointF(0, y1)).y(), to_screen.map(QPointF(0, y0)).y()
-            self._paint_bands(painter, to_screen, top, bottom)
+            pad = REPAINT_PAD_PX / max(abs(to_screen.m11()), 1e-12)
+            self._paint_bands(painter, to_screen, top, bottom,
+                              self.marks.visible(exposed.left() - pad, exposed.right() + pad))
         painter.restore()
 
     def _paint_bands(self, painter: QPainter, to_screen: QTransform, top: float,
-                     bottom: float) -> None:
+                     bottom: float, marks: list[Mark]) -> None:
         shift = self.marks.shift_s
-        bands: dict[str, list[QRectF]] = {}
-        for mark in self.marks.visible():
+        bands: dict[str, list[QRectF]] = {decision: [] for decision in BAND_ORDER}
+        for mark in marks:
             left = to_screen.map(QPointF(mark.start + shift, 0)).x()
             right = to_screen.map(QPointF(mark.end + shift, 0)).x()
-            bands.setdefault(mark.decision, []).append(
-                QRectF(left, top, right - left, bottom - top))
+            bands[mark.decision].append(QRectF(left, top, right - left, bottom - top))
         for decision, rects in bands.items():  # one brush and pen per decision
+            if not rects:
+                continue
             colour = DECISION_COLOURS[decision]
             painter.setPen(Qt.PenStyle.NoPen)
             painter.setBrush(QColor(colour.red(), colour.green(), colour.blue(), BAND_ALPHA))
@@ -245,7 +329,9 @@ class _Layer(pg.GraphicsObject):
             painter.drawLines([QLineF(x, top, x, bottom) for rect in rects
                                for x in (rect.left(), rect.right())])
 
-    def _paint_labels(self, painter: QPainter, to_screen: QTransform) -> None:
+    def _paint_labels(self, painter: QPainter, to_screen: QTransform, left: float,
+                      right: float) -> None:
+        """The labels shown that reach into ``left``..``right`` (screen pixels)."""
         marks = self.marks
         pad_x, pad_y = LABEL_PAD_PX
         height = marks.label_height()
@@ -253,6 +339,8 @@ class _Layer(pg.GraphicsObject):
         for mark in marks.shown_labels():
             middle = to_screen.map(QPointF(mark.middle + marks.shift_s, 0)).x()
             width = marks.label_width(mark)
+            if middle + width / 2 < left or middle - width / 2 > right:
+                continue
             rect = QRectF(middle - width / 2, top, width, height)
             painter.fillRect(rect, BACKGROUND)
             painter.setFont(marks.current_font if mark.set_id == marks.current else marks.font)
