@@ -51,9 +51,14 @@ def nearest_choice(stream: str, stamps: np.ndarray, t_ns: int,
 
 
 def nearest_choices(stream: str, stamps: np.ndarray, times_ns: Sequence[int],
-                    period_ns: int | None = None) -> list[FrameChoice]:
+                    period_ns: int | None = None,
+                    known: dict[int, FrameChoice] | None = None) -> list[FrameChoice]:
     """:func:`nearest_choice` for many times at once (one search over the stamps: an
-    offset edit moves every set, a dozen cameras' frames each)."""
+    offset edit moves every set, a dozen cameras' frames each).
+
+    ``known`` keeps the choices made, by frame index, to be given again (choices are
+    immutable): each step of a held ``]`` picks mostly frames it picked before.
+    """
     t = np.asarray(times_ns, dtype=np.int64).reshape(-1)
     n = stamps.size
     if n == 0:
@@ -66,9 +71,17 @@ def nearest_choices(stream: str, stamps: np.ndarray, times_ns: Sequence[int],
     near = st[idx]
     period = frame_period_ns(st) if period_ns is None else period_ns
     far = np.abs(near - t) > period // 2 + 1 if period else np.zeros(t.size, bool)
-    return [FrameChoice(stream, -1, int(s), flags=("no-frame",)) if f
-            else FrameChoice(stream, int(i), int(s))
-            for i, s, f in zip(idx.tolist(), near.tolist(), far.tolist(), strict=True)]
+    known = {} if known is None else known
+    out = []
+    for i, s, f in zip(idx.tolist(), near.tolist(), far.tolist(), strict=True):
+        if f:
+            out.append(FrameChoice(stream, -1, s, flags=("no-frame",)))
+            continue
+        choice = known.get(i)
+        if choice is None:
+            choice = known[i] = FrameChoice(stream, i, s)
+        out.append(choice)
+    return out
 
 
 def nearest_frame_sets(

@@ -67,6 +67,7 @@ from speechcal_core.review.undo_steps import (
 from speechcal_core.session.model import (
     FRAMES_BEFORE_EDIT_KEY,
     REVIEW_PLACE_KEY,
+    FrameChoice,
     FrameSet,
     Session,
     Trigger,
@@ -83,6 +84,10 @@ MEASURED_FOR_SYNC = ("frame_details", "frame_references")
 
 EVENTS = ("playhead", "current_set", "decision", "sets", "sync", "saved", "filter",
           "rescored", "checks", "similar")
+
+#: the nearest-frame choices an offset edit keeps for the next one, per stream: at most
+#: this many per set (a held ``]`` picks each set's next frames every few steps)
+NEAREST_KNOWN_PER_SET = 8
 
 #: ``Trigger.source`` of a trigger the operator added in review (kept in the session file)
 OPERATOR_SOURCE = "manual"
@@ -166,6 +171,11 @@ class ReviewModel:
             {s.name: source.stamps(s.name) for s in source.streams} if source else {}
         )
         self._periods = {k: frame_period_ns(v) for k, v in self._stamps.items()}
+        #: per stream, the nearest-frame choices made so far by frame index (given again
+        #: by the next offset edit that picks the frame)
+        self._nearest_known: dict[str, dict[int, FrameChoice]] = {k: {} for k in self._stamps}
+        #: per set id, the set and its time (:func:`set_time_ns`) as last worked out
+        self._times: dict[int, tuple[FrameSet, int]] = {}
         self._follow_sync()
         self.current = 0 if session.sets else -1
         #: which sets the list shows and J/K/Home/End step through (one of FILTERS)
@@ -278,10 +288,20 @@ class ReviewModel:
         # while listeners hear of a changed list, ``current`` may not be set yet
         first = [sets[self.current]] if 0 <= self.current < len(sets) else []
         for s in first + sets:
-            d = abs(set_time_ns(s) - self.playhead_ns)
+            d = abs(self._time_of(s) - self.playhead_ns)
             if d < best_d:
                 best, best_d = s, d
         return best
+
+    def _time_of(self, frame_set: FrameSet) -> int:
+        """:func:`set_time_ns` of ``frame_set``, worked out once per set (sets are
+        immutable: a changed set is another object)."""
+        known = self._times.get(frame_set.id)
+        if known is not None and known[0] is frame_set:
+            return known[1]
+        t_ns = set_time_ns(frame_set)
+        self._times[frame_set.id] = (frame_set, t_ns)
+        return t_ns
 
     def acting_set(self) -> FrameSet | None:
         """The set the keys A, R, Del and S act on: the current set, unless the playhead
@@ -347,7 +367,7 @@ class ReviewModel:
         shown = self.shown()
         current = self.current_set
         if shown and current is not None and self.playhead_ns != set_time_ns(current):
-            times = {i: set_time_ns(self.session.sets[i]) for i in shown}
+            times = {i: self._time_of(self.session.sets[i]) for i in shown}
             around = [i for i in shown if (times[i] - self.playhead_ns) * direction > 0
                       and i != self.current]
             self.go_to_set(min(around or shown, key=lambda i: abs(times[i] - self.playhead_ns)))
@@ -919,7 +939,11 @@ class ReviewModel:
             return
         details = self._frame_details()
         times = [int(now[i]) for i in moved]
-        nearest = [nearest_choices(name, st, times, self._periods[name])
+        for known in self._nearest_known.values():
+            if len(known) > NEAREST_KNOWN_PER_SET * len(sets):  # many edits went far
+                known.clear()
+        nearest = [nearest_choices(name, st, times, self._periods[name],
+                                   self._nearest_known[name])
                    for name, st in self._stamps.items()]
         for k, i in enumerate(moved):
             details.pop(str(sets[i].id), None)  # its corners are other frames'

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from review_models import open_model
 
+from speechcal_core.frames.nearest import nearest_choice
 from speechcal_core.review.model import KEY_BINDINGS, ReviewModel, set_time_ns
 from speechcal_core.session.store import load_session
 from speechcal_core.sources import open_recording
@@ -206,6 +207,45 @@ def test_offset_nudge_moves_sets_marks_sync_manual_and_saves(truth_session_file:
         for f in s.frames:
             if f.index >= 0:
                 assert abs(f.stamp_ns - s.t_ns) <= 1e9 / 15 / 2 + 1
+
+
+def test_offset_edits_back_and_forth_take_each_time_the_frames_nearest_the_sets(
+        truth_session_file: Path, monkeypatch) -> None:
+    """An offset edit gives again the frame choices it made before (a held ] picks mostly
+    the same frames): whatever it keeps, every set shows the frames nearest its time."""
+    import speechcal_core.review.model as review_model
+
+    model = open_model(truth_session_file)
+    streams = {name: model.source.stamps(name) for name in model.streams}
+
+    def nearest_everywhere() -> None:
+        for s in model.session.sets:
+            expected = [nearest_choice(name, stamps, s.t_ns) for name, stamps in streams.items()]
+            assert list(s.frames) == expected
+
+    for action in ("offset_plus_frame", "offset_plus_ms", "offset_minus_frame",
+                   "offset_plus_frame", "offset_minus_ms", "offset_minus_frame"):
+        model.trigger(action)
+        nearest_everywhere()
+    monkeypatch.setattr(review_model, "NEAREST_KNOWN_PER_SET", 0)  # what it kept, dropped
+    model.offset_plus_frame()
+    nearest_everywhere()
+    assert all(len(known) <= len(model.session.sets) for known in model._nearest_known.values())
+    model.undo()  # the frames measured for the sync before come back
+    nearest_everywhere()
+
+
+def test_the_set_at_the_playhead_follows_sets_changed_by_an_offset_edit(
+        truth_session_file: Path) -> None:
+    model = open_model(truth_session_file)
+    second = model.session.sets[1]
+    model.go_to_set(1)
+    assert model.set_at_playhead().id == second.id
+    model.offset_plus_frame()  # every set moves a frame on, the playhead with the current
+    assert model.playhead_ns == set_time_ns(model.session.sets[1]) != set_time_ns(second)
+    assert model.set_at_playhead() is model.session.sets[1]
+    model.set_playhead(set_time_ns(second))  # where the set was: its old time
+    assert model.set_at_playhead() is model.session.sets[1]  # within 50 ms still
 
 
 def test_c_puts_the_sound_at_the_playhead_where_the_cameras_saw_the_clap(
