@@ -1,42 +1,58 @@
-"""The frame-set list in the real review window (offscreen): UI-thread time by set count.
+"""The frame-set list and the waveform in the real review window (offscreen): UI-thread
+time by set count.
 
-A 30-minute calibration holds about 300 sets; the list is rewritten on every offset edit
-(each step of a held ``}``), at the end of re-scoring and on opening, one row changes on
-a decision, and a filter hides rows. Opens seeded sessions of 50, 300 and 1000 sets
+A 30-minute calibration holds about 300 sets; the list is rewritten and every word mark
+on the waveform moves on every offset edit (each step of a held ``}``), the list is
+rewritten at the end of re-scoring and on opening, one row and one mark change on a
+decision, and a filter hides rows. Opens seeded sessions of 50, 300 and 1000 sets
 over one synthetic recording (4 cameras; seeded figures, warnings and decisions) in the
-real window, once with the window's list and once with the named baseline
-``QTableWidget`` list it replaced (``widget_set_table.py``, a QTableWidget item per
-cell), in the same run, and measures per action, each followed by the repaint it asks
-for:
+real window as it is (``window``) and, in the same run, with one of two named baselines:
+
+- ``list baseline``: the ``QTableWidget`` list the list replaced (``widget_set_table.py``,
+  a QTableWidget item per cell);
+- ``marks baseline``: the waveform's word marks (``baseline_word_marks.py``: every change
+  repaints the whole view) and the model's part of offset edits and of finding the set
+  at the playhead (``baseline_review_model.py``) as at commit c098894;
+
+and measures per action, each followed by the repaint it asks for:
 
 - ``offset``: ``}`` / ``{`` (every row changes: time, nearest frames, "…");
 - ``marks``: the "…" of re-scoring on every row and off again, as at the end of
   re-scoring (``refresh_rescore_marks``);
 - ``decision``: ``A``, ``R``, ``U``, ``U`` in turn on an undecided set (one row changes;
   "then next set" off);
+- ``next``: ``A``, ``U`` in turn with "then next set" on, as the window starts (the
+  current set changes too);
 - ``filter``: ``F`` (all, undecided, accepted, rejected, all: rows hidden and shown);
 - ``open``: opening the session file, the window's thread only (building the review
   page once the worker has loaded the session).
 
-Each figure is the window's whole action and, in brackets, the list's share (time inside
-the list's methods and its repaints), as wall time and as CPU time of the window's thread
-(which other programs' load on the machine disturbs less). ``--busy`` runs a pure-Python
-thread beside it, as a re-scoring or a calibration check holds the GIL on the window's
-machine: every call between Python and Qt may then wait for the GIL (up to a switch
-interval, 5 ms).
+Each figure is the window's whole action and the shares of the list (time inside the
+list's methods and its repaints), of the waveform (inside its methods and its repaints)
+and of the model's parts above, as wall time and, in brackets, as CPU time of the
+window's thread (which other programs' load on the machine disturbs less); a baseline's
+line ends with its ratio to the window's (whole action, and the share it replaces).
+``--busy`` runs a pure-Python thread beside it, as a re-scoring or a calibration check
+holds the GIL on the window's machine: every call between Python and Qt may then wait
+for the GIL (up to a switch interval, 5 ms).
 Background work the actions schedule (re-scoring, the calibration check) is kept from
 starting, so that the figures are the window's own.
 
     python benchmarks/bench_set_table.py                 # 50, 300 and 1000 sets
     python benchmarks/bench_set_table.py --sets 300 --repeats 9 --busy
+    python benchmarks/bench_set_table.py --sets 300 --baselines marks --rounds 3
     python benchmarks/bench_set_table.py --data /tmp/bench-list   # keep the recording
 
-Prints medians and ratios (baseline / list); asserts nothing.
+``--rounds`` measures the window and its baselines in turn that many times (the
+medians are over all rounds), so that the machine's load falls on each alike.
+
+Prints medians and ratios (baseline / window); asserts nothing.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import itertools
 import os
 import shutil
@@ -46,8 +62,7 @@ import tempfile
 import threading
 import time
 from collections.abc import Callable
-from contextlib import contextmanager
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
@@ -57,13 +72,18 @@ for path in (REPO, REPO / "benchmarks"):
         sys.path.insert(0, str(path))
 
 import numpy as np  # noqa: E402
+from baseline_review_model import model_as_before  # noqa: E402
+from baseline_word_marks import WordMarks as BaselineWordMarks  # noqa: E402
 from bench_data import session_folder  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 from widget_set_table import WidgetSetTable  # noqa: E402
 
 import app.main_window as main_window  # noqa: E402
+import app.waveform as waveform  # noqa: E402
 from app.set_table import SetTable  # noqa: E402
+from app.word_marks import WordMarks  # noqa: E402
 from speechcal_core.frames.nearest import nearest_frame_sets  # noqa: E402
+from speechcal_core.review.model import ReviewModel  # noqa: E402
 from speechcal_core.session.model import Session, Trigger  # noqa: E402
 from speechcal_core.session.store import save_session  # noqa: E402
 from speechcal_core.sources import open_recording  # noqa: E402
@@ -116,14 +136,14 @@ def make_session(folder: Path, truth: dict, n: int, out: Path) -> Path:
 
 
 class _Share:
-    """Time spent inside the list (outermost calls only), for the list's share: wall
-    and the window's thread's CPU time."""
+    """Time spent inside one part of the window (outermost calls only), for its share:
+    wall and the window's thread's CPU time."""
 
     def __init__(self) -> None:
         self.seconds = self.cpu = 0.0
         self.depth = 0
 
-    @contextmanager
+    @contextlib.contextmanager
     def inside(self):
         self.depth += 1
         start, cpu = time.perf_counter(), time.thread_time()
@@ -139,28 +159,59 @@ class _Share:
         self.seconds = self.cpu = 0.0
 
 
-SHARE = _Share()
+#: the parts whose shares are measured
+SHARES = {"list": _Share(), "waveform": _Share(), "model": _Share()}
 _COPIES = itertools.count()
-TIMED = ("set_sets", "update_row", "show_rows", "select_row")
+#: the window-facing methods of each part (the list's and the waveform's repaints too)
+TIMED = {"list": ("set_sets", "update_row", "show_rows", "select_row"),
+         "waveform": ("set_sets", "update_set", "set_sync", "set_claps", "set_playhead"),
+         "marks": ("set_current",),
+         "model": ("_follow_sync", "set_at_playhead")}
 
 
-def timed_class(base: type) -> type:
-    """``base`` with its window-facing methods and repaints counted in :data:`SHARE`."""
+def _counted(share: _Share, real: Callable) -> Callable:
+    def method(self, *args, **kwargs):
+        with share.inside():
+            return real(self, *args, **kwargs)
+    return method
 
-    def wrap(name: str) -> Callable:
-        real = getattr(base, name)
 
-        def method(self, *args, **kwargs):
-            with SHARE.inside():
-                return real(self, *args, **kwargs)
-        return method
+def timed_class(base: type, part: str = "list", share: str | None = None) -> type:
+    """``base`` with the methods :data:`TIMED` names for ``part`` (and its repaints, if
+    a widget) counted in the share ``share`` (default ``part``)."""
+    counted = SHARES[share or part]
+    methods = {name: _counted(counted, getattr(base, name)) for name in TIMED[part]}
+    if hasattr(base, "paintEvent"):
+        methods["paintEvent"] = _counted(counted, base.paintEvent)
+    return type(f"Timed{base.__name__}", (base,), methods)
 
-    def paintEvent(self, event):
-        with SHARE.inside():
-            base.paintEvent(self, event)
 
-    return type(f"Timed{base.__name__}", (base,),
-                {**{name: wrap(name) for name in TIMED}, "paintEvent": paintEvent})
+@dataclass(frozen=True)
+class Variant:
+    """The window as measured: its list, its waveform's word marks, and whether the
+    model does its offset-edit part as at the marks' baseline."""
+
+    table: type
+    marks: type
+    model_before: bool = False
+
+
+VARIANTS = {"window": Variant(SetTable, WordMarks),
+            "list baseline": Variant(WidgetSetTable, WordMarks),
+            "marks baseline": Variant(SetTable, BaselineWordMarks, model_before=True)}
+#: the share each baseline replaces, for its ratio
+REPLACED = {"list baseline": "list", "marks baseline": "waveform"}
+
+
+def reset_shares() -> None:
+    for share in SHARES.values():
+        share.reset()
+
+
+def share_figures() -> tuple[float, ...]:
+    """Every share's wall and CPU ms since :func:`reset_shares`."""
+    return tuple(ms for share in SHARES.values()
+                 for ms in (share.seconds * 1000, share.cpu * 1000))
 
 
 def settle(app: QApplication, window) -> None:
@@ -172,32 +223,36 @@ def settle(app: QApplication, window) -> None:
         action.timer.stop()
 
 
-Figures = tuple[float, float, float, float]  # ms: wall, CPU, and the list's wall, CPU
+Figures = tuple[float, ...]  # ms: wall, CPU, then each share's wall, CPU (SHARES' order)
 
 
 def medians(runs: list[Figures]) -> Figures:
+    """Each column's median over ``runs``."""
     return tuple(statistics.median(column) for column in zip(*runs, strict=True))
 
 
 def measure(app: QApplication, window, action: Callable[[], object],
-            repeats: int) -> Figures:
-    """Medians of ``action`` (with its repaint) and of the list's share of it."""
+            repeats: int) -> list[Figures]:
+    """Every run of ``action`` (with its repaint) and the shares of it."""
     runs = []
     for _ in range(repeats):
         settle(app, window)
-        SHARE.reset()
+        reset_shares()
         start, cpu = time.perf_counter(), time.thread_time()
         action()
         settle(app, window)
         runs.append(((time.perf_counter() - start) * 1000, (time.thread_time() - cpu) * 1000,
-                     SHARE.seconds * 1000, SHARE.cpu * 1000))
-    return medians(runs)
+                     *share_figures()))
+    return runs
 
 
-def open_window(app: QApplication, path: Path, table_class: type):
+def open_window(app: QApplication, path: Path, variant: Variant):
     """A shown window with ``path`` open; (window, :data:`Figures` of the window's thread
     building the review page)."""
-    main_window.SetTable = table_class
+    main_window.SetTable = timed_class(variant.table)
+    main_window.WaveformView = timed_class(waveform.WaveformView, "waveform")
+    waveform.WordMarks = timed_class(variant.marks, "marks", "waveform")
+    main_window.ReviewModel = timed_class(ReviewModel, "model")  # as the variant has it
     window = main_window.ReviewWindow()
     window.setProperty("headless", True)
     window.resize(1400, 900)
@@ -206,12 +261,12 @@ def open_window(app: QApplication, path: Path, table_class: type):
     real = window._on_loaded
 
     def on_loaded(inputs) -> None:
-        SHARE.reset()
+        reset_shares()
         start, cpu = time.perf_counter(), time.thread_time()
         real(inputs)
         app.processEvents()  # the first paint of the page
         built.append(((time.perf_counter() - start) * 1000,
-                      (time.thread_time() - cpu) * 1000, SHARE.seconds * 1000, SHARE.cpu * 1000))
+                      (time.thread_time() - cpu) * 1000, *share_figures()))
 
     window._on_loaded = on_loaded
     fresh = path.with_name(f"{path.stem}-{next(_COPIES)}.json")  # the file as made: the
@@ -233,14 +288,19 @@ def close_window(app: QApplication, window) -> None:
     app.processEvents()
 
 
-def run_list(app: QApplication, path: Path, table_class: type, repeats: int) -> dict:
-    """Every action's (median ms, list share ms) with the window's list ``table_class``."""
+def run_variant(app: QApplication, path: Path, variant: Variant, repeats: int) -> dict:
+    """Every action's runs (:data:`Figures`) in the window as ``variant``."""
+    with model_as_before(ReviewModel) if variant.model_before else contextlib.nullcontext():
+        return _run_actions(app, path, variant, repeats)
+
+
+def _run_actions(app: QApplication, path: Path, variant: Variant, repeats: int) -> dict:
     opened = []
     for _ in range(max(1, repeats // 3)):  # opening is slow: fewer repeats
-        window, figures = open_window(app, path, timed_class(table_class))
+        window, figures = open_window(app, path, variant)
         opened.append(figures)
         close_window(app, window)
-    window, _figures = open_window(app, path, timed_class(table_class))
+    window, _figures = open_window(app, path, variant)
     model = window.model
     window.advance_box.setChecked(False)  # decisions stay on the set
     sets = model.session.sets
@@ -248,7 +308,7 @@ def run_list(app: QApplication, path: Path, table_class: type, repeats: int) -> 
                          if sets[i].decision == "undecided"))
     settle(app, window)
     turn = iter(range(10**9))
-    figures = {"open": medians(opened)}
+    figures = {"open": opened}
     figures["offset"] = measure(app, window, lambda: window.run_action(
         ("offset_plus_frame", "offset_minus_frame")[next(turn) % 2]), repeats)
 
@@ -259,13 +319,17 @@ def run_list(app: QApplication, path: Path, table_class: type, repeats: int) -> 
     decisions = iter(range(10**9))
     figures["decision"] = measure(app, window, lambda: window.run_action(
         ("accept", "reject", "undo", "undo")[next(decisions) % 4]), repeats)
+    window.advance_box.setChecked(True)  # as the window starts: on to the next set
+    figures["next"] = measure(app, window, lambda: window.run_action(
+        ("accept", "undo")[next(decisions) % 2]), repeats)
+    window.advance_box.setChecked(False)
     figures["filter"] = measure(app, window, lambda: window.run_action("next_filter"),
                                 repeats)
     close_window(app, window)
     return figures
 
 
-@contextmanager
+@contextlib.contextmanager
 def busy_thread(on: bool):
     """A pure-Python thread holding the GIL as a worker does, while ``on``."""
     stop = threading.Event()
@@ -285,43 +349,65 @@ def busy_thread(on: bool):
             thread.join()
 
 
+ACTIONS = ("offset", "marks", "decision", "next", "filter", "open")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sets", type=int, nargs="+", default=[50, 300, 1000])
     parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--rounds", type=int, default=1,
+                        help="measure the window and its baselines in turn this many times")
     parser.add_argument("--busy", action="store_true",
                         help="a pure-Python thread runs beside the window (GIL contention)")
-    parser.add_argument("--no-baseline", action="store_true",
-                        help="measure only the window's list")
+    parser.add_argument("--baselines", nargs="*", choices=("list", "marks"),
+                        default=["list", "marks"],
+                        help="the named baselines to measure beside the window (none: "
+                             "the window only)")
     parser.add_argument("--data", help="folder of the recording (made there once, kept)")
     parser.add_argument("--keep", action="store_true", help="keep the temporary recording")
     args = parser.parse_args()
     app = QApplication.instance() or QApplication([])
-    lists = [("list", SetTable)] + ([] if args.no_baseline else [("baseline", WidgetSetTable)])
+    names = ["window"] + [f"{b} baseline" for b in args.baselines]
     print(f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; "
           f"{'a busy Python thread beside' if args.busy else 'no other thread busy'}; "
-          f"median of {args.repeats} (open: {max(1, args.repeats // 3)}); ms of the "
-          "window's action, wall (CPU of its thread), [the list's share of it]", flush=True)
+          f"median of {args.repeats} x {args.rounds} round(s) (open: "
+          f"{max(1, args.repeats // 3)} x {args.rounds}); ms of the window's action, wall "
+          "(CPU of its thread), then the shares of the list, the waveform and the model's "
+          "parts", flush=True)
     with session_folder(args.data, args.keep, make_recording) as (folder, truth), \
             tempfile.TemporaryDirectory(prefix="speechcal-bench-list-") as tmp:
         for n in args.sets:
             path = make_session(folder, truth, n, Path(tmp) / f"sets{n}.json")
-            results = {}
-            for name, cls in lists:
-                with busy_thread(args.busy):
-                    results[name] = run_list(app, path, cls, args.repeats)
-            for action in ("offset", "marks", "decision", "filter", "open"):
-                line = f"{n:5d} sets  {action:8s}"
-                for name, _cls in lists:
-                    wall, cpu, share, share_cpu = results[name][action]
-                    line += f" | {name} {wall:6.1f} ({cpu:6.1f}) [{share:6.1f} ({share_cpu:5.1f})]"
-                if "baseline" in results:
-                    base, ours = results["baseline"][action], results["list"][action]
-                    ratios = [b / max(o, 1e-3) for b, o in zip(base, ours, strict=True)]
-                    line += (" | baseline/list {:4.1f}x ({:4.1f}x) [{:5.1f}x ({:5.1f}x)]"
-                             .format(*ratios))
-                print(line, flush=True)
+            runs: dict[str, dict[str, list[Figures]]] = {
+                name: {action: [] for action in ACTIONS} for name in names}
+            for _round in range(args.rounds):
+                for name in names:
+                    with busy_thread(args.busy):
+                        done = run_variant(app, path, VARIANTS[name], args.repeats)
+                    for action in ACTIONS:
+                        runs[name][action] += done[action]
+            for action in ACTIONS:
+                for k, name in enumerate(names):
+                    print(figures_line(n, action if k == 0 else "", name,
+                                       medians(runs[name][action]),
+                                       medians(runs["window"][action])), flush=True)
             print(f"      (load average {os.getloadavg()[0]:.1f})", flush=True)
+
+
+def figures_line(n: int, action: str, name: str, figures: Figures, window: Figures) -> str:
+    """One line of the table: ``name``'s figures for ``action``, and a baseline's ratios
+    to the window's (whole action, and the share it replaces)."""
+    wall, cpu, *shares = figures
+    line = f"{n:5d} sets  {action:8s} {name:14s} {wall:6.1f} ({cpu:6.1f})"
+    for k, share in enumerate(SHARES):
+        line += f" | {share} {shares[2 * k]:5.1f} ({shares[2 * k + 1]:5.1f})"
+    if name in REPLACED:
+        k = 2 + 2 * list(SHARES).index(REPLACED[name])
+        ratios = [figures[i] / max(window[i], 1e-3) for i in (0, 1, k, k + 1)]
+        line += " | x{:4.1f} ({:4.1f}) [{}: x{:4.1f} ({:4.1f})]".format(
+            *ratios[:2], REPLACED[name], *ratios[2:])
+    return line
 
 
 if __name__ == "__main__":
