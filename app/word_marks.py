@@ -16,12 +16,13 @@ from typing import TYPE_CHECKING
 
 import pyqtgraph as pg
 from PySide6.QtCore import QLineF, QPointF, QRectF, Qt
-from PySide6.QtGui import QColor, QFont, QFontMetrics, QPainter, QPen
+from PySide6.QtGui import QColor, QFont, QFontMetrics, QPainter, QPen, QTransform
 
 from app.style import BACKGROUND, DECISION_COLOURS, DECISION_SYMBOLS
 
 if TYPE_CHECKING:
-    from PySide6.QtGui import QTransform
+    from collections.abc import Callable
+
     from PySide6.QtWidgets import QStyleOptionGraphicsItem, QWidget
 
 #: the least room between two sets' labels, pixels: a label that would come closer to
@@ -36,8 +37,9 @@ BAND_ALPHA = 70
 #: the view's rounding of the area to whole pixels)
 REPAINT_PAD_PX = 3
 #: the order bands are painted in, by decision (where two bands overlap, the later one's
-#: tint lies on top), the same for a repaint of one band and of the whole view
-BAND_ORDER = tuple(DECISION_COLOURS)
+#: tint lies on top: a rejected set's), the same for a repaint of one band and of the
+#: whole view (it was the order of each decision's first set in view)
+BAND_ORDER = ("accepted", "undecided", "rejected")
 
 
 @dataclass
@@ -313,21 +315,22 @@ class _Layer(pg.GraphicsObject):
     def _paint_bands(self, painter: QPainter, to_screen: QTransform, top: float,
                      bottom: float, marks: list[Mark]) -> None:
         shift = self.marks.shift_s
-        bands: dict[str, list[QRectF]] = {decision: [] for decision in BAND_ORDER}
-        for mark in marks:
-            left = to_screen.map(QPointF(mark.start + shift, 0)).x()
-            right = to_screen.map(QPointF(mark.end + shift, 0)).x()
-            bands[mark.decision].append(QRectF(left, top, right - left, bottom - top))
-        for decision, rects in bands.items():  # one brush and pen per decision
-            if not rects:
+        to_x = screen_x(to_screen)
+        height = bottom - top
+        bands: dict[str, list[tuple[float, float]]] = {decision: [] for decision in BAND_ORDER}
+        for mark in marks:  # (left, width), pixels
+            left = to_x(mark.start + shift)
+            bands[mark.decision].append((left, to_x(mark.end + shift) - left))
+        for decision, spans in bands.items():  # one brush and pen per decision
+            if not spans:
                 continue
             colour = DECISION_COLOURS[decision]
             painter.setPen(Qt.PenStyle.NoPen)
             painter.setBrush(QColor(colour.red(), colour.green(), colour.blue(), BAND_ALPHA))
-            painter.drawRects(rects)
+            painter.drawRects([QRectF(left, top, width, height) for left, width in spans])
             painter.setPen(QPen(colour, 1))
-            painter.drawLines([QLineF(x, top, x, bottom) for rect in rects
-                               for x in (rect.left(), rect.right())])
+            painter.drawLines([QLineF(x, top, x, bottom) for left, width in spans
+                               for x in (left, left + width)])  # as QRectF.right() has it
 
     def _paint_labels(self, painter: QPainter, to_screen: QTransform, left: float,
                       right: float) -> None:
@@ -346,3 +349,13 @@ class _Layer(pg.GraphicsObject):
             painter.setFont(marks.current_font if mark.set_id == marks.current else marks.font)
             painter.setPen(DECISION_COLOURS[mark.decision].lighter(140))
             painter.drawText(rect.adjusted(pad_x, pad_y, -pad_x, -pad_y), 0, mark.text)
+
+
+def screen_x(to_screen: QTransform) -> Callable[[float], float]:
+    """Where ``to_screen`` puts an x (seconds) on the screen, pixels. A scale and shift
+    (the view's, always) is worked out here as QTransform.map does it, to the same bits,
+    without a QPointF made and mapped per mark."""
+    if to_screen.type().value > QTransform.TransformationType.TxScale.value:
+        return lambda x: to_screen.map(QPointF(x, 0.0)).x()
+    m11, dx = to_screen.m11(), to_screen.dx()
+    return lambda x: m11 * x + dx

@@ -8,13 +8,15 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 from PySide6.QtCore import QEvent, QObject, QPoint, QPointF, QRect, Qt
-from PySide6.QtGui import QColor, QImage
+from PySide6.QtGui import QColor, QImage, QTransform
 from truth_sessions import truth_session
 
 from app.main_window import ReviewWindow
 from app.waveform import WaveformView
+from app.word_marks import screen_x
 from speechcal_core.frames.nearest import nearest_frame_sets
 from speechcal_core.session.store import save_session
 from speechcal_core.sources import open_recording
@@ -158,3 +160,18 @@ def test_an_offset_edit_moves_the_marks_on_screen(qtbot, window) -> None:
     assert looks_accepted(band_colour(screen, wave, first))
     old_place = screen.pixelColor(_to_pixel(wave, before[0] + 0.2 * (before[1] - before[0])))
     assert not looks_accepted(old_place)
+
+
+def test_marks_are_placed_on_screen_to_the_bit_as_qtransform_maps_them() -> None:
+    """The bands are placed without a QPointF mapped per mark: the same pixels only if
+    the arithmetic is QTransform's own, to the last bit."""
+    rng = np.random.default_rng(5)
+    for _ in range(50):
+        m11, dx = rng.uniform(1.0, 5000.0), rng.uniform(-1e5, 1e5)
+        for transform in (QTransform(m11, 0, 0, -rng.uniform(10, 100), dx, 80.0),
+                          QTransform.fromTranslate(dx, 3.0), QTransform()):
+            to_x = screen_x(transform)
+            for x in rng.uniform(-200.0, 4000.0, 40).tolist():
+                assert to_x(x) == transform.map(QPointF(x, 0.0)).x()
+    rotated = QTransform().rotate(30)
+    assert screen_x(rotated)(2.0) == rotated.map(QPointF(2.0, 0.0)).x()
