@@ -1,19 +1,98 @@
-"""Sync accuracy on synthetic sessions: audio clap, camera clap, offset and drift errors.
+"""Sync accuracy on synthetic sessions: audio clap, camera clap, offset and drift errors,
+and the clap V fit's time against its baseline.
 
 Run: ``.venv/bin/python benchmarks/bench_sync.py [--seeds 0-5] [--claps 2] [--duration 60]
 [--snr 0,10,30]``. Sessions are made by ``speechcal synth`` in a temporary folder and
 scored against their truth.json; one line per session, then the worst figures.
+
+The V fit (``clap_video._fit_v``) is timed in the same run against the baseline
+``fit_v_baseline`` below, the fit as it was (one ``np.linalg.lstsq`` per grid vertex): each
+session is synced in this process once with each (the baseline first), giving both sync
+times and any difference of offset, drift or camera clap; then the V fits that sync made
+are timed alone, the median of ``--repeats`` runs of all of them.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import statistics
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
+from timing import median_ms
+
+from speechcal_core.audio import load_audio
+from speechcal_core.sources import open_recording
+from speechcal_core.sync import clap_video
+from speechcal_core.sync.pipeline import sync_recording
+
+
+def fit_v_baseline(x: np.ndarray, y: np.ndarray, t_min: float,
+                   period: float) -> tuple[float | None, float]:
+    """The V fit before it was batched (frozen here as the baseline): a least-squares
+    solve per vertex of the grid."""
+    grid = np.arange(t_min - 0.25 - period, t_min + 0.25 + period, 2.5e-4)
+    best, best_err = None, np.inf
+    for tc in grid:
+        b = np.stack([np.ones_like(x), np.minimum(x - tc, 0.0), np.maximum(x - tc, 0.0)],
+                     axis=1)
+        if (x < tc).sum() < 2 or (x > tc).sum() < 1:
+            continue
+        coef, *_ = np.linalg.lstsq(b, y, rcond=None)
+        if coef[1] >= 0 or coef[2] <= 0:
+            continue
+        err = float(np.sum((b @ coef - y) ** 2))
+        if err < best_err:
+            best, best_err = float(tc), err
+    return best, best_err
+
+
+def _sync_with(fit, recording: Path, audio: Path, calls: list | None = None):
+    """Sync in this process with ``fit`` as the V fit: (result, seconds); ``calls``
+    collects the fits' arguments."""
+    def recorded(*args):
+        if calls is not None:
+            calls.append(args)
+        return fit(*args)
+
+    kept = clap_video._fit_v
+    clap_video._fit_v = recorded
+    try:
+        with open_recording([str(recording)]) as src:
+            sound = load_audio(str(audio))
+            t0 = time.perf_counter()
+            result = sync_recording(src, sound)
+            return result, time.perf_counter() - t0
+    finally:
+        clap_video._fit_v = kept
+
+
+def _compare_fit(out: Path, truth: dict, repeats: int) -> dict:
+    """The V fit against its baseline on one session: sync times, fit times, differences."""
+    recording, audio = out / truth["recording"], out / "audio.ogg"
+    old, old_s = _sync_with(fit_v_baseline, recording, audio)
+    calls: list = []
+    new, new_s = _sync_with(clap_video._fit_v, recording, audio, calls)
+    old_clap = [c.clap_ns for clap in old.claps for c in clap.cameras]
+    new_clap = [c.clap_ns for clap in new.claps for c in clap.cameras]
+    fit_old = median_ms(lambda: [fit_v_baseline(*a) for a in calls], repeats)
+    fit_new = median_ms(lambda: [clap_video._fit_v(*a) for a in calls], repeats)
+    return {
+        "v_fits": len(calls),
+        "fits_baseline_ms": round(fit_old, 1), "fits_ms": round(fit_new, 2),
+        "fits_ratio": round(fit_old / fit_new, 1),
+        "sync_baseline_s": round(old_s, 2), "sync_new_s": round(new_s, 2),
+        "same_claps": len(old_clap) == len(new_clap),
+        "offset_diff_ns": new.model.offset_ns - old.model.offset_ns,
+        "drift_diff_ppm": (new.model.drift - old.model.drift) * 1e6,
+        "max_clap_diff_ns": max((abs(a - b) for a, b in zip(old_clap, new_clap,
+                                                            strict=False)), default=0),
+    }
 
 
 def _run(args: argparse.Namespace, seed: int, snr: float, work: Path) -> dict:
@@ -31,6 +110,7 @@ def _run(args: argparse.Namespace, seed: int, snr: float, work: Path) -> dict:
     elapsed = time.perf_counter() - t0
     if p.returncode:
         return {"seed": seed, "snr": snr, "error": p.stderr.strip()}
+    fit = _compare_fit(out, truth, args.repeats)  # after the index the sync above kept
     doc = json.loads(p.stdout)
     offsets = {c["name"]: c["clock_offset_ns"] for c in truth["cameras"]}
     cam_ms = [(k["clap_ns"] - t["session_ns"] - offsets[k["name"]]) / 1e6
@@ -46,8 +126,13 @@ def _run(args: argparse.Namespace, seed: int, snr: float, work: Path) -> dict:
         "camera_ms": [round(v, 2) for v in cam_ms],
         "offset_at_clap_ms": round((got_at - true_at) / 1e6, 3),
         "drift_error_ppm": round((doc["drift"] - truth["sync"]["drift"]) * 1e6, 2),
-        "sync_s": round(elapsed, 2), "warnings": doc["warnings"],
+        "sync_s": round(elapsed, 2), "warnings": doc["warnings"], **fit,
     }
+
+
+def _median(values) -> float | None:
+    values = list(values)
+    return round(statistics.median(values), 2) if values else None
 
 
 def main() -> int:
@@ -60,6 +145,7 @@ def main() -> int:
     ap.add_argument("--cameras", type=int, default=2)
     ap.add_argument("--size", default="320x240")
     ap.add_argument("--drift-ppm", type=float, default=40.0)
+    ap.add_argument("--repeats", type=int, default=5, help="runs of the V fits timed alone")
     args = ap.parse_args()
     lo, _, hi = args.seeds.partition("-")
     seeds = range(int(lo), int(hi or lo) + 1)
@@ -78,6 +164,18 @@ def main() -> int:
         "max_audio_ms": max(audio, default=None),
         "max_camera_ms": max((abs(v) for r in ok for v in r["camera_ms"]), default=None),
         "max_offset_ms": max((abs(r["offset_at_clap_ms"]) for r in ok), default=None),
+        "v_fit": {
+            "baseline": "fit_v_baseline (one np.linalg.lstsq per vertex)",
+            "median_fits_baseline_ms": _median(r["fits_baseline_ms"] for r in ok),
+            "median_fits_ms": _median(r["fits_ms"] for r in ok),
+            "median_fits_ratio": _median(r["fits_ratio"] for r in ok),
+            "median_sync_baseline_s": _median(r["sync_baseline_s"] for r in ok),
+            "median_sync_new_s": _median(r["sync_new_s"] for r in ok),
+            "max_offset_diff_ns": max((abs(r["offset_diff_ns"]) for r in ok), default=None),
+            "max_drift_diff_ppm": max((abs(r["drift_diff_ppm"]) for r in ok), default=None),
+            "max_clap_diff_ns": max((r["max_clap_diff_ns"] for r in ok), default=None),
+            "all_same_claps": all(r["same_claps"] for r in ok),
+        },
     }
     if args.claps == 2:
         summary["max_drift_error_ppm"] = max((abs(r["drift_error_ppm"]) for r in ok),

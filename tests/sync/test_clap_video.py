@@ -75,3 +75,59 @@ def test_a_distance_that_neither_closes_nor_parts_has_no_vertex() -> None:
     touch = 1.35
     v = np.where(times < touch, 120 - 330 * (times - touch), 120 + 500 * (times - touch))
     assert _vertex(times, v, touch, period) == pytest.approx(touch, abs=2e-3)
+
+
+def _noisy_vs(count: int) -> list[tuple[np.ndarray, np.ndarray, float, float]]:
+    """Distance series as the clap's V fit meets them: (times, distances, t_min, period)."""
+    rng = np.random.default_rng(7)
+    series = []
+    for _ in range(count):
+        period = 1.0 / rng.choice([15, 25, 30, 60])
+        times = np.arange(int(rng.integers(6, 40))) * period + rng.uniform(0, 3)
+        touch = rng.uniform(times[2], times[-1])
+        closing, opening = rng.uniform(50, 400), rng.uniform(50, 600)
+        d = np.where(times < touch, -closing, opening) * (times - touch) + 40
+        d += rng.normal(0, rng.choice([0.0, 0.5, 3.0]), times.size)
+        series.append((times, d, float(times[np.argmin(d)]), period))
+    return series
+
+
+def test_the_v_fit_takes_a_vertex_as_good_as_a_least_squares_scan_finds() -> None:
+    """The grid's vertices are fitted in one batch, in closed form; the vertex taken fits
+    as well as the best of a least-squares solve per vertex (the same one, where only one
+    does), and a clean V's vertex is the scan's."""
+    from v_fit_scan import scan_vertices, vertex_fit
+
+    from speechcal_core.sync.clap_video import _fit_v
+
+    same = 0
+    for times, d, t_min, period in _noisy_vs(60):
+        want, want_err = scan_vertices(times, d, t_min, period)
+        got, got_err = _fit_v(times, d, t_min, period)
+        assert (got is None) == (want is None)
+        if got is None:
+            continue
+        err, coef = vertex_fit(times, d, got)
+        assert coef[1] < 0 < coef[2]
+        assert err == pytest.approx(want_err, rel=1e-9, abs=1e-12 * float(d @ d))
+        assert got_err == pytest.approx(err, rel=1e-9, abs=1e-12 * float(d @ d))
+        same += got == want
+    assert same >= 50  # the rest: stretches of the grid that fit alike
+    period = 1 / 30
+    times = np.arange(21) * period + 1.0
+    v = np.where(times < 1.3512, -330.0, 500.0) * (times - 1.3512) + 120
+    v += 0.2 * np.random.default_rng(1).standard_normal(21)
+    assert _fit_v(times, v, 1.35, period)[0] == scan_vertices(times, v, 1.35, period)[0]
+
+
+def test_the_v_fit_needs_no_solve_per_vertex(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A 30 fps V fit searches about 2,300 vertices; a least-squares solve for each (35,000
+    per sync) took most of a sync's time."""
+    from speechcal_core.sync import clap_video
+
+    solves = []
+    lstsq = np.linalg.lstsq
+    monkeypatch.setattr(np.linalg, "lstsq", lambda *a, **k: solves.append(1) or lstsq(*a, **k))
+    times, d, t_min, period = _noisy_vs(1)[0]
+    clap_video._fit_v(times, d, t_min, period)
+    assert solves == []

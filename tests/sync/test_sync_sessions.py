@@ -371,3 +371,33 @@ def test_talk_before_the_cameras_keeps_the_clap_and_says_where_the_sound_fell(
     note = next(w for w in r.warnings if "falls outside the recording" in w)
     assert "% before the cameras started, 0% after they stopped" in note
     assert "right if the microphone ran longer than the cameras" in note
+
+
+@pytest.mark.slow
+def test_the_batched_v_fit_gives_the_claps_a_scan_per_vertex_gave(
+        session_root: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every V fit of a two-clap sync takes the vertex a least-squares solve per vertex
+    takes, so the offset, the drift and each camera's clap are those of that scan."""
+    from v_fit_scan import scan_vertices
+
+    from speechcal_core.sync import clap_video
+
+    out, truth = make_session(session_root, seed=3, claps=2, duration=40.0, drift_ppm=40.0)
+    fits = []
+    batched = clap_video._fit_v
+
+    def recorded(*args):
+        fits.append((args, batched(*args)))
+        return fits[-1][1]
+
+    monkeypatch.setattr(clap_video, "_fit_v", recorded)
+    got = _sync(out, truth)
+    assert len(fits) >= 8
+    for args, (tc, err) in fits:
+        want_tc, want_err = scan_vertices(*args)
+        assert tc == want_tc and err == pytest.approx(want_err, rel=1e-9)
+    monkeypatch.setattr(clap_video, "_fit_v", scan_vertices)
+    want = _sync(out, truth)
+    assert got.model == want.model
+    assert [[c.clap_ns for c in clap.cameras] for clap in got.claps] == \
+        [[c.clap_ns for c in clap.cameras] for clap in want.claps]
