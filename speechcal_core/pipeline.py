@@ -162,8 +162,10 @@ def process_loaded(
     moving = moving_words_note(
         word_stillness(analysis.sets, analysis.extra.get("frame_details") or {}), audio,
         transcript)
+    unseen = target_not_found_note(analysis.sets, target, assumed)
     # what is wrong with the recording's files comes first: it may explain the rest
-    notes = [*recording_notes(source), *notes, *(n for n in (outside, short, moving) if n)]
+    notes = [*recording_notes(source), *notes,
+             *(n for n in (outside, short, moving, unseen) if n)]
     # what the review's "find trigger words" starts from (a transcript has no settings)
     settings = {} if transcript is not None else {
         SENSITIVITY_KEY: float(sensitivity),
@@ -248,6 +250,21 @@ def audio_ends_early_note(audio: str, duration_s: float, span: tuple[int, int] |
     return (f"{audio}: the audio ends after {duration_s:.1f} s, {missing_s:.1f} s before the "
             "recording's last frame: trigger words said after that are not found; is the "
             "audio file complete?")
+
+
+def target_not_found_note(sets: Sequence[FrameSet], target: Target,
+                          assumed: bool) -> str:
+    """A note when no camera found the target in any frame of any set ("" otherwise):
+    the board filmed is most likely another one than the target looked for."""
+    frames = [f for s in sets for f in s.frames]
+    if not frames or any(f.corners for f in frames):
+        return ""
+    board = target.describe() if hasattr(target, "describe") else "ChArUco board"
+    given = ("no --target was given, so Kalibr's default board was looked for" if assumed
+             else "is --target the board filmed?")
+    return (f"the {board} was not found in any frame of any camera ({len(frames)} frames "
+            f"of {len(sets)} frame sets): {given} Process again with --target TARGET.yaml "
+            "(the board's Kalibr target yaml) into a new session file")
 
 
 def outside_recording_note(sets: Sequence[FrameSet], span: tuple[int, int] | None,

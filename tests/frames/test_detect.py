@@ -175,3 +175,27 @@ def test_a_grid_whose_every_corner_refinement_fails_is_no_detection(monkeypatch)
     assert TargetDetector(target).detect(img) is None
     empty = detect.Detection(np.zeros((0, 2)), np.zeros(0, np.int32))
     assert empty.hull().shape == (0, 2)
+
+
+def test_a_frame_without_a_checkerboard_skips_the_exhaustive_search(monkeypatch) -> None:
+    """OpenCV's exhaustive checkerboard search took 1-3 s on each 256x192 frame holding
+    no checkerboard (an AprilGrid filmed, a wrong --target: minutes for a short session);
+    it now runs only where the plain search failed and OpenCV's classic detector finds
+    the whole board. A checkerboard is still found, in full."""
+    flags_used = []
+    find = cv2.findChessboardCornersSB
+
+    def recorded(image, size, flags=0):
+        flags_used.append(flags)
+        return find(image, size, flags=flags)
+
+    monkeypatch.setattr(cv2, "findChessboardCornersSB", recorded)
+    checkerboard = TargetSpec("checkerboard", 6, 8, 0.045)
+    rvec, tvec = facing_pose(TargetSpec(), 0.7, (0.3, -0.2), (0.02, 0.01), 0.2, flip_y=True)
+    aprilgrid = render_view(TargetSpec(), K, rvec, tvec, (640, 480))
+    assert TargetDetector(checkerboard).detect(aprilgrid) is None
+    assert flags_used and not any(f & cv2.CALIB_CB_EXHAUSTIVE for f in flags_used)
+    rvec, tvec = facing_pose(checkerboard, 0.7, (0.3, -0.2), (0.02, 0.01), 0.1)
+    board = render_view(checkerboard, K, rvec, tvec, (640, 480))
+    det = TargetDetector(checkerboard).detect(board)
+    assert det is not None and det.count == 48

@@ -340,3 +340,51 @@ def test_a_depth_stream_is_named_with_how_to_leave_it_out_before_any_work(
     assert "unknown image encoding '32FC1'" in line
     assert "leave the stream out with --skip-stream /depth/image_raw" in line
     assert not (tmp_path / "session.json").exists()
+
+
+CHECKERBOARD_YAML = ("target_type: 'checkerboard'\ntargetCols: 8\ntargetRows: 6\n"
+                     "rowSpacingMeters: 0.045\ncolSpacingMeters: 0.045\n")
+APRILGRID_YAML = ("target_type: 'aprilgrid'\ntagCols: 6\ntagRows: 6\ntagSize: 0.055\n"
+                  "tagSpacing: 0.3\n")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("fixture", "yaml", "board", "word"), [
+    ("snapshot_synth", CHECKERBOARD_YAML, "8x6 checkerboard of 0.045 m squares", "snapshot"),
+    ("checkerboard_synth", APRILGRID_YAML, "6x6 AprilGrid of 0.055 m tags", "capture"),
+], ids=["checkerboard-yaml-on-aprilgrid", "aprilgrid-yaml-on-checkerboard"])
+def test_a_wrong_target_is_named_as_found_in_no_frame(
+        fixture: str, yaml: str, board: str, word: str, request: pytest.FixtureRequest,
+        tmp_path: Path, capsys) -> None:
+    """A checkerboard yaml for an AprilGrid recording (or the other way round) found the
+    board nowhere; the session said only that no camera fit. Its notes now say the board
+    was in no frame and that --target may be the wrong one."""
+    out, truth = request.getfixturevalue(fixture)
+    target = tmp_path / "target.yaml"
+    target.write_text(yaml)
+    session = tmp_path / "session.json"
+    code = main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+                 "--trigger", word, "--offset-ns", str(truth["sync"]["offset_ns"]),
+                 "--target", str(target), "-o", str(session), "--json"])
+    captured = capsys.readouterr()
+    assert code == 0
+    notes = json.loads(captured.out)["notes"]
+    said = [n for n in notes if n.startswith(f"the {board} was not found in any frame")]
+    assert len(said) == 1, notes
+    assert "is --target the board filmed?" in said[0] and "--target TARGET.yaml" in said[0]
+    assert f"note: {said[0]}" in captured.err
+    sets = json.loads(session.read_text())["sets"]
+    assert sets and not any(f["corners"] for s in sets for f in s["frames"])
+
+
+def test_the_board_filmed_gives_no_such_note(checkerboard_synth, tmp_path: Path,
+                                            capsys) -> None:
+    out, truth = checkerboard_synth
+    target = tmp_path / "target.yaml"
+    target.write_text(CHECKERBOARD_YAML)
+    code = main(["process", str(out / truth["recording"]), "--audio", str(out / "audio.ogg"),
+                 "--offset-ns", str(truth["sync"]["offset_ns"]), "--target", str(target),
+                 "-o", str(tmp_path / "session.json"), "--json"])
+    assert code == 0
+    assert not any("was not found in any frame" in n
+                   for n in json.loads(capsys.readouterr().out)["notes"])
