@@ -13,10 +13,10 @@ from pathlib import Path
 
 import numpy as np
 import soundfile as sf
-from scipy.signal import resample_poly
 
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.loader import sound_file
+from speechcal_core.audio.resampling import resample_poly
 
 #: decoded before a stretch and dropped: Ogg Vorbis decodes a few hundred samples after a
 #: seek differently (the overlap of the previous block is missing); 4096 was enough on

@@ -6,9 +6,16 @@ from collections.abc import Iterable
 from math import gcd
 
 import numpy as np
-from scipy.signal import resample_poly
 
 BLOCK = 1 << 20  # input samples per block
+
+
+def resample_poly(x: np.ndarray, up: int, down: int) -> np.ndarray:
+    """scipy's ``resample_poly``, imported on first use: scipy.signal takes most of a
+    second to import, which a command's usage error need not wait for."""
+    from scipy.signal import resample_poly as poly
+
+    return poly(x, up, down)
 
 
 def _plan(rate_in: int, rate_out: int) -> tuple[int, int, int, int]:

@@ -32,14 +32,16 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand."""
     from speechcal_core.errors import UsageError
+
+    if not args.search_s > 0 or args.search_s == float("inf"):  # nan fails the first
+        raise UsageError(f"--search-s must be a positive number of seconds, got "
+                         f"{args.search_s:g}")
+    # the readers and the clap search only once the options are good (a usage error at once)
     from speechcal_core.sources import open_recording
     from speechcal_core.sync.manual import manual_sync
     from speechcal_core.sync.pipeline import sync_recording, sync_with_video_clap
     from speechcal_core.sync.sources import load_sync_audio
 
-    if not args.search_s > 0 or args.search_s == float("inf"):  # nan fails the first
-        raise UsageError(f"--search-s must be a positive number of seconds, got "
-                         f"{args.search_s:g}")
     with open_recording(args.recording) as source:
         # what is wrong with the files given (a part of a split bag) explains the rest
         for note in getattr(source, "notes", []):

@@ -50,7 +50,6 @@ def run(args: argparse.Namespace) -> int:
     """Run the subcommand."""
     from speechcal_core.errors import UsageError
     from speechcal_core.synth.options import SynthOptions
-    from speechcal_core.synth.session import generate_session
 
     try:
         width, height = (int(v) for v in args.size.lower().split("x"))
@@ -64,6 +63,10 @@ def run(args: argparse.Namespace) -> int:
         target_kind=args.target, ros1_compression=args.compression,
         rolling_shutter=args.rolling_shutter,
     )
+    # the renderer (numpy, OpenCV, the recording writers) only once the options are good:
+    # a usage error is told at once
+    from speechcal_core.synth.session import generate_session
+
     started = time.monotonic()
     last = {"stage": "", "shown": -1}
 

@@ -116,3 +116,56 @@ def test_output_that_cannot_be_written_gives_a_one_line_reason(tiny_synth) -> No
     assert done.returncode == 1
     assert done.stderr == ("speechcal index: error: could not write the output: "
                            "No space left on device\n")
+
+
+#: modules that take most of a second to import, none of which a usage error needs
+HEAVY = ("scipy.signal", "cv2", "rosbags", "pocketsphinx", "PySide6.QtCore")
+USAGE_ERRORS = [
+    (["synth", "OUT", "--cameras", "20"], "--cameras must be between 1 and 12, got 20"),
+    (["synth", "OUT", "--size", "12"], "--size must look like 640x480, got '12'"),
+    (["synth", "OUT", "--format", "bogus"], "unknown --format 'bogus'"),
+    (["sync", "REC.bag", "--audio", "A.ogg", "--search-s", "-1"],
+     "--search-s must be a positive number of seconds, got -1"),
+    (["process", "REC.bag", "-o", "S.json"], "a recording needs its audio: add --audio AUDIO"),
+    (["review", "REC.bag"], "a recording needs its audio: add --audio AUDIO"),
+    (["synth"], "the following arguments are required: OUT"),
+    (["synth", "OUT", "--bogus"], "unrecognized arguments: --bogus"),
+]
+
+
+@pytest.mark.parametrize(("argv", "message"), USAGE_ERRORS)
+def test_a_usage_error_is_told_before_any_heavy_import(argv, message, tmp_path: Path) -> None:
+    """A bad option of synth, sync, process or review took a second or more: scipy.signal
+    and the renderer or readers were imported before the options were checked."""
+    import json
+    import subprocess
+    import sys
+
+    probe = ("import json, sys\nfrom speechcal_core.cli import main\n"
+             "try:\n    code = main(sys.argv[1:])\nexcept SystemExit as exc:\n"
+             "    code = exc.code\n"
+             f"print(json.dumps([code, [m for m in {HEAVY!r} if m in sys.modules]]))")
+    argv = [str(tmp_path / a) if a in ("OUT", "REC.bag", "A.ogg", "S.json") else a
+            for a in argv]
+    p = subprocess.run([sys.executable, "-c", probe, *argv], capture_output=True, text=True,
+                       timeout=60)
+    code, imported = json.loads(p.stdout)
+    assert code == 2
+    assert message in p.stderr.splitlines()[-1]
+    assert p.stderr.splitlines()[-1].startswith(f"speechcal {argv[0]}: error: ")
+    assert imported == []
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+def test_every_subcommands_help_imports_nothing_heavy(command: str) -> None:
+    import json
+    import subprocess
+    import sys
+
+    probe = ("import json, sys\nfrom speechcal_core.cli import main\n"
+             "try:\n    main(sys.argv[1:])\nexcept SystemExit as exc:\n"
+             f"    print(json.dumps([exc.code, [m for m in {HEAVY!r} if m in sys.modules]]))")
+    p = subprocess.run([sys.executable, "-c", probe, command, "--help"], capture_output=True,
+                       text=True, timeout=60)
+    assert p.stdout.startswith(f"usage: speechcal {command}")
+    assert json.loads(p.stdout.splitlines()[-1]) == [0, []]
