@@ -259,12 +259,11 @@ def target_not_found_note(sets: Sequence[FrameSet], target: Target,
     frames = [f for s in sets for f in s.frames]
     if not frames or any(f.corners for f in frames):
         return ""
-    board = target.describe() if hasattr(target, "describe") else "ChArUco board"
     given = ("no --target was given, so Kalibr's default board was looked for" if assumed
              else "is --target the board filmed?")
-    return (f"the {board} was not found in any frame of any camera ({len(frames)} frames "
-            f"of {len(sets)} frame sets): {given} Process again with --target TARGET.yaml "
-            "(the board's Kalibr target yaml) into a new session file")
+    return (f"the {target.describe()} was not found in any frame of any camera "
+            f"({len(frames)} frames of {len(sets)} frame sets): {given} Process again with "
+            "--target TARGET.yaml (the board's Kalibr target yaml) into a new session file")
 
 
 def outside_recording_note(sets: Sequence[FrameSet], span: tuple[int, int] | None,

@@ -33,6 +33,10 @@ class CharucoSpec:
     dictionary: int = cv2.aruco.DICT_5X5_100
     kind: str = "charuco"
 
+    def describe(self) -> str:
+        """The board in words: "7x5 ChArUco board of 0.04 m squares"."""
+        return f"{self.squares_x}x{self.squares_y} ChArUco board of {self.square:g} m squares"
+
     def board(self) -> cv2.aruco.CharucoBoard:
         """The OpenCV board object."""
         d = cv2.aruco.getPredefinedDictionary(self.dictionary)

@@ -45,6 +45,11 @@ def test_checkerboard_corners_are_found_row_major_up_to_board_symmetry() -> None
     assert err < 0.3
 
 
+def test_each_board_kind_is_described_in_words() -> None:
+    assert CharucoSpec().describe() == "7x5 ChArUco board of 0.04 m squares"
+    assert TargetSpec().describe() == "6x6 AprilGrid of 0.055 m tags"
+
+
 def test_charuco_corners_match_board_ids() -> None:
     target = CharucoSpec()
     rvec, tvec = facing_pose(target, 0.7, (0.3, -0.2), (0.02, 0.01), 0.2)
