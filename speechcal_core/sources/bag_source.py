@@ -176,7 +176,7 @@ class BagSource(ClosingContext):
 
             self._refuse_copies(topic, parts)
             files = np.concatenate([np.full(len(t.stamps), fi, np.int32) for fi, t in parts])
-            st = stamp_stats([t.stamps for _, t in parts])
+            st = stamp_stats([t.stamps for _, t in parts], unset_out=True)
             o = st.order
             s = _Stream(
                 info=StreamInfo(

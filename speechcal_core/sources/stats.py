@@ -22,17 +22,27 @@ class StampStats:
     problems: str
 
 
-def stamp_stats(parts: Sequence[np.ndarray]) -> StampStats:
+def stamp_stats(parts: Sequence[np.ndarray], *, unset_out: bool = False) -> StampStats:
     """Sort stamps (stable) and describe ordering problems, period and dropped frames.
 
     ``parts`` are the stamps of each file in storage order; out-of-order stamps are
-    counted within a file (split bags may be given in any order).
+    counted within a file (split bags may be given in any order). With ``unset_out``,
+    zero or negative stamps among positive ones (header stamps a driver did not set) are
+    left out of ``order`` and ``stamps``: they would put a frame decades before the rest.
     """
     arrays = [np.asarray(p, dtype=np.int64) for p in parts]
     raw = np.concatenate(arrays) if arrays else np.zeros(0, np.int64)
     problems: list[str] = []
+    unset = int(np.count_nonzero(raw <= 0)) if unset_out else 0
+    if 0 < unset < raw.size:
+        keep = np.flatnonzero(raw > 0)
+        arrays = [a[a > 0] for a in arrays]
+        problems.append(f"{counted(unset, 'frame')} with a zero or negative header stamp "
+                        "left out (not set by the camera driver?)")
+    else:
+        keep = np.arange(raw.size)
     backwards = sum(int(np.count_nonzero(np.diff(a) < 0)) for a in arrays)
-    order = np.argsort(raw, kind="stable")
+    order = keep[np.argsort(raw[keep], kind="stable")]
     stamps = raw[order]
     if backwards:
         problems.append(f"{counted(backwards, 'stamp')} out of order (sorted)")

@@ -199,6 +199,19 @@ def test_dropped_frames_are_counted_from_gaps(make_bag) -> None:
         assert info.count == 27 and info.dropped == 3 and info.median_period_ns == PERIOD
 
 
+@pytest.mark.parametrize("fmt", ["ros1", "ros2-mcap"])
+def test_a_frame_with_an_unset_header_stamp_is_left_out(make_bag, fmt: str) -> None:
+    """A camera driver's first frame stamped 0 put the stream's start in 1970: the clap
+    search (its first 20 s) found nothing, and the gap counted as dropped frames."""
+    stamps = [0, *regular(19, start=T0 + PERIOD)]
+    with open_recording([make_bag(fmt, [Cam("/cam0/image_raw", stamps)])]) as src:
+        (info,) = src.streams
+        assert info.count == 19 and info.first_ns == T0 + PERIOD and info.dropped == 0
+        assert "1 frame with a zero or negative header stamp left out" in info.stamp_problems
+        assert list(src.stamps("/cam0/image_raw")) == stamps[1:]
+        np.testing.assert_array_equal(src.frame("/cam0/image_raw", 0), pixels(0, 1))
+
+
 def test_index_is_cached_beside_the_recording_and_reused(make_bag, monkeypatch) -> None:
     path = make_bag("ros1")
     with open_recording([path]) as src:

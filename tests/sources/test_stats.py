@@ -45,6 +45,18 @@ def test_unset_stamps_are_reported() -> None:
     assert "not set" in stamp_stats([np.zeros(3, np.int64)]).problems
 
 
+def test_an_unset_stamp_among_set_ones_is_left_out_where_asked() -> None:
+    """A driver's first frame with a zero header stamp: counted as 34 billion dropped
+    frames, and the stream's start put in 1970."""
+    stamps = np.array([0, 1000, 1100, 1200, 1300], np.int64)
+    st = stamp_stats([stamps], unset_out=True)
+    assert list(st.stamps) == [1000, 1100, 1200, 1300] and list(st.order) == [1, 2, 3, 4]
+    assert st.dropped == 0 and st.median_period_ns == 100
+    assert st.problems == ("1 frame with a zero or negative header stamp left out "
+                           "(not set by the camera driver?)")
+    assert list(stamp_stats([stamps]).stamps) == list(stamps)  # a video's first frame is 0
+
+
 @pytest.mark.parametrize(
     ("t", "want"), [(-5, 0), (0, 0), (49, 0), (50, 0), (51, 1), (140, 1), (151, 2), (999, 2)]
 )
