@@ -267,7 +267,11 @@ def load_session(path: str | Path) -> Session:
         text = path.read_text(encoding="utf-8-sig")  # an editor's BOM is fine
         data = json.loads(text)
     except FileNotFoundError:
-        raise SessionFileError(f"{path}: no such session file") from None
+        bak = _backup(path)
+        raise SessionFileError(
+            f"{path}: no such session file; "
+            + (f"its previous version is in {bak.name}: rename it to {path.name} to open it"
+               if bak else "check the path")) from None
     except UnicodeDecodeError:
         raise SessionFileError(
             f"{path}: not a session file (not JSON text); a session file is what 'speechcal "

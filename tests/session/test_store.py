@@ -436,8 +436,19 @@ def test_broken_json_names_file_and_backup(tmp_path: Path) -> None:
 
 
 def test_missing_file_is_a_clear_error(tmp_path: Path) -> None:
-    with pytest.raises(SessionFileError, match="no such session file"):
+    with pytest.raises(SessionFileError, match="no such session file; check the path"):
         load_session(tmp_path / "nope.json")
+
+
+def test_a_missing_file_whose_backup_is_there_names_the_backup(tmp_path: Path) -> None:
+    """Deleted (or renamed) by mistake: the previous version beside it is the way back."""
+    path = tmp_path / "session.json"
+    save_session(_session(tmp_path), path)
+    save_session(_session(tmp_path), path)
+    path.unlink()
+    with pytest.raises(SessionFileError, match=r"no such session file; its previous version "
+                                               r"is in session\.json\.bak: rename it"):
+        load_session(path)
 
 
 def test_a_synthetic_sessions_truth_file_is_refused_and_left_alone(
