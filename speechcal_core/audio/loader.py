@@ -13,9 +13,14 @@ import soundfile as sf
 
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.resampling import resample, resample_blocks
+from speechcal_core.fsutil import shell_quoted
 
+#: endings of audio files libsndfile does not decode (a phone's or Windows' recorder):
+#: taken for the audio, and refused naming how to convert them
+UNREAD_SUFFIXES = (".m4a", ".aac", ".wma")
 #: file endings taken for audio files where inputs are told apart by name (drops, review)
-AUDIO_SUFFIXES = (".ogg", ".opus", ".wav", ".flac", ".mp3")
+AUDIO_SUFFIXES = (".ogg", ".oga", ".opus", ".wav", ".flac", ".mp3", ".aif", ".aiff", ".caf",
+                  ".w64", ".rf64", *UNREAD_SUFFIXES)
 
 BLOCK_FRAMES = 1 << 16
 SUPPORTED = "WAV, FLAC, Ogg Vorbis, Opus, MP3"
@@ -143,6 +148,11 @@ def open_audio(path: str | Path, channel: int | None = None) -> sf.SoundFile:
     try:
         f = sound_file(p)
     except (sf.LibsndfileError, RuntimeError, TypeError) as exc:
+        if p.suffix.lower() in UNREAD_SUFFIXES:
+            raise AudioError(
+                f"{p}: {p.suffix[1:].upper()} audio is not read; convert it to WAV or FLAC "
+                f"first, e.g. ffmpeg -i {shell_quoted(p.name)} "
+                f"{shell_quoted(p.stem + '.wav')}") from exc
         raise AudioError(
             f"{p}: not a readable audio file ({_short(exc)}); convert it to {SUPPORTED}"
         ) from exc

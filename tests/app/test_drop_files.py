@@ -52,6 +52,17 @@ def test_what_speechcal_synth_writes_opens_the_recording_and_audio_not_truth_jso
     assert calls == [{"recording": [str(bag)], "audio": str(audio)}]
 
 
+@pytest.mark.parametrize("name", ["mic.aiff", "mic.m4a", "MIC.CAF"])
+def test_a_recording_with_audio_of_another_kind_opens_them(opened, tmp_path: Path,
+                                                           name: str) -> None:
+    """AIFF (a Mac's recorder) reads; an M4A (a phone's) is opened to say how to convert it.
+    Both were taken for a second recording, and the drop opened nothing."""
+    win, calls = opened
+    audio, bag = tmp_path / name, tmp_path / "recording.bag"
+    drop(win, [audio, bag])
+    assert calls == [{"recording": [str(bag)], "audio": str(audio)}]
+
+
 def test_a_session_file_with_unrelated_files_opens_the_session(opened, tmp_path: Path) -> None:
     win, calls = opened
     session = tmp_path / "review.json"

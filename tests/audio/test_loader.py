@@ -101,6 +101,18 @@ def test_empty_and_garbage_files_are_refused(tmp_path: Path) -> None:
         load_audio(p)
 
 
+def test_a_phone_recorders_m4a_is_refused_naming_how_to_convert_it(tmp_path: Path) -> None:
+    """libsndfile has no AAC decoder: "not a readable audio file (Format not recognised)"
+    said nothing of what the file is or how to get one that reads."""
+    p = tmp_path / "mic take 1.m4a"
+    # an MPEG-4 audio file's first box, as a phone's voice recorder writes it
+    p.write_bytes(b"\x00\x00\x00\x20ftypM4A \x00\x00\x00\x00M4A mp42isom" + bytes(4000))
+    with pytest.raises(AudioError) as info:
+        load_audio(p)
+    assert str(info.value) == (f"{p}: M4A audio is not read; convert it to WAV or FLAC "
+                               "first, e.g. ffmpeg -i 'mic take 1.m4a' 'mic take 1.wav'")
+
+
 def test_a_file_whose_header_does_not_know_its_length_loads_what_decodes(
         tmp_path: Path) -> None:
     p = write_spliced_ogg(tmp_path / "spliced.ogg", 16000, 40.0, seed=3)

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import soundfile as sf
 
 from speechcal_core.cli import main
 from speechcal_core.frames.analysis import analyse_frames
@@ -166,6 +167,26 @@ def test_process_takes_the_audio_among_the_inputs_as_review_does(synth, capsys) 
             "microphone's") in capsys.readouterr().err
 
 
+def test_an_aiff_or_m4a_among_the_inputs_is_taken_for_the_audio(synth, tmp_path: Path,
+                                                                capsys) -> None:
+    """``process recording.bag mic.aiff`` said "a recording needs its audio: add --audio"
+    (and the window took no drop of the two): only five endings counted as audio."""
+    out, truth = synth
+    recording = out / truth["recording"]
+    samples, rate = sf.read(out / "audio.ogg", dtype="float32")
+    aiff = tmp_path / "mic.aiff"
+    sf.write(aiff, samples, rate)
+    # -o onto the audio shows it was taken as the audio, and stops before any work
+    assert main(["process", str(recording), str(aiff), "-o", str(aiff), "--force"]) == 1
+    assert f"{aiff} is the audio this reads" in capsys.readouterr().err
+    m4a = tmp_path / "mic.m4a"
+    m4a.write_bytes(b"\x00\x00\x00\x20ftypM4A \x00\x00\x00\x00M4A mp42isom" + bytes(4000))
+    assert main(["process", str(recording), str(m4a), "-o", str(tmp_path / "s.json")]) == 1
+    err = capsys.readouterr().err
+    assert f"{m4a}: M4A audio is not read; convert it to WAV or FLAC first" in err
+    assert not (tmp_path / "s.json").exists()
+
+
 def test_process_output_that_is_a_folder_names_a_file_to_give_before_any_work(
         synth, tmp_path: Path, capsys) -> None:
     out, truth = synth
@@ -179,7 +200,6 @@ def test_process_output_that_is_a_folder_names_a_file_to_give_before_any_work(
 def test_process_with_an_offset_far_off_says_the_sets_have_no_frames(
         synth, tmp_path: Path, capsys) -> None:
     out, truth = synth
-    import soundfile as sf
 
     # the audio's last 3 s on the recording's start: every word lies before its first frame
     early = truth["sync"]["offset_ns"] - round((sf.info(out / "audio.ogg").duration - 3) * 1e9)
