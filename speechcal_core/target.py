@@ -131,7 +131,8 @@ class TargetSpec:
         try:
             text = path.read_text(encoding="utf-8-sig")  # an editor's BOM is fine
         except OSError as exc:
-            raise TargetError(f"{path}: cannot read target file ({exc.strerror})") from exc
+            raise TargetError(f"{path}: cannot read target file ({exc.strerror}); give the "
+                              "path of the board's Kalibr target yaml") from exc
         except UnicodeDecodeError:
             raise TargetError(f"{path}: not a text file in UTF-8; give a Kalibr target yaml "
                               "(target_type: aprilgrid, tagRows, ...) saved as UTF-8") from None

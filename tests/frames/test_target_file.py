@@ -49,6 +49,16 @@ def test_a_checkerboard_file_as_kalibr_documents_it(tmp_path: Path, content: str
     assert TargetSpec.from_kalibr_yaml(path) == TargetSpec("checkerboard", 6, 8, 0.045)
 
 
+def test_a_target_file_that_is_not_there_says_what_to_give(tmp_path: Path) -> None:
+    """A typo in --target, or a folder given: the reason alone named no way on."""
+    for path, why in ((tmp_path / "aprilgird.yaml", "No such file or directory"),
+                      (tmp_path, "Is a directory")):
+        with pytest.raises(SpeechCalError) as exc:
+            TargetSpec.from_kalibr_yaml(path)
+        assert str(exc.value) == (f"{path}: cannot read target file ({why}); give the path "
+                                  "of the board's Kalibr target yaml")
+
+
 @pytest.mark.parametrize(("content", "says"), [
     (APRILGRID.replace("tagSize: 0.088  # metres\n", ""),
      "no 'tagSize: value' line; a Kalibr aprilgrid target yaml has target_type and tagRows"),
