@@ -42,6 +42,8 @@ def preview_gray(source: FrameSource, stream: str, i: int, factor: int,
             raw = None
         payload = _compressed_payload(raw) if raw is not None else None
         if payload is not None:
+            if len(payload) == 0:  # OpenCV asserts on an empty buffer
+                raise BadFrameError(f"{stream}: frame {i} is empty (no JPEG/PNG payload)")
             img = cv2.imdecode(np.frombuffer(payload, np.uint8), _REDUCED[factor])
             if img is None:
                 raise BadFrameError(f"{stream}: frame {i} cannot be decoded")

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from source_data import T0, Cam, regular
 
+from speechcal_core.frames.preview import preview_gray
 from speechcal_core.sources import BadFrameError, SourceError, open_recording
 from speechcal_core.sources.rosbag1 import Ros1Bag
 
@@ -128,6 +129,19 @@ def test_corrupt_jpeg_is_marked_bad_and_the_stream_still_works(make_bag, fmt: st
                 src.frame("/cam0/image_raw", i)
         assert src.streams[0].bad_frames == (4, 7)
         assert src.frame("/cam0/image_raw", 5).shape == (12, 16, 3)
+
+
+@pytest.mark.parametrize("fmt", ["ros1", "ros2-mcap"])
+def test_an_empty_compressed_frame_is_a_bad_frame_in_the_reduced_preview_too(
+        make_bag, fmt: str) -> None:
+    """A driver's CompressedImage with no data: the frame search's reduced decoding ended
+    `speechcal process` in an OpenCV assertion traceback."""
+    cam = Cam("/cam0/image_raw", regular(10), encoding="jpeg", width=64, height=48)
+    cam.payloads[4] = b""
+    with open_recording([make_bag(fmt, [cam])]) as src:
+        with pytest.raises(BadFrameError, match="frame 4 is empty"):
+            preview_gray(src, "/cam0/image_raw", 4, 2)
+        assert preview_gray(src, "/cam0/image_raw", 5, 2).shape == (24, 32)
 
 
 @pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4", "ros2-sqlite3", "ros2-mcap", "ros2-mcap-zstd"])
