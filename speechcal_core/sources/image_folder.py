@@ -15,6 +15,8 @@ from speechcal_core.sources.errors import BadFrameError, SourceError
 from speechcal_core.sources.stats import stamp_stats
 
 IMAGE_SUFFIXES = {".png": "png", ".jpg": "jpeg", ".jpeg": "jpeg"}
+#: a camera's frames lie further apart than this (10 kHz); names closer are no stamps_ns
+MIN_PERIOD_NS = 100_000
 
 
 def _stamped_images(folder: Path) -> list[tuple[int, str]]:
@@ -58,6 +60,12 @@ class ImageFolderSource(StreamTable):
 
     def _add_folder(self, name: str, folder: Path, items: list[tuple[int, str]]) -> None:
         st = stamp_stats([np.array([s for s, _ in items], np.int64)])
+        if 0 < st.median_period_ns < MIN_PERIOD_NS:
+            raise SourceError(
+                f"{folder}: its images' names ({items[0][1]}, {items[1][1]}, …) lie "
+                f"{st.median_period_ns} ns apart: frame numbers (or milli- or microseconds), "
+                "not header stamps in nanoseconds; name each image by its header stamp in "
+                "nanoseconds (<stamp_ns>.png, as Kalibr's bag extractor writes them)")
         names = [items[k][1] for k in st.order]
         first = cv2.imread(str(folder / names[0]), cv2.IMREAD_UNCHANGED)
         height, width = first.shape[:2] if first is not None else (0, 0)

@@ -126,6 +126,25 @@ def test_corrupt_image_file_is_marked_bad_and_the_rest_still_works(tmp_path: Pat
         assert src.frame("cam1", 4).shape == (12, 16, 3)
 
 
+@pytest.mark.parametrize(("names", "apart"), [
+    ([f"{i:06d}.png" for i in range(1, 21)], 1),  # ffmpeg's %06d.png
+    ([f"{1_700_000_005_505 + 33 * i}.png" for i in range(20)], 33),  # milliseconds
+])
+def test_images_named_by_frame_number_or_in_milliseconds_are_refused(
+        tmp_path: Path, names: list[str], apart: int) -> None:
+    """They were read as stamps a nanosecond apart: a 1 GHz camera, no clap, no note."""
+    folder = tmp_path / "frames" / "cam0"
+    folder.mkdir(parents=True)
+    for i, name in enumerate(names):
+        cv2.imwrite(str(folder / name), pixels(0, i))
+    with pytest.raises(SourceError) as err:
+        open_recording([tmp_path / "frames"])
+    assert str(err.value).startswith(
+        f"{folder}: its images' names ({names[0]}, {names[1]}, …) lie {apart} ns apart: "
+        "frame numbers (or milli- or microseconds), not header stamps in nanoseconds; name "
+        "each image by its header stamp in nanoseconds (<stamp_ns>.png")
+
+
 def test_folder_without_stamped_images_is_refused(tmp_path: Path) -> None:
     (tmp_path / "cam0").mkdir()
     (tmp_path / "cam0" / "image.png").write_bytes(b"x")
