@@ -42,6 +42,8 @@ class SynthOptions:
             raise UsageError(f"--duration must be between 5 and 3600 seconds, got {self.duration}")
         if self.triggers is not None and self.triggers < 0:
             raise UsageError(f"--triggers must be 0 or more, got {self.triggers}")
+        if self.seed < 0:  # numpy's SeedSequence takes none
+            raise UsageError(f"--seed must be 0 or more, got {self.seed}")
         if self.claps not in (1, 2):
             raise UsageError(f"--claps must be 1 or 2, got {self.claps}")
         if not -200.0 <= self.drift_ppm <= 200.0:

@@ -105,6 +105,7 @@ def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
         (["--format", "avi"], 2, "unknown --format 'avi'"),
         (["--encoding", "yuv9"], 2, "unknown --encoding 'yuv9'"),
         (["--trigger-word", "banana"], 2, "banana"),
+        (["--seed", "-1"], 2, "--seed must be 0 or more, got -1"),  # was a numpy traceback
     ],
 )
 def test_bad_options_give_one_line_usage_errors(
