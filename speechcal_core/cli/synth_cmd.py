@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
         f"wrote {args.out}: {truth['recording']}, {counted(len(truth['cameras']), 'camera')}, "
         f"{counted(len(truth['triggers']), 'trigger')} (made in {time.monotonic() - started:.1f} s)"
     )
-    if not truth["triggers"]:
+    if not truth["triggers"] and args.triggers != 0:  # none asked for: nothing to say
         progress(f"note: --duration {args.duration:g} s leaves no time for a trigger after "
                  "the clap and the first move; give a longer --duration")
     if args.json:

@@ -173,3 +173,11 @@ def test_a_session_too_short_for_a_trigger_says_so(tmp_path: Path) -> None:
     assert result.returncode == 0
     assert "0 triggers" in result.stderr
     assert "note: --duration 5 s leaves no time for a trigger" in result.stderr
+
+
+def test_a_session_asked_for_no_trigger_notes_nothing(tmp_path: Path) -> None:
+    """--triggers 0 (a recording to test the clap on) said the duration left no time."""
+    result = _run_cli("synth", str(tmp_path / "out"), "--cameras", "1", "--duration", "8",
+                      "--size", "96x72", "--triggers", "0")
+    assert result.returncode == 0
+    assert "0 triggers" in result.stderr and "note:" not in result.stderr
