@@ -6,6 +6,7 @@ import json
 import os
 
 from source_data import PERIOD, T0
+from test_files import write_video
 
 from speechcal_core.cli import main
 from speechcal_core.sources.rosbag1 import Ros1Bag
@@ -30,6 +31,14 @@ def test_index_table_and_no_cache(make_bag, capsys) -> None:
     out = capsys.readouterr().out
     assert out.splitlines()[0].split()[:3] == ["stream", "encoding", "size"]
     assert "/cam0/image_raw" in out and "16x12" in out
+
+
+def test_index_table_shows_a_stamp_before_1970_as_the_json_has_it(tmp_path, capsys) -> None:
+    """A video given a negative --video-start-ns: -5 ns was shown as -1.999999995 s."""
+    video = write_video(tmp_path / "cam0.mp4", n=5)
+    assert main(["index", str(video), "--video-start-ns", "-5"]) == 0
+    row = capsys.readouterr().out.splitlines()[1].split()
+    assert row[-2:] == ["-0.000000005", f"0.{4 * 50_000_000 - 5:09d}"]
 
 
 def test_index_bad_input_exits_1_with_one_line_reason(make_bag, capsys) -> None:
