@@ -9,6 +9,9 @@ import numpy as np
 
 from speechcal_core.text import counted
 
+#: what the problems say of a stream whose files interleave (two takes given as one)
+ANOTHER_RECORDING = "another recording given too?"
+
 
 @dataclass(frozen=True)
 class StampStats:
@@ -53,7 +56,7 @@ def stamp_stats(parts: Sequence[np.ndarray], *, unset_out: bool = False) -> Stam
     interleaved = _interleaved(arrays)
     if interleaved:
         problems.append(f"{counted(interleaved, 'stamp')} of one file fall among another's "
-                        "(another recording given too? split bags follow each other)")
+                        f"({ANOTHER_RECORDING} split bags follow each other)")
     if raw.size and int(stamps[0]) <= 0:
         problems.append("zero or negative stamps (header stamps not set?)")
     positive = diffs[diffs > 0]

@@ -11,6 +11,7 @@ import numpy as np
 
 from speechcal_core.sources.depth import stream_depth
 from speechcal_core.sources.errors import SourceError
+from speechcal_core.sources.stats import ANOTHER_RECORDING
 from speechcal_core.sync.clap_audio import ClapCandidate, audio_levels, find_audio_claps
 from speechcal_core.sync.clap_choice import (
     LOW_COVER,
@@ -231,7 +232,9 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
     cams1 = video_claps(source, t0, t1, progress, events=seen_events)
     if not cams1:
         # two recordings given as one interleave their frames: that hides any clap
-        mixed = [f"{s.name}: {s.stamp_problems}; give one recording's files, or "
+        mixed = [f"{s.name}: {s.stamp_problems}; "
+                 + ("give one recording's files, or " if ANOTHER_RECORDING in s.stamp_problems
+                    else "")
                  for s in infos if s.stamp_problems]
         raise SyncError(f"no clap seen in the first {search_s:g} s of any camera "
                         f"({', '.join(t0)}); {mixed[0] if mixed else ''}make the clap "

@@ -95,6 +95,35 @@ def test_two_recordings_given_as_one_are_named_when_no_clap_is_seen(
     assert "give one recording's files, or make the clap visible" in message
 
 
+def test_a_recording_with_unset_stamps_is_not_called_two_recordings(
+        tiny_synth: tuple[Path, dict], tmp_path: Path) -> None:
+    """A driver that never set header stamps: the error told the user to "give one
+    recording's files", the advice for two takes given as one."""
+    from rosbags.rosbag1 import Reader, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from speechcal_core.audio import load_audio
+    from speechcal_core.sources import open_recording
+    from speechcal_core.sync.errors import SyncError
+    from speechcal_core.sync.pipeline import sync_recording
+
+    folder, truth = tiny_synth
+    unset = tmp_path / "unset.bag"
+    typestore = get_typestore(Stores.ROS1_NOETIC)
+    with Reader(folder / truth["recording"]) as reader, Writer(unset) as writer:
+        conns = {c.id: writer.add_connection(c.topic, c.msgtype, typestore=typestore)
+                 for c in reader.connections}
+        for conn, log_time, raw in reader.messages():
+            zeroed = bytearray(raw)
+            zeroed[4:12] = bytes(8)  # header.stamp after the seq number
+            writer.write(conns[conn.id], log_time, bytes(zeroed))
+    with open_recording([str(unset)]) as source, pytest.raises(SyncError) as error:
+        sync_recording(source, load_audio(str(folder / truth["audio"])))
+    message = str(error.value)
+    assert "zero or negative stamps (header stamps not set?); make the clap" in message
+    assert "give one recording's files" not in message
+
+
 def test_json_says_what_was_written_and_stdout_holds_nothing_else(
         tiny_synth: tuple[Path, dict], tmp_path: Path, capsys) -> None:
     import json
