@@ -227,6 +227,12 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
             _named_as(root, out):
         outcome, cameras = _write(fmt, source, plan, root, spec,
                                   lambda text, f: report(text, 0.95 * f))
+        if not outcome.files and outcome.skipped:  # every frame damaged: nothing to give
+            (set_id, stream), why = next(iter(outcome.skipped.items()))
+            raise ExportError(
+                f"{where}: none of the frames to export could be read (set {set_id} "
+                f"{stream}: {why}); nothing was exported: reject those sets in the review "
+                "window, or check the recording")
         board = corners_board(session, spec) if fmt in IMAGE_FORMATS else None
         if board is not None and not corners_problem(session):
             outcome.written.extend(write_corners(source, plan, outcome, root, session, board))

@@ -149,6 +149,29 @@ def test_a_frame_that_cannot_be_decoded_is_left_out_and_named(session_file, tmp_
     assert frame["stream"] == "cam1" and frame["file"] is None
 
 
+def test_an_export_whose_every_frame_is_damaged_is_refused_and_writes_nothing(
+        session_file, tmp_path) -> None:
+    """It said "exported 3 frame sets (0 frames, 2 files)" and exited 0: an empty export
+    (a manifest, empty camera folders) taken for a good one."""
+    from export_sessions import accepted_sets_over
+
+    from speechcal_core.export import ExportError, export_frame_sets
+
+    kalibr = tmp_path / "kalibr"
+    export_session_file(session_file(), "kalibr", kalibr)
+    for image in (kalibr / "cam0").iterdir():
+        image.write_bytes(image.read_bytes()[:200])  # truncated PNGs
+    out = tmp_path / "out"
+    with open_recording([kalibr]) as folder_source:
+        session = accepted_sets_over(folder_source, ["cam0"])
+        with pytest.raises(ExportError) as err:
+            export_frame_sets(session, folder_source, "folders", out)
+    assert str(err.value).startswith("the session: none of the frames to export could be "
+                                     "read (set 1 cam0: ")
+    assert "nothing was exported: reject those sets in the review window" in str(err.value)
+    assert not out.exists() and not [p for p in tmp_path.iterdir() if "out" in p.name]
+
+
 def test_kalibr_names_of_sets_under_a_second_read_as_kalibr_bagcreater_reads_them(
         session_file, tmp_path: Path) -> None:
     """A camera clock that starts at 0 (a video, an image folder, simulated time): a set
