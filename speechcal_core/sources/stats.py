@@ -9,6 +9,8 @@ import numpy as np
 
 from speechcal_core.text import counted
 
+#: what the problems say of a stream that starts at or before 0
+UNSET_STAMPS = "zero or negative stamps (header stamps not set?)"
 #: what the problems say of a stream whose files interleave (two takes given as one)
 ANOTHER_RECORDING = "another recording given too?"
 
@@ -58,7 +60,7 @@ def stamp_stats(parts: Sequence[np.ndarray], *, unset_out: bool = False) -> Stam
         problems.append(f"{counted(interleaved, 'stamp')} of one file fall among another's "
                         f"({ANOTHER_RECORDING} split bags follow each other)")
     if raw.size and int(stamps[0]) <= 0:
-        problems.append("zero or negative stamps (header stamps not set?)")
+        problems.append(UNSET_STAMPS)
     positive = diffs[diffs > 0]
     median = int(np.median(positive)) if positive.size else 0
     dropped = 0

@@ -14,7 +14,7 @@ from speechcal_core.sources.base import RawFrame, StreamInfo
 from speechcal_core.sources.common import StreamTable
 from speechcal_core.sources.errors import BadFrameError, SourceError
 from speechcal_core.sources.scan import FileScan, TopicScan
-from speechcal_core.sources.stats import stamp_stats
+from speechcal_core.sources.stats import UNSET_STAMPS, stamp_stats
 
 # FFmpeg writes its own lines ("moov atom not found") to stderr beside the one-line
 # reason SpeechCal gives for a bad video; quiet unless the user set a level (read when
@@ -63,7 +63,9 @@ class VideoSource(StreamTable):
         self._fourcc = t.encoding
         self._start, note = start_stamp(self.path, start_ns)
         st = stamp_stats([t.stamps + self._start])
-        problems = "; ".join(p for p in (st.problems, note, *scan.notes) if p)
+        # a video without its start stamp starts at 0: the note says so, in its own words
+        told = [p for p in st.problems.split("; ") if p and not (note and p == UNSET_STAMPS)]
+        problems = "; ".join(p for p in (*told, note, *scan.notes) if p)
         info = StreamInfo(
             name=self.name,
             msgtype="video",

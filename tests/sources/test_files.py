@@ -52,7 +52,8 @@ def test_video_start_stamp_argument_and_missing_start_is_reported(tmp_path: Path
         assert src.stamps("side")[0] == 1000
     with open_recording([path]) as src:
         assert src.stamps("side")[0] == 0
-        assert "no start stamp" in src.streams[0].stamp_problems
+        assert src.streams[0].stamp_problems == (
+            "no start stamp (write it to side.avi.start_ns); stamps start at 0")  # no more
 
 
 def test_two_videos_give_two_streams(tmp_path: Path) -> None:
