@@ -669,7 +669,9 @@ class ReviewWindow(QMainWindow):
         self.load_error = message
         self.status.end("open", f"Could not open: {message}")
         opening = args.get("session_path")
-        self._moved = moved_recording(opening) if opening and self.model is None else None
+        # asked whether or not a session is open (Open over one sent the operator to the
+        # command line)
+        self._moved = moved_recording(opening) if opening else None
         if self.model is None:  # the first page says why, whole, and what can be done
             self.open_problem.setText(f"Could not open: {message}")
             self.open_problem.show()

@@ -94,3 +94,17 @@ def test_locate_audio_reads_the_moved_audio_and_keeps_the_review(
     assert window.model.session.sets[0].decision == "accepted"
     window.saver.flush()
     assert Path(load_session(tmp_path / "review.json").audio) == tmp_path / "usb" / audio.name
+
+
+def test_opened_over_another_session_it_still_asks_where_the_recording_went(
+        qtbot, open_window, truth_session_file: Path, moved) -> None:
+    session_path, now_in, bag = moved
+    window = open_window(truth_session_file)  # the operator is reviewing another session
+    first = window.model
+    asked: list = []
+    window.ask_recording_place = lambda m: asked.append(m.names) or str(now_in / bag)
+    window.open(session_path=str(session_path))  # File ▸ Open: its recording has moved
+    qtbot.waitUntil(lambda: window.model is not first, timeout=30_000)
+    assert asked == [bag]  # asked, not sent to the command line
+    assert window.model.session.sets[1].decision == "rejected"
+    assert window.inputs.session_path == session_path
