@@ -204,7 +204,8 @@ class ExportDialog(QDialog):
             self.summary.setText(f"Cannot export there: {why}")
         if self.target_problem and describes_board:
             self.summary.setText(f"Cannot use that target file: {self.target_problem}")
-        fit_height(self)
+        # a bag format hides the board row, a shorter summary takes fewer lines: shrink
+        fit_height(self, shrink=True)
 
     def resizeEvent(self, event: QResizeEvent) -> None:
         super().resizeEvent(event)

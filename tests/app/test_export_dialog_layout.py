@@ -78,3 +78,24 @@ def test_undecided_sets_are_offered_only_when_there_are_some(qtbot, tmp_path: Pa
     qtbot.addWidget(one)
     assert one.undecided_box.isVisibleTo(one)
     assert one.undecided_box.text() == "also the 1 undecided set"
+
+
+def _needed_height(dialog: ExportDialog) -> int:
+    layout = dialog.layout()
+    return layout.totalHeightForWidth(dialog.width()) if layout.hasHeightForWidth() \
+        else layout.totalSizeHint().height()
+
+
+def test_a_bag_format_leaves_no_gap_where_the_board_row_was(qtbot, tmp_path: Path) -> None:
+    dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 2, "undecided": 13})
+    qtbot.addWidget(dialog)
+    dialog.show()
+    qtbot.waitExposed(dialog)
+    kalibr_height = dialog.height()
+    dialog.set_format("rosbag2")  # no board to describe: its row goes
+    assert not dialog.board_row.isVisibleTo(dialog)
+    qtbot.waitUntil(lambda: dialog.height() < kalibr_height, timeout=2_000)
+    assert dialog.height() <= _needed_height(dialog) + 2  # no blank band over the summary
+    dialog.set_format("kalibr")  # back: room for the board row again
+    qtbot.waitUntil(lambda: _text_fits(dialog.summary), timeout=2_000)
+    assert dialog.height() >= _needed_height(dialog)
