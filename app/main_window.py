@@ -511,7 +511,11 @@ class ReviewWindow(QMainWindow):
 
     # -- opening ------------------------------------------------------------------------
     def choose_session(self) -> None:
-        path, _ = QFileDialog.getOpenFileName(self, "Open session", "",
+        """Ctrl+O: a session file to open, looked for beside the session open now (the
+        program's working folder, where it was started, is seldom where sessions are)."""
+        here = self.saver.path if self.model is not None else None
+        path, _ = QFileDialog.getOpenFileName(self, "Open session",
+                                              str(here.parent) if here else "",
                                               "SpeechCal sessions (*.json)")
         if path:
             self.open(session_path=path)
