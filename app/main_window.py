@@ -843,9 +843,10 @@ class ReviewWindow(QMainWindow):
             self.status.say(f"{done}: {step}")
         elif action in ("undo", "redo"):
             self.status.say(f"nothing to {action}")
-        elif action == "clap_at_playhead":
+        elif action == "clap_at_playhead":  # its words stay through the re-scoring
             self.status.say(clap_moved_text(model.session.sync.offset_ns - offset_ns)
-                            if model.camera_clap_ns() is not None else NO_CAMERA_CLAP)
+                            if model.camera_clap_ns() is not None else NO_CAMERA_CLAP,
+                            outlasts_work=True)
         elif action in ("accept", "reject") and model.last_decided is not None:
             decided = model.session.set_by_id(model.last_decided)
             self.status.say(f"set #{decided.id} {decided.decision}")
@@ -853,7 +854,8 @@ class ReviewWindow(QMainWindow):
             added = len(model.session.sets) > n_sets
             self.status.say(f"set #{model.current_set.id} added · Ctrl+Z takes it back"
                             if added else f"set #{model.current_set.id} is here already: "
-                            "selected it (T adds a set away from the others)")
+                            "selected it (T adds a set away from the others)",
+                            outlasts_work=added)  # through the added set's re-scoring
 
     def _on_current_set(self) -> None:
         """The waveform marks the new current set and, zoomed in, takes it into view."""

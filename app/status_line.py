@@ -39,6 +39,9 @@ class _Note:
 
     text: str
     warning: bool = False  # stays until its job reports again
+    #: a plain message that tells of an edit and the work it starts (re-scoring): it
+    #: stays beside that work instead of giving way to it
+    outlasts_work: bool = False
     repeats: int = 1  # said this many times in a row
 
     @property
@@ -67,7 +70,9 @@ class StatusLine:
         """``job`` starts (or says something new while waiting); its old message goes."""
         self._start_afresh_if_quiet()
         self._notes.pop(job, None)
-        self._notes.pop("", None)  # a plain message is outdated by any new work
+        said = self._notes.get("")
+        if said is not None and not said.outlasts_work:
+            del self._notes[""]  # a plain message is outdated by any new work
         old = self._jobs.get(job)
         self._jobs[job] = _Job(text, old.fraction if old else None)
         self._show()
@@ -94,11 +99,13 @@ class StatusLine:
             self._last[job] = note
         self._show()
 
-    def say(self, message: str) -> None:
-        """A plain message (not from a job): replaces every job's message but warnings."""
+    def say(self, message: str, *, outlasts_work: bool = False) -> None:
+        """A plain message (not from a job): replaces every job's message but warnings.
+        One that ``outlasts_work`` (what C or T did, "Ctrl+Z takes it back") stays when
+        the work it starts begins, as a job's message does; others give way to it."""
         self._notes = {job: n for job, n in self._notes.items() if n.warning}
         if message:
-            self._notes[""] = _Note(message)
+            self._notes[""] = _Note(message, outlasts_work=outlasts_work)
         self._show()
 
     def revise(self, message: str, revised: str) -> None:

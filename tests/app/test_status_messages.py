@@ -165,3 +165,23 @@ def test_decisions_undo_and_a_refused_add_each_say_what_they_did(qtbot, window) 
     assert "nothing to redo" in window.status_text.text()
     qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     assert "undone: " in window.status_text.text()  # the entry is on again: it undoes
+
+
+def test_what_c_and_t_did_stays_through_the_rescoring_they_start(qtbot, window) -> None:
+    model = window.model
+    model.set_playhead(model.camera_clap_ns() - 250_000_000)
+    qtbot.keyClick(window, Qt.Key.Key_C)  # the audio moves: every set is re-scored
+    said = "the clap is at the playhead: audio moved +0.250 s · Ctrl+Z takes it back"
+    qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
+    assert said in window.status_text.text()  # not wiped the moment re-scoring begins
+    qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
+    text = window.status_text.text()
+    assert text.startswith("re-scored") and said in text
+
+    sets = model.session.sets
+    model.set_playhead((set_time_ns(sets[0]) + set_time_ns(sets[1])) // 2)
+    qtbot.keyClick(window, Qt.Key.Key_T)  # the set added is re-scored at once
+    added = f"set #{model.current_set.id} added · Ctrl+Z takes it back"
+    qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
+    assert added in window.status_text.text()
+    assert "the clap is at the playhead" not in window.status_text.text()  # said anew
