@@ -840,6 +840,11 @@ class ReviewWindow(QMainWindow):
             # the set may have been off screen (the playhead between sets)
             self.status.say(f"set #{removing.id} removed · Ctrl+Z puts it back")
         elif step:
+            if model.session.sync.offset_ns != offset_ns and not self.status.running("rescore"):
+                # the sets show the frames they had before (or after) that offset again:
+                # the last re-scoring's word ("accepted set #1 now shows other frames:
+                # look again") is no longer true; a re-scoring still needed says its own
+                self.status.end("rescore")
             self.status.say(f"{done}: {step}")
         elif action in ("undo", "redo"):
             self.status.say(f"nothing to {action}")

@@ -185,3 +185,20 @@ def test_what_c_and_t_did_stays_through_the_rescoring_they_start(qtbot, window) 
     qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
     assert added in window.status_text.text()
     assert "the clap is at the playhead" not in window.status_text.text()  # said anew
+
+
+def test_undoing_the_offset_edit_takes_back_its_look_again_warning(qtbot, window) -> None:
+    model = window.model
+    qtbot.keyClick(window, Qt.Key.Key_A)  # set 1 accepted as it shows now
+    model.set_playhead(model.camera_clap_ns() - 250_000_000)
+    qtbot.keyClick(window, Qt.Key.Key_C)  # the audio moves: set 1 gets other frames
+    qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
+    qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
+    assert "now shows other frames: look again" in window.status_text.text()
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert model.session.sets[0].decision == "accepted"  # the offset went back, not it
+    qtbot.wait(400)  # past the re-scoring's delay: nothing needs it
+    assert not window.rescorer.busy()
+    text = window.status_text.text()
+    assert "undone: " in text
+    assert "look again" not in text  # set 1 shows the frames it was accepted with again
