@@ -19,6 +19,9 @@ MAX_EVENTS = 6  # motion bursts checked for the closing-and-parting shape of a c
 #: hands, seen at WORK_WIDTH, gave a flat 6.8-7.5 px of noise whose "V" was a frame off,
 #: and it overruled the full-resolution fit (the two disagreed by more than half a frame)
 MIN_V_DEPTH_PX = 2.0
+#: a point of the parts' distance this far (pixels) above the line through its neighbours,
+#: and well beyond their scatter, is left out of the V fit (:func:`_spikes`)
+SPIKE_PX = 2.0
 #: the event region's frames are worked on in blocks of about this many bytes (float32),
 #: so that a region as large as the picture never needs all its frames as floats at once
 BLOCK_BYTES = 16 << 20
@@ -489,7 +492,9 @@ def _fit_window(times: np.ndarray, dists: np.ndarray, centre: float, before: flo
     x, y = times[sel], dists[sel]
     if x.size < 4 or (x <= centre).sum() < 2 or (x >= centre).sum() < 1:
         return None
-    keep = np.ones(x.size, dtype=bool)
+    keep = ~_spikes(x, y)
+    if keep.sum() < 4:
+        keep[:] = True
     tc = None
     for _ in range(3):
         tc, _ = _fit_v(x[keep], y[keep], centre, period)
@@ -502,6 +507,25 @@ def _fit_window(times: np.ndarray, dists: np.ndarray, centre: float, before: flo
             break
         keep = new_keep
     return tc
+
+
+def _spikes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Points well above the line through their two neighbours.
+
+    The parts' distance closes and opens in a V, which never rises above such a line; a
+    frame whose parts were split wrongly (the flash, a touch seen as a gap elsewhere) can
+    sit far above it, and one such point drew the least-squares V three frames early
+    (the residual check after that fit, made with it, did not drop it).
+    """
+    out = np.zeros(x.size, dtype=bool)
+    if x.size < 5:
+        return out
+    span = x[2:] - x[:-2]
+    f = np.divide(x[1:-1] - x[:-2], span, out=np.full(span.shape, 0.5), where=span > 0)
+    above = y[1:-1] - (y[:-2] + f * (y[2:] - y[:-2]))
+    noise = 1.4826 * float(np.median(np.abs(above - np.median(above))))
+    out[1:-1] = above > max(SPIKE_PX, 6.0 * noise)
+    return out
 
 
 def _basis(x: np.ndarray, tc: float) -> np.ndarray:

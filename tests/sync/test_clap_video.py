@@ -77,6 +77,24 @@ def test_a_distance_that_neither_closes_nor_parts_has_no_vertex() -> None:
     assert _vertex(times, v, touch, period) == pytest.approx(touch, abs=2e-3)
 
 
+def test_one_frame_split_wrongly_at_the_touch_leaves_the_vertex_in_place() -> None:
+    """The parts' distances (px) a 30 fps camera of ``speechcal synth --seed 7`` gave at
+    the work width around its first clap (times from the true clap). The frame just after
+    the touch was split wrongly and sits far above its neighbours, which a V never does;
+    the fit through it put the clap 92 ms early."""
+    from speechcal_core.sync.clap_video import _vertex
+
+    times = np.array([-0.4217, -0.3879, -0.3540, -0.3209, -0.2897, -0.2550, -0.2222,
+                      -0.1889, -0.1543, -0.1220, -0.0883, -0.0547, 0.0123, 0.0454, 0.0780,
+                      0.1115, 0.1455, 0.1788, 0.2126, 0.2445, 0.2777])
+    dists = np.array([31.43, 29.96, 28.05, 26.58, 24.93, 23.23, 21.79, 20.17, 18.41, 16.80,
+                      15.47, 13.99, 29.35, 14.41, 16.65, 18.95, 21.44, 23.80, 26.26, 28.82,
+                      31.13])
+    assert _vertex(times, dists, 0.0123, 1 / 30) == pytest.approx(0.0, abs=3e-3)
+    kept = np.arange(times.size) != 12  # without that frame: the same vertex
+    assert _vertex(times[kept], dists[kept], 0.0123, 1 / 30) == pytest.approx(0.0, abs=3e-3)
+
+
 def _noisy_vs(count: int) -> list[tuple[np.ndarray, np.ndarray, float, float]]:
     """Distance series as the clap's V fit meets them: (times, distances, t_min, period)."""
     rng = np.random.default_rng(7)
