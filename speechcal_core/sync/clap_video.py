@@ -38,12 +38,15 @@ class VideoClap:
     method: str  # "v-fit" (sub-frame, from the hands' approach and separation) or "peak"
     roi: tuple[int, int, int, int]  # x, y, w, h in full-frame pixels
     period_ns: int  # median frame period of the stream
+    #: the V fit's standard error of ``clap_ns`` (from how far its points scatter about the
+    #: V); 0: unknown (method "peak")
+    sigma_ns: int = 0
 
     def to_dict(self) -> dict:
         """JSON-ready form."""
         return {"name": self.stream, "clap_ns": self.clap_ns, "frame_index": self.frame_index,
                 "score": round(self.score, 3), "method": self.method, "roi": list(self.roi),
-                "period_ns": self.period_ns}
+                "period_ns": self.period_ns, "sigma_ns": self.sigma_ns}
 
 
 def to_gray_small(frame: np.ndarray, width: int = WORK_WIDTH,
@@ -137,13 +140,13 @@ def find_video_claps(frames: Sequence[np.ndarray] | np.ndarray,
     full_res = scale < 1.0 and detail is not None
     for k, (x, y, w, h), score in events:
         roi_full = (int(x / scale), int(y / scale), int(w / scale), int(h / scale))
-        t_clap = _refine(stack[:, y:y + h, x:x + w], t, k, period)
-        if full_res and (t_clap is not None or score >= 0.5 * events[0][2]):
+        fit = _refine(stack[:, y:y + h, x:x + w], t, k, period)
+        if full_res and (fit is not None or score >= 0.5 * events[0][2]):
             fine = _refine_full(detail, roi_full, t, k, period)
-            if fine is not None and (t_clap is None or abs(fine - t_clap) < 0.5 * period):
-                t_clap = fine
-        if t_clap is not None:
-            out.append(_clap(stream, stamps, t_clap, score, "v-fit", roi_full, period))
+            if fine is not None and (fit is None or abs(fine[0] - fit[0]) < 0.5 * period):
+                fit = fine
+        if fit is not None:
+            out.append(_clap(stream, stamps, fit[0], score, "v-fit", roi_full, period, fit[1]))
     if events and (not out or events[0][2] > 3.0 * max(c.score for c in out)):
         # a much clearer burst without the V shape still counts, timed to its frame
         k, (x, y, w, h), score = events[0]
@@ -181,10 +184,12 @@ def regular_times(stamps: np.ndarray) -> np.ndarray:
 
 
 def _clap(stream: str, stamps: np.ndarray, t_clap: float, score: float, method: str,
-          roi: tuple[int, int, int, int], period: float) -> VideoClap:
+          roi: tuple[int, int, int, int], period: float, sigma: float = 0.0) -> VideoClap:
     clap_ns = int(stamps[0] + round(t_clap * 1e9))
     nearest = int(np.argmin(np.abs(stamps - clap_ns)))
-    return VideoClap(stream, clap_ns, nearest, float(score), method, roi, round(period * 1e9))
+    sigma_ns = round(sigma * 1e9) if np.isfinite(sigma) else 0
+    return VideoClap(stream, clap_ns, nearest, float(score), method, roi, round(period * 1e9),
+                     sigma_ns)
 
 
 def _events(stack: np.ndarray, t: np.ndarray, period: float,
@@ -319,8 +324,10 @@ class _Frames:
         return out
 
 
-def _refine(roi: np.ndarray | _Frames, t: np.ndarray, k: int, period: float) -> float | None:
-    """Sub-frame clap time from the V of the distance between the two moving parts.
+def _refine(roi: np.ndarray | _Frames, t: np.ndarray, k: int,
+            period: float) -> tuple[float, float] | None:
+    """Sub-frame clap time and its standard error (:func:`_vertex_fit`) from the V of the
+    distance between the two moving parts.
 
     ``roi``: the region's frames, an (n, h, w) array or :class:`_Frames`; they are read a
     block at a time, pass after pass, instead of being held as residuals all at once.
@@ -364,11 +371,11 @@ def _refine(roi: np.ndarray | _Frames, t: np.ndarray, k: int, period: float) -> 
             dists.append(d)
     if len(times) < 4:
         return None
-    return _vertex(np.array(times), np.array(dists), t[k], period)
+    return _vertex_fit(np.array(times), np.array(dists), t[k], period)
 
 
 def _refine_full(detail: Callable[[int], np.ndarray], box: tuple[int, int, int, int],
-                 t: np.ndarray, k: int, period: float) -> float | None:
+                 t: np.ndarray, k: int, period: float) -> tuple[float, float] | None:
     """The V fit again on full-resolution crops of the event region (finer distances)."""
     span = round(1.9 / period)
     j0, j1 = max(0, k - span), min(t.size, k + span + 1)
@@ -469,7 +476,15 @@ def _blob_distance(p: np.ndarray) -> float | None:
 
 
 def _vertex(times: np.ndarray, dists: np.ndarray, t_peak: float, period: float) -> float | None:
-    """Time where the closing line meets the opening line (continuous two-line fit).
+    """Time where the closing line meets the opening line (:func:`_vertex_fit`)."""
+    fit = _vertex_fit(times, dists, t_peak, period)
+    return None if fit is None else fit[0]
+
+
+def _vertex_fit(times: np.ndarray, dists: np.ndarray, t_peak: float,
+                period: float) -> tuple[float, float] | None:
+    """Time where the closing line meets the opening line (continuous two-line fit), and
+    its standard error (:func:`_vertex_sd`; seconds, nan when it cannot be told).
 
     A first fit around the closest pair finds the touch; a second keeps only the closing
     half second before it and the opening before the hands move off.
@@ -477,17 +492,18 @@ def _vertex(times: np.ndarray, dists: np.ndarray, t_peak: float, period: float) 
     if float(np.ptp(dists)) < MIN_V_DEPTH_PX:
         return None  # parts that neither close nor part: noise, no V to time
     t_min = float(times[int(np.argmin(dists))])
-    tc = _fit_window(times, dists, t_min, 0.55, 0.3, period)
-    if tc is not None:
-        tc = _fit_window(times, dists, tc, 0.5, 0.28, period) or tc
-    if tc is None or not np.isfinite(tc) or abs(tc - t_peak) > 0.6 + period:
+    fit = _fit_window(times, dists, t_min, 0.55, 0.3, period)
+    if fit is not None:
+        fit = _fit_window(times, dists, fit[0], 0.5, 0.28, period) or fit
+    if fit is None or not np.isfinite(fit[0]) or abs(fit[0] - t_peak) > 0.6 + period:
         return None
-    return float(tc)
+    return float(fit[0]), fit[1]
 
 
 def _fit_window(times: np.ndarray, dists: np.ndarray, centre: float, before: float,
-                after: float, period: float) -> float | None:
-    """Robust V fit of the points in ``[centre - before, centre + after]``."""
+                after: float, period: float) -> tuple[float, float] | None:
+    """Robust V fit of the points in ``[centre - before, centre + after]``: the vertex
+    and its standard error from the points kept."""
     sel = (times >= centre - before) & (times <= centre + after)
     x, y = times[sel], dists[sel]
     if x.size < 4 or (x <= centre).sum() < 2 or (x >= centre).sum() < 1:
@@ -506,7 +522,7 @@ def _fit_window(times: np.ndarray, dists: np.ndarray, centre: float, before: flo
         if new_keep.sum() < 4 or np.array_equal(new_keep, keep):
             break
         keep = new_keep
-    return tc
+    return tc, _vertex_sd(x[keep], y[keep], tc)
 
 
 def _spikes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -526,6 +542,29 @@ def _spikes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     noise = 1.4826 * float(np.median(np.abs(above - np.median(above))))
     out[1:-1] = above > max(SPIKE_PX, 6.0 * noise)
     return out
+
+
+def _vertex_sd(x: np.ndarray, y: np.ndarray, tc: float) -> float:
+    """Standard error of a V's vertex time: the Gauss-Newton covariance of the fit
+    (offset, closing slope, opening slope, vertex) scaled by its residual variance.
+
+    A V whose points bend away from two straight lines (parts of the hands lost against
+    a background like them) scatters more about the fit and gets a larger error.
+    """
+    b = _basis(x, tc)
+    coef, *_ = np.linalg.lstsq(b, y, rcond=None)
+    resid = y - b @ coef
+    if x.size <= 4:
+        return float("nan")
+    var = float(resid @ resid) / (x.size - 4)
+    dvertex = -coef[1] * (x < tc) - coef[2] * (x > tc)
+    jac = np.column_stack([b, dvertex])
+    try:
+        cov = np.linalg.inv(jac.T @ jac)
+    except np.linalg.LinAlgError:
+        return float("nan")
+    sd = float(np.sqrt(max(cov[3, 3], 0.0) * var))
+    return sd if np.isfinite(sd) else float("nan")
 
 
 def _basis(x: np.ndarray, tc: float) -> np.ndarray:

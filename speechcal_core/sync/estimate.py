@@ -11,6 +11,9 @@ import numpy as np
 from speechcal_core.sync.model import SyncModel
 
 MAX_DRIFT = 1e-3  # 1000 ppm: anything larger means the two claps were mismatched
+#: a V fit's timing is taken as no better than this: the audio clap's onset is good to
+#: about a tenth of a millisecond, and the fit's error leaves out its own biases
+MIN_TIMING_SD_NS = 300_000
 
 
 @dataclass(frozen=True)
@@ -23,6 +26,7 @@ class CameraClap:
     method: str = "auto"  # "v-fit", "peak" or "manual"
     frame_index: int = -1
     score: float = 0.0  # how clearly the camera saw it (clap_video's score); 0: unknown
+    sigma_ns: int = 0  # the V fit's standard error of clap_ns (clap_video); 0: unknown
 
 
 @dataclass(frozen=True)
@@ -140,21 +144,47 @@ def model_from_claps(claps: list[Clap] | tuple[Clap, ...], source: str = "auto")
 
 
 def _pair_drift(first: Clap, last: Clap) -> float:
-    """Drift from two claps, camera by camera where a camera saw both (its offset cancels)."""
+    """Drift from two claps, camera by camera where a camera saw both (its offset cancels),
+    each counted by the inverse variance of its time between them."""
     da = last.audio_s - first.audio_s
-    if first.session_override_ns is None and last.session_override_ns is None:
-        both = {c.name: c.clap_ns for c in first.cameras}
-        pairs = [(both[c.name], c.clap_ns, c.period_ns) for c in last.cameras
-                 if c.name in both]
-        if pairs:
-            ds = np.array([b - a for a, b, _ in pairs], dtype=np.float64)
-            # a faster camera times the clap better: weight by inverse frame period squared
-            w = np.array([timing_weight(p) for _, _, p in pairs])
-            if ds.size >= 3:
-                keep = np.abs(ds - np.median(ds)) <= 3 * _mad(ds) + 2e6
-                ds, w = ds[keep], w[keep]
-            return float(np.sum(w * ds) / np.sum(w)) / (da * 1e9) - 1.0
+    spans = _camera_spans(first, last)
+    if spans is not None:
+        ds, var = spans
+        w = 1.0 / var
+        return float(np.sum(w * ds) / np.sum(w)) / (da * 1e9) - 1.0
     return (last.session_ns - first.session_ns) / (da * 1e9) - 1.0
+
+
+def _camera_spans(first: Clap, last: Clap) -> tuple[np.ndarray, np.ndarray] | None:
+    """Per camera that saw both claps: the session time between them (ns) and its variance
+    (ns², its two clap timings' :func:`timing_sd_ns` squared), of three cameras or more
+    those near the median; None when the claps were set on the session clock by hand or
+    no camera saw both."""
+    if first.session_override_ns is not None or last.session_override_ns is not None:
+        return None
+    both = {c.name: c for c in first.cameras}
+    pairs = [(both[c.name], c) for c in last.cameras if c.name in both]
+    if not pairs:
+        return None
+    ds = np.array([b.clap_ns - a.clap_ns for a, b in pairs], dtype=np.float64)
+    var = np.array([timing_sd_ns(a) ** 2 + timing_sd_ns(b) ** 2 for a, b in pairs])
+    if ds.size >= 3:
+        keep = np.abs(ds - np.median(ds)) <= 3 * _mad(ds) + 2e6
+        ds, var = ds[keep], var[keep]
+    return ds, var
+
+
+def _fit_timed(cam: CameraClap) -> bool:
+    return cam.method == "v-fit" and cam.sigma_ns > 0
+
+
+def timing_sd_ns(cam: CameraClap) -> float:
+    """How well a camera timed a clap (ns): its V fit's standard error (at least
+    MIN_TIMING_SD_NS), else, timed to a frame or set by hand, its frame period over
+    sqrt(12) (a faster camera times the clap better; no period known: as 30 fps)."""
+    if _fit_timed(cam):
+        return float(max(cam.sigma_ns, MIN_TIMING_SD_NS))
+    return max(cam.period_ns or 33_333_333, 1) / np.sqrt(12.0)
 
 
 def timing_weight(period_ns: int | None) -> float:

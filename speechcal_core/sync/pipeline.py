@@ -544,7 +544,8 @@ def _closing_clap(source: FrameSource, first: Clap, a2: float, infos: list,
 
 
 def _camera(c: VideoClap) -> CameraClap:
-    return CameraClap(c.stream, c.clap_ns, c.period_ns, c.method, c.frame_index, c.score)
+    return CameraClap(c.stream, c.clap_ns, c.period_ns, c.method, c.frame_index, c.score,
+                      c.sigma_ns)
 
 
 def sync_with_video_clap(audio: Audio, session_ns: int,

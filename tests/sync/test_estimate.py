@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 
 from speechcal_core.sync.estimate import CameraClap, Clap, build_result, model_from_claps
@@ -126,3 +128,24 @@ def test_two_cameras_count_by_how_finely_they_time_the_clap() -> None:
     assert clap.session_ns == pytest.approx(1_000_000_000 - 24_000_000, abs=1_000)
     same_rate = Clap(2.0, (fast, CameraClap("/cam1", 880_000_000, 33_333_333, "v-fit")))
     assert same_rate.session_ns == 940_000_000  # equal periods: the plain mean
+
+def _timed(name: str, clap_ns: int, sigma_ns: int, period: int = PERIOD) -> CameraClap:
+    return CameraClap(name, clap_ns, period, "v-fit", sigma_ns=sigma_ns)
+
+
+def test_drift_leans_on_the_camera_whose_v_fits_timed_both_claps_closely() -> None:
+    """A 30 fps camera 4.8 ms off at the closing clap, with a V fit that says so (4.4 ms
+    standard error), no longer outweighs a 15 fps camera whose fits hold to 0.7 ms."""
+    a1, a2, s1, s2 = 2.0, 39.0, 10_000_000_000, 47_000_000_000
+    first = Clap(a1, (_timed("/fast", s1, 470_000), _timed("/slow", s1, 690_000, 2 * PERIOD)))
+    last = Clap(a2, (_timed("/fast", s2 - 4_800_000, 4_350_000),
+                     _timed("/slow", s2, 600_000, 2 * PERIOD)))
+    true_drift = (s2 - s1) / ((a2 - a1) * 1e9) - 1.0
+    r = build_result([first, last])
+    assert abs(r.model.drift - true_drift) * 1e6 < 10.0
+    # without the fits' errors, the cameras count by frame rate as before (fast: 4 to 1)
+    plain = build_result([Clap(a1, tuple(replace(c, sigma_ns=0) for c in first.cameras)),
+                          Clap(a2, tuple(replace(c, sigma_ns=0) for c in last.cameras))])
+    assert (plain.model.drift - true_drift) * 1e6 == pytest.approx(-4.8e6 * 4 / 5 / 37e3,
+                                                                   abs=0.5)
+
