@@ -14,6 +14,12 @@ MAX_DRIFT = 1e-3  # 1000 ppm: anything larger means the two claps were mismatche
 #: a V fit's timing is taken as no better than this: the audio clap's onset is good to
 #: about a tenth of a millisecond, and the fit's error leaves out its own biases
 MIN_TIMING_SD_NS = 300_000
+#: two cameras' times between the claps further apart than this (and than their timing
+#: errors allow) are noted: one of them timed a clap wrongly
+DISAGREE_NS = 2_000_000
+#: a drift whose standard error moves the audio farthest from the first clap more than
+#: this is noted (as a typical drift does over ONE_CLAP_NOTE_S without a second clap)
+DOUBTFUL_SHIFT_S = 0.006
 
 
 @dataclass(frozen=True)
@@ -149,17 +155,18 @@ def _pair_drift(first: Clap, last: Clap) -> float:
     da = last.audio_s - first.audio_s
     spans = _camera_spans(first, last)
     if spans is not None:
-        ds, var = spans
+        ds, var, _ = spans
         w = 1.0 / var
         return float(np.sum(w * ds) / np.sum(w)) / (da * 1e9) - 1.0
     return (last.session_ns - first.session_ns) / (da * 1e9) - 1.0
 
 
-def _camera_spans(first: Clap, last: Clap) -> tuple[np.ndarray, np.ndarray] | None:
-    """Per camera that saw both claps: the session time between them (ns) and its variance
-    (ns², its two clap timings' :func:`timing_sd_ns` squared), of three cameras or more
-    those near the median; None when the claps were set on the session clock by hand or
-    no camera saw both."""
+def _camera_spans(first: Clap, last: Clap
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Per camera that saw both claps: the session time between them (ns), its variance
+    (ns², its two clap timings' :func:`timing_sd_ns` squared) and whether V fits measured
+    both timings, of three cameras or more those near the median; None when the claps
+    were set on the session clock by hand or no camera saw both."""
     if first.session_override_ns is not None or last.session_override_ns is not None:
         return None
     both = {c.name: c for c in first.cameras}
@@ -168,10 +175,11 @@ def _camera_spans(first: Clap, last: Clap) -> tuple[np.ndarray, np.ndarray] | No
         return None
     ds = np.array([b.clap_ns - a.clap_ns for a, b in pairs], dtype=np.float64)
     var = np.array([timing_sd_ns(a) ** 2 + timing_sd_ns(b) ** 2 for a, b in pairs])
+    measured = np.array([_fit_timed(a) and _fit_timed(b) for a, b in pairs])
     if ds.size >= 3:
         keep = np.abs(ds - np.median(ds)) <= 3 * _mad(ds) + 2e6
-        ds, var = ds[keep], var[keep]
-    return ds, var
+        ds, var, measured = ds[keep], var[keep], measured[keep]
+    return ds, var, measured
 
 
 def _fit_timed(cam: CameraClap) -> bool:
@@ -187,6 +195,44 @@ def timing_sd_ns(cam: CameraClap) -> float:
     return max(cam.period_ns or 33_333_333, 1) / np.sqrt(12.0)
 
 
+def drift_notes(claps: list[Clap] | tuple[Clap, ...], model: SyncModel,
+                audio_s: float | None = None) -> list[str]:
+    """Notes when two claps' drift rests on weak evidence: cameras that disagree on the time
+    between the claps beyond their timing errors, or a drift whose standard error, carried
+    to the audio farthest from the first clap (``audio_s``: the audio's length; unknown:
+    the last clap), moves it more than DOUBTFUL_SHIFT_S. Only the cameras whose V fits
+    gave their timing errors count (a clap timed to a frame or set by hand has none)."""
+    ordered = sorted(claps, key=lambda c: c.audio_s)
+    if len(ordered) < 2 or model.drift == 0.0:
+        return []
+    first, last = ordered[0], ordered[-1]
+    spans = _camera_spans(first, last)
+    if spans is None:
+        return []
+    ds, var, measured = spans
+    ds, var = ds[measured], var[measured]
+    if ds.size == 0:
+        return []
+    da = last.audio_s - first.audio_s
+    notes = []
+    if ds.size >= 2:
+        gap = float(np.ptp(ds))
+        i, j = int(np.argmin(ds)), int(np.argmax(ds))
+        if gap > DISAGREE_NS and gap > 3.0 * float(np.sqrt(var[i] + var[j])):
+            notes.append(f"the cameras disagree on the time between the claps by "
+                         f"{gap / 1e6:.1f} ms ({gap / (da * 1e9) * 1e6:.0f} ppm of drift), "
+                         "more than their clap timings allow: check both claps in the review")
+    sd = float(np.sqrt(1.0 / np.sum(1.0 / var))) / (da * 1e9)
+    reach_s = max(first.audio_s, (audio_s or last.audio_s) - first.audio_s)
+    if sd * reach_s > DOUBTFUL_SHIFT_S:
+        notes.append(f"drift {model.drift * 1e6:.0f} ppm is uncertain by about "
+                     f"{sd * 1e6:.0f} ppm ({sd * reach_s * 1e3:.0f} ms at the words farthest "
+                     f"from the first clap): the claps are {da:.0f} s apart and timed to "
+                     f"{float(np.sqrt(np.min(var))) / 1e6:.1f} ms at best; clap again, "
+                     "in clear view, farther apart")
+    return notes
+
+
 def timing_weight(period_ns: int | None) -> float:
     """How much a camera's clap time counts: inverse frame period squared (a 30 fps
     camera counts four times a 15 fps one; no period known: as 30 fps)."""
@@ -199,7 +245,8 @@ def _mad(v: np.ndarray) -> float:
 
 def build_result(claps: list[Clap], warnings: list[str] | None = None,
                  extra: dict | None = None) -> SyncResult:
-    """A result from claps; the source is "manual" when any clap was edited."""
+    """A result from claps; the source is "manual" when any clap was edited. The audio's
+    length, for the drift's notes, is read from ``extra["audio"]["duration_s"]``."""
     source = "manual" if any(c.edited for c in claps) else "auto"
     ordered = tuple(sorted(claps, key=lambda c: c.audio_s))
     model = model_from_claps(ordered, source)
@@ -207,6 +254,9 @@ def build_result(claps: list[Clap], warnings: list[str] | None = None,
     if abs(model.drift) > MAX_DRIFT:
         notes.append(f"drift {model.drift * 1e6:.0f} ppm is implausible; "
                      "check that both claps were matched (set them by hand)")
+    else:
+        audio = (extra or {}).get("audio") or {}
+        notes.extend(drift_notes(ordered, model, audio.get("duration_s")))
     result = SyncResult(model, ordered, (), dict(extra or {}))
     cams = result.residuals()
     for cam in cams:

@@ -129,6 +129,7 @@ def test_two_cameras_count_by_how_finely_they_time_the_clap() -> None:
     same_rate = Clap(2.0, (fast, CameraClap("/cam1", 880_000_000, 33_333_333, "v-fit")))
     assert same_rate.session_ns == 940_000_000  # equal periods: the plain mean
 
+
 def _timed(name: str, clap_ns: int, sigma_ns: int, period: int = PERIOD) -> CameraClap:
     return CameraClap(name, clap_ns, period, "v-fit", sigma_ns=sigma_ns)
 
@@ -149,3 +150,29 @@ def test_drift_leans_on_the_camera_whose_v_fits_timed_both_claps_closely() -> No
     assert (plain.model.drift - true_drift) * 1e6 == pytest.approx(-4.8e6 * 4 / 5 / 37e3,
                                                                    abs=0.5)
 
+
+def test_cameras_that_disagree_on_the_time_between_claps_are_noted() -> None:
+    a1, a2, s1, s2 = 2.0, 39.0, 10_000_000_000, 47_000_000_000
+    first = Clap(a1, (_timed("/a", s1, 500_000), _timed("/b", s1, 500_000)))
+    last = Clap(a2, (_timed("/a", s2 + 6_000_000, 500_000), _timed("/b", s2, 500_000)))
+    notes = build_result([first, last]).warnings
+    assert any(n.startswith("the cameras disagree on the time between the claps by 6.0 ms "
+                            "(162 ppm of drift)") for n in notes)
+    agreeing = Clap(a2, (_timed("/a", s2 + 600_000, 500_000), _timed("/b", s2, 500_000)))
+    assert not build_result([first, agreeing]).warnings
+
+
+def test_a_drift_from_claps_close_together_is_noted_as_uncertain() -> None:
+    """Two claps 8 s apart timed to 0.5 ms: the drift is good to about 90 ppm only, which
+    in ten minutes of audio is 53 ms; within the claps' span it is under a millisecond."""
+    first = Clap(2.0, (_timed("/a", 10_000_000_000, 500_000),))
+    last = Clap(10.0, (_timed("/a", 18_000_400_000, 500_000),))
+    long_audio = {"audio": {"duration_s": 600.0}}
+    r = build_result([first, last], extra=long_audio)
+    assert r.model.drift * 1e6 == pytest.approx(50.0, abs=0.1)
+    assert [n for n in r.warnings if n.startswith(
+        "drift 50 ppm is uncertain by about 88 ppm (53 ms at the words farthest")]
+    assert not build_result([first, last]).warnings  # audio length unknown: to the last clap
+    assert not build_result([first, last], extra={"audio": {"duration_s": 12.0}}).warnings
+    far = Clap(500.0, (_timed("/a", 508_025_000_000, 500_000),))
+    assert not build_result([first, far], extra=long_audio).warnings
