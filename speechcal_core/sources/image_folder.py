@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from speechcal_core.sources.base import RawFrame, StreamInfo
@@ -30,6 +29,37 @@ def _stamped_images(folder: Path) -> list[tuple[int, str]]:
             if suffix.lower() in IMAGE_SUFFIXES and stem.isdigit() and entry.is_file():
                 out.append((int(stem), entry.name))
     return sorted(out)
+
+
+def _first_readable_size(
+    folder: Path, names: list[str]
+) -> tuple[tuple[int, int], list[tuple[int, str]]]:
+    """(height, width) of the first image in ``names`` that decodes ((0, 0) when none
+    does), and the (index, reason) of the ones before it that do not."""
+    unreadable: list[tuple[int, str]] = []
+    for i, name in enumerate(names):
+        try:
+            img = decode_compressed((folder / name).read_bytes())
+        except BadFrameError as exc:
+            unreadable.append((i, str(exc)))
+            continue
+        except OSError as exc:
+            raise SourceError(f"{folder / name}: cannot read ({exc.strerror})") from None
+        return (int(img.shape[0]), int(img.shape[1])), unreadable
+    return (0, 0), unreadable
+
+
+def _unreadable_note(folder: Path, names: list[str], unreadable: list[tuple[int, str]]) -> str:
+    """What to tell about the images that cannot be read, naming the first few."""
+    shown = ", ".join(f"{names[i]} ({why})" for i, why in unreadable[:3])
+    more = f" and {len(unreadable) - 3} more" if len(unreadable) > 3 else ""
+    if len(unreadable) == len(names):
+        return (f"{folder}: none of its {len(names)} images can be read: {shown}{more}; "
+                "marked as bad frames (re-copy or re-export the camera's images)")
+    many = len(unreadable) > 1
+    return (f"{folder}: {len(unreadable)} image{'s' * many} cannot be read: {shown}{more}; "
+            f"marked as {'bad frames' if many else 'a bad frame'} (re-copy or re-export "
+            f"{'them' if many else 'it'} to use {'them' if many else 'it'})")
 
 
 class ImageFolderSource(StreamTable):
@@ -67,8 +97,9 @@ class ImageFolderSource(StreamTable):
                 "not header stamps in nanoseconds; name each image by its header stamp in "
                 "nanoseconds (<stamp_ns>.png, as Kalibr's bag extractor writes them)")
         names = [items[k][1] for k in st.order]
-        first = cv2.imread(str(folder / names[0]), cv2.IMREAD_UNCHANGED)
-        height, width = first.shape[:2] if first is not None else (0, 0)
+        (height, width), unreadable = _first_readable_size(folder, names)
+        if unreadable:
+            self.notes.append(_unreadable_note(folder, names, unreadable))
         kinds = {IMAGE_SUFFIXES[os.path.splitext(n)[1].lower()] for n in names}
         info = StreamInfo(
             name=name,
@@ -83,6 +114,7 @@ class ImageFolderSource(StreamTable):
             nominal_rate_hz=st.nominal_rate_hz,
             dropped=st.dropped,
             stamp_problems=st.problems,
+            bad_frames=tuple(i for i, _ in unreadable),
         )
         self._files[name] = (folder, names)
         self._add_stream(info, st.stamps)

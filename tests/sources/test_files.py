@@ -127,6 +127,47 @@ def test_corrupt_image_file_is_marked_bad_and_the_rest_still_works(tmp_path: Pat
         assert src.frame("cam1", 4).shape == (12, 16, 3)
 
 
+@pytest.mark.parametrize("damage", ["truncated", "not an image"])
+def test_unreadable_first_images_are_bad_frames_and_the_size_is_the_first_readable(
+        tmp_path: Path, damage: str) -> None:
+    root = make_kalibr_folder(tmp_path / "dataset", cams=2)
+    first_two = sorted((root / "cam0").iterdir())[:2]
+    for png in first_two:
+        png.write_bytes(png.read_bytes()[:40] if damage == "truncated" else b"not an image")
+    with open_recording([root]) as src:
+        info = {s.name: s for s in src.streams}
+        assert (info["cam0"].width, info["cam0"].height) == (16, 12)
+        assert info["cam0"].bad_frames == (0, 1) and info["cam1"].bad_frames == ()
+        (note,) = src.notes
+        assert all(p.name in note for p in first_two) and "bad frames" in note
+        np.testing.assert_array_equal(src.frame("cam0", 2), pixels(0, 2))
+
+
+def test_index_names_an_unreadable_first_image(tmp_path: Path, capsys) -> None:
+    from speechcal_core.cli import main
+
+    root = make_kalibr_folder(tmp_path / "dataset", cams=1)
+    png = sorted((root / "cam0").iterdir())[0]
+    png.write_bytes(png.read_bytes()[:40])
+    assert main(["index", str(root)]) == 0
+    out = capsys.readouterr().out
+    assert re.search(r"^cam0\s+png\s+16x12\s+6\s+\S+\s+0\s+1\s", out, re.M), out
+    assert f"note: {png.parent}: 1 image cannot be read: {png.name} (PNG is truncated" in out
+
+
+def test_a_camera_folder_whose_every_image_is_unreadable_is_all_bad_frames(
+        tmp_path: Path) -> None:
+    root = make_kalibr_folder(tmp_path / "dataset", cams=2, n=5)
+    for jpg in (root / "cam1").iterdir():
+        jpg.write_bytes(b"")
+    with open_recording([root]) as src:
+        info = {s.name: s for s in src.streams}
+        assert info["cam1"].bad_frames == (0, 1, 2, 3, 4) and info["cam0"].bad_frames == ()
+        (note,) = src.notes
+        assert note.startswith(f"{root / 'cam1'}: none of its 5 images can be read: ")
+        assert note.count("(empty compressed payload)") == 3 and "and 2 more" in note
+
+
 @pytest.mark.parametrize(("names", "apart"), [
     ([f"{i:06d}.png" for i in range(1, 21)], 1),  # ffmpeg's %06d.png
     ([f"{1_700_000_005_505 + 33 * i}.png" for i in range(20)], 33),  # milliseconds
