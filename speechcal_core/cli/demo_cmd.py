@@ -6,15 +6,17 @@ import argparse
 from pathlib import Path
 
 from speechcal_core.cli._output import StageProgress, progress
+from speechcal_core.cli._paths import SCREENSHOT, path_arg
 from speechcal_core.text import counted
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("demo", help="open a synthetic demo session")
-    p.add_argument("--workdir", metavar="DIR",
+    p.add_argument("--workdir", metavar="DIR", type=path_arg("the demo's folder"),
                    help="where to write the demo session (default: ~/.cache/speechcal/demo)")
-    p.add_argument("--screenshot", metavar="PNG", help="render the window to PNG and exit")
+    p.add_argument("--screenshot", metavar="PNG", type=SCREENSHOT,
+                   help="render the window to PNG and exit")
     return p
 
 

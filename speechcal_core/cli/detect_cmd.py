@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from speechcal_core.cli._output import emit_json, progress
+from speechcal_core.cli._paths import AUDIO, TRANSCRIPT, path_arg
 from speechcal_core.cli._speech_options import (
     add_channel_option,
     add_trigger_options,
@@ -17,14 +18,16 @@ from speechcal_core.errors import UsageError
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("detect", help="find trigger words in an audio file")
-    p.add_argument("audio", metavar="AUDIO")
+    p.add_argument("audio", metavar="AUDIO", type=AUDIO)
     add_channel_option(p)
     add_trigger_options(p)
     p.add_argument("--backend", default="pocketsphinx",
                    help="pocketsphinx (default), faster-whisper, whisperx or example")
-    p.add_argument("--transcript", metavar="F", help="take words from a transcript file")
+    p.add_argument("--transcript", metavar="F", type=TRANSCRIPT,
+                   help="take words from a transcript file")
     p.add_argument("--json", action="store_true", help="print one JSON document")
-    p.add_argument("--model-dir", metavar="DIR", help="local model folder for Whisper backends")
+    p.add_argument("--model-dir", metavar="DIR", type=path_arg("the model folder"),
+                   help="local model folder for Whisper backends")
     p.add_argument("--example", action="append", default=[], metavar="START:END",
                    help="a marked instance (audio seconds) for --backend example")
     return p

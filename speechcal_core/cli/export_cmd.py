@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from speechcal_core.cli._output import StageProgress, emit_json, progress
+from speechcal_core.cli._paths import SESSION, TARGET, path_arg
 from speechcal_core.text import counted
 
 
@@ -22,19 +23,20 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                     "(corners.json, and corners.vnl for mrcal). Sets the review left waiting "
                     "for re-scoring (after an offset edit or an added set) get their best "
                     "still frames first, saved to the session file.")
-    p.add_argument("session", metavar="SESSION.json")
+    p.add_argument("session", metavar="SESSION.json", type=SESSION)
     p.add_argument("--format", required=True, choices=("kalibr", "folders", "rosbag1", "rosbag2"),
                    help="kalibr: for Kalibr (kalibr_bagcreater makes its bag); folders: for "
                         "calib.io, mrcal and OpenCV (images per camera with corners.vnl); "
                         "rosbag1 / rosbag2: a bag for Kalibr or ROS tools")
     p.add_argument("--out", required=True, metavar="DIR",
+                   type=path_arg("the folder to write the export to"),
                    help="output folder: a new one (an earlier export only with --force)")
     p.add_argument("--force", action="store_true",
                    help="replace an earlier export (or an empty folder) at DIR; a file or a "
                         "folder holding anything else is never replaced")
     p.add_argument("--include-undecided", action="store_true",
                    help="export undecided sets too (rejected sets never are)")
-    p.add_argument("--target", metavar="TARGET.yaml",
+    p.add_argument("--target", metavar="TARGET.yaml", type=TARGET,
                    help="Kalibr target yaml for kalibr's target.yaml (default: the session's "
                         "target, else the 6x6 AprilGrid that process assumes)")
     p.add_argument("--json", action="store_true", help="print one JSON document")

@@ -6,12 +6,13 @@ import argparse
 from dataclasses import asdict
 
 from speechcal_core.cli._output import emit_json
+from speechcal_core.cli._paths import RECORDING
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("index", help="list image streams with header-stamp ranges")
-    p.add_argument("recording", metavar="RECORDING", nargs="+")
+    p.add_argument("recording", metavar="RECORDING", nargs="+", type=RECORDING)
     p.add_argument("--json", action="store_true", help="print one JSON document")
     p.add_argument("--no-cache", action="store_true", help="build the index afresh")
     p.add_argument(

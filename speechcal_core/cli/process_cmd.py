@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 from speechcal_core.cli._inputs import add_stream_options, recording_and_audio, stream_choice
 from speechcal_core.cli._output import StageProgress, emit_json, progress
+from speechcal_core.cli._paths import AUDIO, RECORDING, SESSION, TARGET, TRANSCRIPT
 from speechcal_core.cli._speech_options import (
     add_channel_option,
     add_trigger_options,
@@ -27,21 +28,21 @@ if TYPE_CHECKING:
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("process", help="build a session file from recording and audio")
-    p.add_argument("recording", metavar="RECORDING", nargs="+",
+    p.add_argument("recording", metavar="RECORDING", nargs="+", type=RECORDING,
                    help="ROS1/ROS2 bags, MCAP files, a video or an image folder (a split "
                         "bag: all its parts); the audio file may be given among them")
-    p.add_argument("--audio", metavar="AUDIO",
+    p.add_argument("--audio", metavar="AUDIO", type=AUDIO,
                    help="the microphone's audio file (wav, flac, ogg...)")
     add_channel_option(p)
     add_stream_options(p)
-    p.add_argument("--target", metavar="TARGET.yaml", help="Kalibr target yaml")
+    p.add_argument("--target", metavar="TARGET.yaml", type=TARGET, help="Kalibr target yaml")
     add_trigger_options(p)
-    p.add_argument("--transcript", metavar="F",
+    p.add_argument("--transcript", metavar="F", type=TRANSCRIPT,
                    help="take the words from a transcript (WhisperX JSON, Audacity labels, "
                         "whisper TSV, CSV word,start,end) instead of detecting them")
     p.add_argument("--offset-ns", type=int, metavar="N",
                    help="the audio's start in the cameras' clock, instead of finding the clap")
-    p.add_argument("-o", "--output", required=True, metavar="SESSION.json",
+    p.add_argument("-o", "--output", required=True, metavar="SESSION.json", type=SESSION,
                    help="the session file to write")
     p.add_argument("--force", action="store_true",
                    help="replace an existing session file, and no other file (its review "

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from speechcal_core.cli._inputs import add_stream_options, recording_and_audio, stream_choice
+from speechcal_core.cli._paths import AUDIO, SCREENSHOT, SESSION, TARGET, path_arg
 from speechcal_core.cli._speech_options import (
     add_channel_option,
     add_trigger_options,
@@ -19,15 +20,17 @@ from speechcal_core.speech.matching import DEFAULT_TRIGGERS, TriggerSpec
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("review", help="open the review window")
-    p.add_argument("inputs", nargs="*", metavar="SESSION.json | RECORDING")
-    p.add_argument("--audio", metavar="AUDIO",
+    p.add_argument("inputs", nargs="*", metavar="SESSION.json | RECORDING",
+                   type=path_arg("a session file or a recording"))
+    p.add_argument("--audio", metavar="AUDIO", type=AUDIO,
                    help="the microphone recording of a RECORDING not processed yet (a "
                         "session file knows its audio)")
-    p.add_argument("--session", metavar="SESSION.json",
+    p.add_argument("--session", metavar="SESSION.json", type=SESSION,
                    help="where a recording's session is kept (default: beside the recording, "
                         "RECORDING.speechcal.json); opened if it exists")
-    p.add_argument("--screenshot", metavar="PNG", help="render the window to PNG and exit")
-    p.add_argument("--target", metavar="TARGET.yaml",
+    p.add_argument("--screenshot", metavar="PNG", type=SCREENSHOT,
+                   help="render the window to PNG and exit")
+    p.add_argument("--target", metavar="TARGET.yaml", type=TARGET,
                    help="the board, as a Kalibr target yaml, of a recording processed into "
                         "a new session (default: Kalibr's 6x6 AprilGrid)")
     add_trigger_options(p)  # for a recording processed into a new session

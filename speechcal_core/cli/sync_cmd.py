@@ -6,6 +6,7 @@ import argparse
 from typing import TYPE_CHECKING
 
 from speechcal_core.cli._output import emit_json, progress
+from speechcal_core.cli._paths import AUDIO, RECORDING
 from speechcal_core.cli._speech_options import add_channel_option
 
 if TYPE_CHECKING:
@@ -15,8 +16,8 @@ if TYPE_CHECKING:
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("sync", help="find the clap and the audio-to-camera offset")
-    p.add_argument("recording", metavar="RECORDING", nargs="+")
-    p.add_argument("--audio", required=True, metavar="AUDIO",
+    p.add_argument("recording", metavar="RECORDING", nargs="+", type=RECORDING)
+    p.add_argument("--audio", required=True, metavar="AUDIO", type=AUDIO,
                    help="microphone file, or an audio topic inside the recording")
     p.add_argument("--json", action="store_true", help="print one JSON document")
     add_channel_option(p)

@@ -6,13 +6,15 @@ import argparse
 import time
 
 from speechcal_core.cli._output import emit_json, progress
+from speechcal_core.cli._paths import path_arg
 from speechcal_core.text import counted
 
 
 def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     """Add the subcommand and its options."""
     p = subparsers.add_parser("synth", help="write a synthetic session for tests and demos")
-    p.add_argument("out", metavar="OUT", help="output folder")
+    p.add_argument("out", metavar="OUT", type=path_arg("the output folder"),
+                   help="output folder")
     p.add_argument("--cameras", type=int, default=3, help="number of cameras (1-12; default 3)")
     p.add_argument("--fisheye", type=int, default=0, help="how many of them are fisheye")
     p.add_argument("--duration", type=float, default=60.0,

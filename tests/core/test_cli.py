@@ -35,6 +35,40 @@ def test_an_option_the_subcommand_lacks_is_reported_with_its_usage(
     assert "speechcal process: error: unrecognized arguments: --scan" in err
 
 
+#: metavars of the arguments that name a file or a folder
+PATH_METAVARS = {"RECORDING", "AUDIO", "SESSION.json", "SESSION.json | RECORDING",
+                 "TARGET.yaml", "F", "DIR", "OUT", "PNG"}
+
+
+def _path_arguments() -> list[tuple[str, str]]:
+    """(command, option string or metavar of a positional) of every path argument."""
+    subparsers = next(a for a in build_parser()._actions if a.dest == "command")
+    return [(name, action.option_strings[-1] if action.option_strings else action.metavar)
+            for name, sub in subparsers.choices.items() for action in sub._actions
+            if action.metavar in PATH_METAVARS]
+
+
+def test_the_path_arguments_are_found() -> None:
+    found = _path_arguments()
+    assert {("export", "--out"), ("process", "--output"), ("process", "--target"),
+            ("process", "--audio"), ("index", "RECORDING"), ("synth", "OUT")} <= set(found)
+    assert len(found) >= 20
+
+
+@pytest.mark.parametrize(("command", "argument"), _path_arguments())
+def test_an_empty_file_or_folder_name_is_bad_usage(
+        command: str, argument: str, capsys: pytest.CaptureFixture[str]) -> None:
+    """An empty name (``--out ""``, an unset shell variable) meant the current folder,
+    or for --target and --audio the default, without a word."""
+    argv = [command, argument, ""] if argument.startswith("-") else [command, ""]
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert f"speechcal {command}: error: argument " in err
+    assert "an empty name; give " in err and "is not taken for the current folder" in err
+
+
 def test_stage_progress_prints_each_stage_and_every_tenth_not_every_step(capsys) -> None:
     from speechcal_core.cli._output import StageProgress
 

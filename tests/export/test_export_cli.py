@@ -148,6 +148,22 @@ def test_force_replaces_an_empty_folder(session_file, tmp_path, capsys) -> None:
     assert code == 0 and (out / "manifest.json").exists()
 
 
+def test_an_empty_out_is_bad_usage_not_the_current_folder(session_file, tmp_path,
+                                                          monkeypatch, capsys) -> None:
+    """``--out ""`` (an unset shell variable) meant the current folder: with --force an
+    empty one was replaced by the export."""
+    path = session_file()
+    here = tmp_path / "here"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    with pytest.raises(SystemExit) as exc:
+        main(["export", str(path), "--format", "kalibr", "--out", "", "--force"])
+    assert exc.value.code == 2
+    assert "speechcal export: error: argument --out: an empty name; give the folder to " \
+        "write the export to" in capsys.readouterr().err
+    assert list(here.iterdir()) == []
+
+
 def test_force_never_replaces_a_folder_of_other_files(session_file, tmp_path, capsys) -> None:
     """One slip (``--out ~/data --force``) must not delete someone's work."""
     out = tmp_path / "data"
