@@ -991,8 +991,9 @@ class ReviewWindow(QMainWindow):
     def _on_sync(self, sync: SyncModel) -> None:
         model = self.model
         assert model is not None
-        self.waveform.set_sync(sync)
-        self.waveform.set_claps(model.session.claps_audio_s())  # C may name another sound
+        # the claps placed on the new clock (C may name another sound): the later ones'
+        # lines made once
+        self.waveform.set_sync(sync, model.session.claps_audio_s())
         self.waveform.set_sets(model.session.sets)
         self.table.set_sets(model.session.sets, model.time_range_ns()[0], self._rescore_marks())
         self._apply_filter()

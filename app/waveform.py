@@ -175,13 +175,14 @@ class WaveformView(pg.PlotWidget):
         self.message.setGeometry((self.width() - width) // 2,
                                  max(4, (self.height() - height) // 2), width, height)
 
-    def set_sync(self, sync: SyncModel) -> None:
-        """Show the audio on the clock of ``sync``. An offset edit (same drift) moves the
-        envelope drawn as it is and redraws it once the edits pause: recomputing it cost
-        20 ms of each step of a held ``]``."""
+    def set_sync(self, sync: SyncModel, claps_audio_s: Sequence[float] | None = None) -> None:
+        """Show the audio on the clock of ``sync``, with the claps ``claps_audio_s`` (None:
+        the ones shown). An offset edit (same drift) moves the envelope drawn as it is
+        and redraws it once the edits pause: recomputing it cost 20 ms of each step of a
+        held ``]``."""
         drawn = self._drawn_sync
         self.sync = sync
-        self.set_claps(self._claps_audio_s)
+        self.set_claps(self._claps_audio_s if claps_audio_s is None else claps_audio_s)
         self._limit_to_whole()  # the audio moved
         if drawn is None or sync.drift != drawn.drift:
             self.redraw()

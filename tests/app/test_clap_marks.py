@@ -32,6 +32,40 @@ def test_a_second_clap_is_marked_and_follows_the_offset(
     assert mark.value() == pytest.approx(expected + 0.001, abs=1e-6)
 
 
+def test_an_offset_edit_places_the_claps_once(
+        qtbot, open_window, truth_session_file: Path, tmp_path: Path, monkeypatch) -> None:
+    """An offset edit placed the claps twice (the sync's, then the session's), making
+    the later claps' lines anew each time."""
+    import pyqtgraph as pg
+
+    session = load_session(truth_session_file)
+    first = session.sync_evidence["claps"][0]
+    session.sync_evidence["claps"] = [first, {"audio_s": first["audio_s"] + 9.5}]
+    path = tmp_path / "two_claps.json"
+    save_session(session, path)
+    window = open_window(path)
+    wave = window.waveform
+    placed, lines_added = [], []
+    set_claps, add_item = wave.set_claps, wave.addItem
+
+    def counted_set_claps(claps_audio_s) -> None:
+        placed.append(tuple(claps_audio_s))
+        set_claps(claps_audio_s)
+
+    def counted_add_item(item, *args, **kwargs) -> None:
+        if isinstance(item, pg.InfiniteLine):
+            lines_added.append(item)
+        add_item(item, *args, **kwargs)
+
+    monkeypatch.setattr(wave, "set_claps", counted_set_claps)
+    monkeypatch.setattr(wave, "addItem", counted_add_item)
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # offset +1 ms
+    assert placed == [tuple(window.model.session.claps_audio_s())]
+    assert lines_added == wave.later_claps and len(lines_added) == 1
+    expected = wave._to_x(int(window.model.session.sync.to_session(first["audio_s"] + 9.5)))
+    assert wave.later_claps[0].value() == pytest.approx(expected, abs=1e-6)
+
+
 def test_sync_line_drops_the_automatic_residuals_once_the_offset_is_edited(
         qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
     session = load_session(truth_session_file)
