@@ -100,23 +100,19 @@ class TargetDetector:
         self.object_points = target.object_points()
         self._order: np.ndarray | None = None  # AprilGrid corner order, once known
         self._dictionary: cv2.aruco.Dictionary | None = None  # AprilGrid: the board's tags
+        #: checkerboard: whether the last search that failed saw an AprilGrid's tags
+        self._tags_seen = False
+        full = cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_APRILTAG_36h11)
         if isinstance(target, CharucoSpec):
             self._charuco = cv2.aruco.CharucoDetector(target.board())
         elif target.kind == "aprilgrid":
-            params = cv2.aruco.DetectorParameters()
-            params.markerBorderBits = 2
-            params.cornerRefinementMethod = cv2.aruco.CORNER_REFINE_NONE
-            # small threshold windows keep tags apart from Kalibr's corner squares
-            params.adaptiveThreshWinSizeMin = 3
-            params.adaptiveThreshWinSizeMax = 5
-            params.adaptiveThreshWinSizeStep = 2
-            params.minMarkerPerimeterRate = 0.03
-            full = cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_APRILTAG_36h11)
             # only the board's own ids: identification time grows with the dictionary
             n = target.rows * target.cols
             d = cv2.aruco.Dictionary(full.bytesList[:n], full.markerSize, full.maxCorrectionBits)
             self._dictionary = d
-            self._aruco = cv2.aruco.ArucoDetector(d, params)
+            self._aruco = cv2.aruco.ArucoDetector(d, _kalibr_tag_parameters())
+        else:  # a checkerboard: tags say an AprilGrid was filmed instead (4 ms a frame)
+            self._aruco = cv2.aruco.ArucoDetector(full, _kalibr_tag_parameters())
 
     def detect(self, image: np.ndarray) -> Detection | None:
         """Corners of the target in ``image`` (None when it is not found).
@@ -124,6 +120,7 @@ class TargetDetector:
         The search runs on a shrunk copy first; when it finds less than most of the
         target it looks again at full resolution (and 1.5x), around what it found. AprilGrid
         tags still missing are then looked for from the tags around them (``grid_fill``).
+        A checkerboard not found where the frame shows AprilTags gets no closer look.
         """
         gray = to_gray(image)
         h, w = gray.shape[:2]
@@ -146,6 +143,8 @@ class TargetDetector:
                                      or not isinstance(self.target, TargetSpec)
                                      or self.target.kind != "aprilgrid"):
                 break
+            if best is None and self._tags_seen:
+                break  # an AprilGrid, not the checkerboard: no closer look finds it
             if best is not None:  # look closer around what was found
                 lo, hi = best[0].min(axis=0), best[0].max(axis=0)
                 pad = np.maximum((hi - lo) * 0.4 + 16, self._unseen_reach(best, hi - lo))
@@ -225,6 +224,14 @@ class TargetDetector:
         assert isinstance(self.target, TargetSpec)
         size = (self.target.cols, self.target.rows)
         ok, corners = cv2.findChessboardCornersSB(small, size, flags=cv2.CALIB_CB_NORMALIZE_IMAGE)
+        # An AprilGrid filmed (a wrong --target) passes OpenCV's quick check, and on a
+        # 1280x720 frame the classic detector and the looks at 1.0x and 1.5x then cost
+        # 2.3 s (``benchmarks/bench_wrong_target.py``). A checkerboard that the shrunk
+        # frame shows no trace of (far, blurred) may still be found at 1.0x: its tags
+        # are what tells an AprilGrid apart
+        self._tags_seen = not ok and _shows_tags(self._aruco, small)
+        if self._tags_seen:
+            return None
         if not ok and _classic_finds_checkerboard(small, size):
             # the exhaustive search took 1-3 s on each 256x192 frame without the board (a
             # wrong --target cost minutes); on 413 synthetic frames and 150 rendered views
@@ -249,6 +256,25 @@ class TargetDetector:
         assert isinstance(self.target, CharucoSpec)
         gap = (1 - self.target.marker / self.target.square) / 2  # corner to marker, in squares
         return points, ids.ravel(), max(1.5, float(np.median(d.min(axis=1))) * gap * 0.8)
+
+
+def _kalibr_tag_parameters() -> cv2.aruco.DetectorParameters:
+    """OpenCV's marker search set for the AprilTags of Kalibr's AprilGrid."""
+    params = cv2.aruco.DetectorParameters()
+    params.markerBorderBits = 2
+    params.cornerRefinementMethod = cv2.aruco.CORNER_REFINE_NONE
+    # small threshold windows keep tags apart from Kalibr's corner squares
+    params.adaptiveThreshWinSizeMin = 3
+    params.adaptiveThreshWinSizeMax = 5
+    params.adaptiveThreshWinSizeStep = 2
+    params.minMarkerPerimeterRate = 0.03
+    return params
+
+
+def _shows_tags(finder: cv2.aruco.ArucoDetector, image: np.ndarray, least: int = 2) -> bool:
+    """Whether ``image`` shows at least ``least`` AprilTags (36h11, Kalibr's border)."""
+    _, ids, _ = finder.detectMarkers(image)
+    return ids is not None and len(ids) >= least
 
 
 def _classic_finds_checkerboard(image: np.ndarray, size: tuple[int, int]) -> bool:

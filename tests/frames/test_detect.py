@@ -204,3 +204,57 @@ def test_a_frame_without_a_checkerboard_skips_the_exhaustive_search(monkeypatch)
     board = render_view(checkerboard, K, rvec, tvec, (640, 480))
     det = TargetDetector(checkerboard).detect(board)
     assert det is not None and det.count == 48
+
+
+K_720P = np.array([[1200.0, 0, 640], [0, 1200, 360], [0, 0, 1]])
+
+
+def _record_searches(monkeypatch) -> list[tuple[str, int, bool]]:
+    """(detector, image width, found) of every OpenCV checkerboard search from now on."""
+    searches: list[tuple[str, int, bool]] = []
+    for name in ("findChessboardCornersSB", "findChessboardCorners"):
+        find = getattr(cv2, name)
+
+        def recorded(image, size, flags=0, _find=find, _name=name):
+            result = _find(image, size, flags=flags)
+            searches.append((_name, image.shape[1], bool(result[0])))
+            return result
+
+        monkeypatch.setattr(cv2, name, recorded)
+    return searches
+
+
+def test_an_aprilgrid_looked_at_as_a_checkerboard_gets_no_closer_look(monkeypatch) -> None:
+    """On 1280x720 frames of an AprilGrid with a checkerboard --target, the search failed
+    at the shrunk scale, then ran the classic detector there and looked again at 1.0x
+    and 1.5x (2.3 s a frame). The AprilGrid's tags now end it after the first search."""
+    checkerboard = TargetSpec("checkerboard", 6, 8, 0.045)
+    rvec, tvec = facing_pose(TargetSpec(), 1.2, (0.3, -0.2), (0.02, 0.01), 0.2)
+    aprilgrid = render_view(TargetSpec(), K_720P, rvec, tvec, (1280, 720))
+    searches = _record_searches(monkeypatch)
+    assert TargetDetector(checkerboard).detect(aprilgrid) is None
+    assert searches == [("findChessboardCornersSB", 800, False)]
+
+
+def test_a_far_blurred_checkerboard_missed_on_the_shrunk_frame_is_found_at_full_size(
+        monkeypatch) -> None:
+    """The shrunk frame shows no trace of it (OpenCV's quick check and classic detector
+    see nothing there), yet the look at 1.0x finds it: only an AprilGrid's tags end the
+    search early."""
+    checkerboard = TargetSpec("checkerboard", 6, 8, 0.045)
+    rvec, tvec = facing_pose(checkerboard, 4.5, (0.5, -0.4), (0.0, 0.0), 0.2)
+    board = render_view(checkerboard, K_720P, rvec, tvec, (1280, 720), blur=2.0, noise=4)
+    small = cv2.resize(board, None, fx=0.625, fy=0.625, interpolation=cv2.INTER_AREA)
+    assert not cv2.checkChessboard(small, (8, 6))
+    searches = _record_searches(monkeypatch)
+    det = TargetDetector(checkerboard).detect(board)
+    assert det is not None and det.count == 48
+    assert ("findChessboardCornersSB", 800, False) in searches
+    assert searches[-1] == ("findChessboardCornersSB", 1280, True)
+    proj, _ = cv2.projectPoints(checkerboard.object_points(), rvec, tvec, K_720P, None)
+    grid = proj.reshape(6, 8, 2)  # a checkerboard has no marked origin
+    flips = [grid, grid[::-1], grid[:, ::-1], grid[::-1, ::-1]]
+    # where the board is (blurred, noisy and 15 px a square: the worst corner 1.6 px off)
+    errors = [np.linalg.norm(f.reshape(-1, 2) - det.points, axis=1) for f in flips]
+    assert min(float(np.median(e)) for e in errors) < 0.5
+    assert min(float(e.max()) for e in errors) < 2.0
