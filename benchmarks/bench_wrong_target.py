@@ -53,17 +53,21 @@ SESSION = dict(cameras=1, fisheye=0, duration=14.0, seed=21, claps=1)
 CHECKERBOARD = TargetSpec("checkerboard", 6, 8, 0.045)
 
 
+def _found(corners: np.ndarray):
+    """What ``_detect_checkerboard`` returned for the corners OpenCV found (both
+    baselines)."""
+    points = upright_checkerboard(corners.reshape(-1, 2).astype(np.float64))
+    step = np.linalg.norm(points[1] - points[0])
+    return points, np.arange(points.shape[0]), max(1.5, step * 0.3)
+
+
 def baseline_checkerboard(self: TargetDetector, small: np.ndarray):
     """``TargetDetector._detect_checkerboard`` as it was (the baseline): the exhaustive
     search on every frame."""
     size = (self.target.cols, self.target.rows)
     flags = cv2.CALIB_CB_NORMALIZE_IMAGE | cv2.CALIB_CB_EXHAUSTIVE
     ok, corners = cv2.findChessboardCornersSB(small, size, flags=flags)
-    if not ok:
-        return None
-    points = upright_checkerboard(corners.reshape(-1, 2).astype(np.float64))
-    step = np.linalg.norm(points[1] - points[0])
-    return points, np.arange(points.shape[0]), max(1.5, step * 0.3)
+    return _found(corners) if ok else None
 
 
 class BaselineDetector(TargetDetector):
@@ -82,11 +86,7 @@ def rescale_baseline_checkerboard(self: TargetDetector, small: np.ndarray):
     if not ok and _classic_finds_checkerboard(small, size):
         flags = cv2.CALIB_CB_NORMALIZE_IMAGE | cv2.CALIB_CB_EXHAUSTIVE
         ok, corners = cv2.findChessboardCornersSB(small, size, flags=flags)
-    if not ok:
-        return None
-    points = upright_checkerboard(corners.reshape(-1, 2).astype(np.float64))
-    step = np.linalg.norm(points[1] - points[0])
-    return points, np.arange(points.shape[0]), max(1.5, step * 0.3)
+    return _found(corners) if ok else None
 
 
 class RescaleBaselineDetector(TargetDetector):
