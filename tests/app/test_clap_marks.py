@@ -38,11 +38,8 @@ def test_an_offset_edit_places_the_claps_once(
     the later claps' lines anew each time."""
     import pyqtgraph as pg
 
-    session = load_session(truth_session_file)
-    first = session.sync_evidence["claps"][0]
-    session.sync_evidence["claps"] = [first, {"audio_s": first["audio_s"] + 9.5}]
-    path = tmp_path / "two_claps.json"
-    save_session(session, path)
+    path = _two_claps_file(truth_session_file, tmp_path)
+    second_s = load_session(path).sync_evidence["claps"][1]["audio_s"]
     window = open_window(path)
     wave = window.waveform
     placed, lines_added = [], []
@@ -62,7 +59,7 @@ def test_an_offset_edit_places_the_claps_once(
     qtbot.keyClick(window, Qt.Key.Key_BracketRight)  # offset +1 ms
     assert placed == [tuple(window.model.session.claps_audio_s())]
     assert lines_added == wave.later_claps and len(lines_added) == 1
-    expected = wave._to_x(int(window.model.session.sync.to_session(first["audio_s"] + 9.5)))
+    expected = wave._to_x(int(window.model.session.sync.to_session(second_s)))
     assert wave.later_claps[0].value() == pytest.approx(expected, abs=1e-6)
 
 
