@@ -10,13 +10,23 @@ from speechcal_core.fsutil import same_file
 from speechcal_core.sources.selection import StreamChoice
 
 
+def stream_name(value: str) -> str:
+    """An argparse ``type`` for a stream's name: an empty one (an unset shell variable)
+    is bad usage, refused before the recording is indexed."""
+    if value.strip() == "":
+        raise argparse.ArgumentTypeError(
+            "an empty stream name; give a topic, video or image folder as `speechcal "
+            "index RECORDING` lists them (is a shell variable unset?)")
+    return value
+
+
 def add_stream_options(p: argparse.ArgumentParser) -> None:
     """``--stream`` and ``--skip-stream``: which of the recording's streams are cameras."""
-    p.add_argument("--stream", action="append", metavar="TOPIC",
+    p.add_argument("--stream", action="append", metavar="TOPIC", type=stream_name,
                    help="use only this stream (topic, video or image folder) of the "
                         "recording; repeat for more (default: all; `speechcal index` lists "
                         "them)")
-    p.add_argument("--skip-stream", action="append", metavar="TOPIC",
+    p.add_argument("--skip-stream", action="append", metavar="TOPIC", type=stream_name,
                    help="leave this stream out (one camera recorded twice, a depth or "
                         "infrared topic); repeat for more. An existing session leaves it "
                         "out too, keeping its review work")

@@ -203,3 +203,20 @@ def test_every_subcommands_help_imports_nothing_heavy(command: str) -> None:
                        text=True, timeout=60)
     assert p.stdout.startswith(f"usage: speechcal {command}")
     assert json.loads(p.stdout.splitlines()[-1]) == [0, []]
+
+
+
+@pytest.mark.parametrize("command", ["process", "review"])
+@pytest.mark.parametrize("option", ["--stream", "--skip-stream"])
+def test_an_empty_stream_name_is_bad_usage(command: str, option: str, tmp_path: Path,
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    """An empty topic (an unset shell variable) was looked up after indexing the whole
+    recording, then refused as a stream the recording lacks. Parsed only: a review that
+    got past its arguments would open the window."""
+    argv = [command, str(tmp_path / "not-indexed.bag"), "--audio", "a.ogg", option, " "]
+    with pytest.raises(SystemExit) as exc:
+        build_parser().parse_args(argv + (["-o", "s.json"] if command == "process" else []))
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert f"speechcal {command}: error: argument {option}: an empty stream name" in err
+    assert "speechcal index RECORDING" in err
