@@ -116,7 +116,7 @@ def file_in_the_way(folder: Path) -> str | None:
 
 def _aside(target: Path) -> Path:
     """A free hidden sibling name to move ``target`` to while its replacement goes in."""
-    base = target.parent / f".{target.name}.old-{os.getpid()}"
+    base = target.parent / f".{_sibling_stem(target)}.old-{os.getpid()}"
     candidate, n = base, 0
     while os.path.lexists(candidate):
         n += 1
@@ -182,7 +182,22 @@ def staged_directory(target: str | Path, *, force: bool = False,
 def _staging_prefix(target: Path, state: str) -> str:
     """The name a staging folder of ``target`` starts with: ``state`` is "starting" until
     it is locked, then "partial"."""
-    return f".{target.name}.{state}-"
+    return f".{_sibling_stem(target)}.{state}-"
+
+
+#: the longest name a file system takes (bytes), and what the names of the siblings
+#: written beside an output add to its name (".NAME.starting-XXXXXXXX", ".NAME.old-PID-N")
+_NAME_MAX = 255
+_SIBLING_EXTRA = 24
+
+
+def _sibling_stem(target: Path) -> str:
+    """``target``'s name, shortened where a sibling named after it would pass the file
+    system's limit on a name's length (an output named with 240 bytes is fine itself)."""
+    name = target.name
+    while len(os.fsencode(name)) > _NAME_MAX - _SIBLING_EXTRA:
+        name = name[:-1]
+    return name
 
 
 def _locked_staging(target: Path) -> tuple[Path, int | None]:
@@ -272,10 +287,11 @@ def _check_still_replaceable(staging: Path, target: Path, existed: bool,
 
 def _free_sibling(target: Path) -> Path:
     """``<target>-new``, or ``-new-2``, ``-new-3``... : the first name not taken."""
-    candidate, n = target.with_name(f"{target.name}-new"), 1
+    stem = _sibling_stem(target)
+    candidate, n = target.with_name(f"{stem}-new"), 1
     while os.path.lexists(candidate):
         n += 1
-        candidate = target.with_name(f"{target.name}-new-{n}")
+        candidate = target.with_name(f"{stem}-new-{n}")
     return candidate
 
 

@@ -134,6 +134,18 @@ def test_existing_output_needs_force(tmp_path: Path) -> None:
     assert sorted(p.name for p in target.iterdir()) == ["new.txt"]
 
 
+@pytest.mark.parametrize("name", ["e" * 255, "é" * 120 + "-export"])
+def test_an_output_named_up_to_the_longest_name_is_written_and_replaced(
+        tmp_path: Path, name: str) -> None:
+    target = tmp_path / name  # 255 bytes: the hidden siblings' names must be shorter
+    with staged_directory(target) as staging:
+        (staging / "a.txt").write_text("first")
+    with staged_directory(target, force=True) as staging:
+        (staging / "b.txt").write_text("second")
+    assert [p.name for p in target.iterdir()] == ["b.txt"]
+    assert [p.name for p in tmp_path.iterdir()] == [name]  # nothing hidden left
+
+
 def test_an_output_that_appears_while_writing_is_left_alone(tmp_path: Path) -> None:
     target = tmp_path / "out"
     with pytest.raises(SpeechCalError) as err, staged_directory(target) as staging:
