@@ -191,6 +191,18 @@ _NAME_MAX = 255
 _SIBLING_EXTRA = 24
 
 
+def staging_name_bytes(target: str | Path) -> int:
+    """How long (bytes) the name of the hidden folder that :func:`staged_directory` writes
+    ``target`` in is: a file inside it has a path this much longer than inside ``target``,
+    less ``target``'s own name."""
+    prefix = _staging_prefix(Path(target).absolute(), "partial")
+    return len(os.fsencode(prefix)) + _STAGING_RANDOM
+
+
+#: characters ``tempfile.mkdtemp`` adds to a staging folder's prefix
+_STAGING_RANDOM = 8
+
+
 def _sibling_stem(target: Path) -> str:
     """``target``'s name, shortened where a sibling named after it would pass the file
     system's limit on a name's length (an output named with 240 bytes is fine itself)."""

@@ -9,12 +9,14 @@ log-time order, each frame once even when two sets chose it.
 
 from __future__ import annotations
 
+import os
 import sqlite3
 from typing import TYPE_CHECKING
 
 from speechcal_core.export.bag_messages import BagMessage, bag_message
 from speechcal_core.export.errors import ExportError
 from speechcal_core.export.plan import Outcome, Progress
+from speechcal_core.fsutil import staging_name_bytes
 from speechcal_core.sources.errors import BadFrameError
 
 if TYPE_CHECKING:
@@ -25,6 +27,28 @@ if TYPE_CHECKING:
 
 ROS1_BAG = "calibration.bag"
 ROS2_BAG = "calibration"
+ROS2_DATABASE = f"{ROS2_BAG}/{ROS2_BAG}.db3"  # what rosbags' sqlite3 storage names it
+
+#: the longest path (bytes) of a file that SQLite opens: its unix VFS takes 512 bytes,
+#: which must hold the rollback journal's name, the database's with "-journal" added
+SQLITE_PATH_MAX = 512 - len("-journal")
+
+
+def rosbag2_path_problem(out: Path) -> str:
+    """Why a rosbag2 export cannot be written at ``out`` ("" when it can): its database
+    would lie at a path too long for SQLite, while written (in the hidden folder beside
+    ``out``) or where it ends up, and neither rosbags nor ``ros2 bag`` could open it."""
+    db = out.absolute() / ROS2_DATABASE
+    final = len(os.fsencode(db))
+    staged = final - len(os.fsencode(out.name)) + staging_name_bytes(out)
+    longest = max(final, staged)
+    if longest <= SQLITE_PATH_MAX:
+        return ""
+    room = SQLITE_PATH_MAX - (longest - len(os.fsencode(out.absolute())))
+    return (f"{db}: a ROS 2 bag's database there would have a path of {longest} bytes "
+            f"(while written), and SQLite, its storage, opens no file whose path is longer "
+            f"than {SQLITE_PATH_MAX} bytes (ros2 bag could not read it either); choose an "
+            f"output folder whose path is at most {room} bytes long, or --format rosbag1")
 
 
 def _messages(

@@ -152,6 +152,12 @@ def _preflight(session: Session, fmt: str, out: Path, *, force: bool, include_un
     sets = select_sets(session, include_undecided=include_undecided, where=where)
     check_output(out, force, session_inputs(session, session_path),
                  _board_written(session, fmt, target))
+    if fmt == "rosbag2":
+        from speechcal_core.export.bags import rosbag2_path_problem
+
+        too_long = rosbag2_path_problem(out)
+        if too_long:
+            raise ExportError(too_long)
     return sets
 
 

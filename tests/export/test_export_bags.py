@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
@@ -10,7 +11,8 @@ from export_sessions import PATTERN, write_session
 from ros2_humble_layout import as_humble_records_it
 from rosbags.highlevel import AnyReader
 
-from speechcal_core.export import export_session_file
+from speechcal_core.export import ExportError, export_session_file
+from speechcal_core.export.bags import ROS2_DATABASE, SQLITE_PATH_MAX
 from speechcal_core.session.store import load_session
 from speechcal_core.sources import open_recording
 from speechcal_core.sources.msgparse import parse_image
@@ -74,6 +76,35 @@ def test_a_ros2_bag_has_metadata_that_humble_and_iron_can_read(session_file,
     assert info["version"] == 8 and info["storage_identifier"] == "sqlite3"
     topics = [t["topic_metadata"] for t in info["topics_with_message_count"]]
     assert topics and all(isinstance(t["offered_qos_profiles"], str) for t in topics)
+
+
+def _folder_path_of(parent: Path, n_bytes: int) -> Path:
+    """A path under ``parent`` exactly ``n_bytes`` long, of names under the 255-byte limit."""
+    path = parent
+    while (left := n_bytes - len(os.fsencode(path)) - 1) > 0:
+        path = path / ("d" * min(left, 150) if left != 151 else "d" * 140)
+    assert len(os.fsencode(path)) == n_bytes
+    return path
+
+
+def test_a_rosbag2_export_where_sqlite_cannot_open_its_database_is_refused(
+        session_file, tmp_path: Path) -> None:
+    # SQLite opens no path over 512 bytes with "-journal": the export used to fail after
+    # reading every frame with "cannot write the bag (unable to open database file)"
+    path = session_file("ros1", "mono8")
+    longest = SQLITE_PATH_MAX - len(f"/.bag.partial-12345678/{ROS2_DATABASE}") + len("/bag")
+    fits = _folder_path_of(tmp_path / "a", longest - len("/bag")) / "bag"
+    export_session_file(path, "rosbag2", fits)
+    assert len(_read(fits / BAG["rosbag2"])) == 6  # rosbags opens it there
+    too_long = _folder_path_of(tmp_path / "b", longest + 1 - len("/bag")) / "bag"
+    with pytest.raises(ExportError) as err:
+        export_session_file(path, "rosbag2", too_long)
+    message = str(err.value)
+    assert message.startswith(f"{too_long / ROS2_DATABASE}: ")
+    assert f"at most {longest} bytes" in message and "--format rosbag1" in message
+    assert not too_long.parent.exists() or not any(too_long.parent.iterdir())
+    export_session_file(path, "rosbag1", too_long)  # a ROS1 bag is one plain file
+    assert len(_read(too_long / BAG["rosbag1"])) == 6
 
 
 @pytest.mark.parametrize("export_fmt", ["rosbag1", "rosbag2"])
