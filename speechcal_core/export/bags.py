@@ -18,6 +18,7 @@ from speechcal_core.export.errors import ExportError
 from speechcal_core.export.plan import Outcome, Progress
 from speechcal_core.fsutil import staging_name_bytes
 from speechcal_core.sources.errors import BadFrameError
+from speechcal_core.sources.rosbag2 import SQLITE_PATH_MAX
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -28,10 +29,6 @@ if TYPE_CHECKING:
 ROS1_BAG = "calibration.bag"
 ROS2_BAG = "calibration"
 ROS2_DATABASE = f"{ROS2_BAG}/{ROS2_BAG}.db3"  # what rosbags' sqlite3 storage names it
-
-#: the longest path (bytes) of a file that SQLite opens: its unix VFS takes 512 bytes,
-#: which must hold the rollback journal's name, the database's with "-journal" added
-SQLITE_PATH_MAX = 512 - len("-journal")
 
 
 def rosbag2_path_problem(out: Path) -> str:

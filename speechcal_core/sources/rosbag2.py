@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sqlite3
 import threading
 from pathlib import Path
@@ -48,6 +49,22 @@ CUT_SHORT_ADVICE = ("if it was cut short (the recorder stopped uncleanly, a copy
                     "be read, while MCAP storage (ros2 bag record -s mcap) keeps one "
                     "readable with `speechcal index FILE --scan`")
 
+#: the longest path (bytes) of a file that SQLite opens: its unix VFS takes 512 bytes,
+#: which must also hold a rollback journal's name (the database's with "-journal")
+SQLITE_PATH_MAX = 512 - len("-journal")
+
+
+def sqlite_path_problem(path: Path) -> str:
+    """Why SQLite cannot open ``path`` for its length ("" when it can): it counts the
+    path where links lead, so a shorter link to the file does not help."""
+    real = len(os.fsencode(path.resolve()))
+    if real <= SQLITE_PATH_MAX:
+        return ""
+    return (f"its path is {real} bytes long, and SQLite opens no file whose path is longer "
+            f"than {SQLITE_PATH_MAX} bytes (a link with a shorter path does not help: SQLite "
+            "follows it)")
+
+
 class Sqlite3File:
     """One rosbag2 ``.db3`` file; the index reads only each blob's first bytes."""
 
@@ -56,6 +73,10 @@ class Sqlite3File:
         self.name = self.path.name
         if not self.path.is_file():
             raise SourceError(f"{self.path}: file not found; check the path")
+        too_long = sqlite_path_problem(self.path)
+        if too_long:
+            raise SourceError(f"{self.path}: {too_long}; move the bag to a folder with a "
+                              "shorter path")
         uri = f"file:{quote(str(self.path.resolve()))}?mode=ro&immutable=1"
         try:
             self.con = sqlite3.connect(uri, uri=True, check_same_thread=False)

@@ -323,3 +323,18 @@ def test_a_bag_cut_before_its_first_image_says_so(make_bag, keep: int) -> None:
     message = str(err.value)
     assert "no image message could be read" in message and "truncated" in message
     assert "copy the recording again where it is whole" in message
+
+
+def test_a_sqlite_bag_too_deep_for_sqlite_says_to_move_it(make_bag, tmp_path: Path) -> None:
+    # SQLite opens no path over 504 bytes: this said "not a readable rosbag2 sqlite3 file
+    # (unable to open database file)" and advised copying a cut-short bag again
+    folder = make_bag("ros2-sqlite3", [Cam("/cam0/image_raw", regular(20))])
+    deep = tmp_path / ("d" * 200) / ("e" * 200) / ("f" * 100)
+    deep.mkdir(parents=True)
+    moved = folder.rename(deep / folder.name)
+    (db3,) = moved.glob("*.db3")
+    with pytest.raises(SourceError) as err:
+        open_recording([moved], use_cache=False)
+    message = str(err.value)
+    assert message.startswith(f"{db3}: its path is {len(os.fsencode(db3))} bytes long")
+    assert "shorter path" in message and "cut short" not in message
