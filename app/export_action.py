@@ -18,6 +18,7 @@ from PySide6.QtWidgets import QMessageBox
 
 from app.export_dialog import ExportDialog
 from app.tasks import BackgroundTask, start
+from speechcal_core.export.earlier import TARGET_FORMATS
 from speechcal_core.export.run import export_target
 from speechcal_core.text import counted
 
@@ -83,7 +84,7 @@ class ExportAction(QObject):
         ``target``: the board to describe (None: the session's, or the one assumed)."""
         out = Path(out).absolute()
         board = (target or export_target(self.window.model.session, None)[0]) \
-            if fmt == "kalibr" and self.window.model is not None else None
+            if fmt in TARGET_FORMATS and self.window.model is not None else None
         why = self.refusal(out, board)
         if why:
             self.last_error = why

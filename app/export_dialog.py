@@ -22,6 +22,7 @@ from PySide6.QtWidgets import (
 )
 
 from app.dialog_fit import fit_height
+from speechcal_core.export.earlier import TARGET_FORMATS
 from speechcal_core.target import TargetError, TargetSpec
 from speechcal_core.text import counted
 
@@ -32,11 +33,9 @@ if TYPE_CHECKING:
 FORMAT_LABELS = {
     "kalibr": "Kalibr — cam0/, cam1/… <stamp>.png + target.yaml + corners",
     "folders": "Folder per camera — calib.io, mrcal, OpenCV (+ corners)",
-    "rosbag1": "ROS1 bag — original topics and messages",
-    "rosbag2": "ROS2 bag — original topics and messages",
+    "rosbag1": "ROS1 bag — original topics and messages + target.yaml",
+    "rosbag2": "ROS2 bag — original topics and messages + target.yaml",
 }
-#: formats that describe the board (Kalibr's target.yaml, the corner files)
-BOARD_FORMATS = ("kalibr", "folders")
 #: where the board the export describes comes from -> how the dialog says so
 BOARD_ORIGINS = {
     "session": "the board the session was processed with",
@@ -56,7 +55,7 @@ class ExportDialog(QDialog):
         #: how many of the sets to export (undecided too or not) wait for re-scoring
         self.waiting = waiting or (lambda _include: 0)
         #: why a folder may not be exported into whatever the answer ("" if it may), for
-        #: a Kalibr export writing this board's target.yaml (None: another format)
+        #: an export writing this board's target.yaml (None: a format that writes none)
         self.refusal = refusal or (lambda _out, _board: "")
         #: the board the export describes and where it comes from (BOARD_ORIGINS)
         self.board, self.board_origin = board
@@ -178,12 +177,10 @@ class ExportDialog(QDialog):
             n += self.counts.get("undecided", 0)
         text = self.path_edit.text().strip()
         out = self._output()
-        describes_board = self.format in BOARD_FORMATS
-        self.form.setRowVisible(self.board_row, describes_board)
         origin = f"from {self.target_file}" if self.target_file is not None \
             else BOARD_ORIGINS.get(self.board_origin, self.board_origin)
         self.board_label.setText(f"{self.board.describe()} ({origin})")
-        board = self.board if self.format == "kalibr" else None
+        board = self.board if self.format in TARGET_FORMATS else None
         why = self.refusal(out.absolute(), board) if text else ""
         why = why.removeprefix(f"{out.absolute()}: ")  # the field above shows the folder
         note = "\nIt exists: you will be asked before it is replaced" if out.exists() else ""
@@ -196,15 +193,14 @@ class ExportDialog(QDialog):
         folder = "the folder above" if out.exists() else "a new folder"
         self.summary.setText(f"{n} {sets} will be written to {folder}{note}")
         ok = self.buttons.button(QDialogButtonBox.StandardButton.Ok)
-        ok.setEnabled(n > 0 and bool(text) and not why
-                      and not (self.target_problem and describes_board))
+        ok.setEnabled(n > 0 and bool(text) and not why and not self.target_problem)
         if n == 0:
             self.summary.setText("No accepted frame sets yet: accept sets (A) first")
         elif why:  # said before any replace question: no answer makes it possible
             self.summary.setText(f"Cannot export there: {why}")
-        if self.target_problem and describes_board:
+        if self.target_problem:
             self.summary.setText(f"Cannot use that target file: {self.target_problem}")
-        # a bag format hides the board row, a shorter summary takes fewer lines: shrink
+        # a shorter summary takes fewer lines: shrink
         fit_height(self, shrink=True)
 
     def resizeEvent(self, event: QResizeEvent) -> None:

@@ -15,8 +15,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
         "export", help="export accepted frame sets",
         description="Write the accepted frame sets of a session: kalibr (cam0/<t_ns>.png... "
                     "+ target.yaml), folders (one folder per camera topic, same file names), "
-                    "rosbag1 (DIR/calibration.bag) or rosbag2 (DIR/calibration/), each "
-                    "with manifest.json and manifest.csv. <t_ns> is the set's time (the "
+                    "rosbag1 (DIR/calibration.bag + target.yaml) or rosbag2 "
+                    "(DIR/calibration/ + target.yaml), each with manifest.json and "
+                    "manifest.csv. <t_ns> is the set's time (the "
                     "trigger word on the camera clock), the same name in every camera's "
                     "folder so calibration tools pair them; the manifests give each frame's "
                     "own header stamp. kalibr and folders add the corners found "
@@ -37,8 +38,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--include-undecided", action="store_true",
                    help="export undecided sets too (rejected sets never are)")
     p.add_argument("--target", metavar="TARGET.yaml", type=TARGET,
-                   help="Kalibr target yaml for kalibr's target.yaml (default: the session's "
-                        "target, else the 6x6 AprilGrid that process assumes)")
+                   help="the board's Kalibr target yaml: the export's target.yaml and "
+                        "corners describe it (default: the session's target, else the 6x6 "
+                        "AprilGrid that process assumes)")
     p.add_argument("--json", action="store_true", help="print one JSON document")
     return p
 

@@ -9,12 +9,15 @@ from pathlib import Path
 from speechcal_core.target import TargetError, TargetSpec
 from speechcal_core.text import listed
 
-#: files every export writes beside the frames (target.yaml: kalibr only; corners.json
+#: files every export writes beside the frames (target.yaml: TARGET_FORMATS; corners.json
 #: and corners.vnl: the image formats)
 EXPORT_OWN = frozenset({"manifest.json", "manifest.csv", "target.yaml", "corners.json",
                         "corners.vnl"})
 FORMATS = ("kalibr", "folders", "rosbag1", "rosbag2")
-TARGET_FILE = "target.yaml"  # kalibr's, beside the camera folders
+TARGET_FILE = "target.yaml"  # Kalibr's target description, beside the frames
+#: formats whose export describes the board in TARGET_FILE: everything
+#: ``kalibr_calibrate_cameras`` needs is then in one folder (``--bag`` and ``--target``)
+TARGET_FORMATS = ("kalibr", "rosbag1", "rosbag2")
 
 
 def not_replaceable(out: Path, board: TargetSpec | None = None) -> str:

@@ -39,6 +39,12 @@ def write_kalibr(
 ) -> Outcome:
     """Images per camera folder plus the Kalibr target description."""
     out = write_image_folders(source, plan, root, kalibr_folders(plan), progress)
+    write_target_file(root, target, out)
+    return out
+
+
+def write_target_file(root: Path, target: TargetSpec, out: Outcome) -> None:
+    """``root/target.yaml``, the board as ``kalibr_calibrate_cameras --target`` reads it,
+    listed among ``out``'s files."""
     atomic_write_text(root / TARGET_FILE, target.to_kalibr_yaml())
     out.written.append(TARGET_FILE)
-    return out

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from speechcal_core.export.corners import corners_problem
+from speechcal_core.export.earlier import TARGET_FORMATS
 from speechcal_core.export.kalibr import kalibr_camera
 from speechcal_core.target import TargetSpec
 from speechcal_core.text import listed
@@ -24,7 +25,7 @@ def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
                  target_from: str) -> list[str]:
     """The export's notes (:attr:`ExportResult.notes`) for format ``fmt``."""
     notes = [left_out_note(fmt, plan)]
-    if fmt == "kalibr":
+    if fmt in TARGET_FORMATS:
         notes.append(target_note(session, spec, target_from))
     if fmt in ("kalibr", "folders"):
         no_corners = corners_problem(session)
@@ -36,9 +37,6 @@ def export_notes(fmt: str, session: Session, plan: Plan, spec: TargetSpec,
             notes.append(other_board_note(session, spec, target_from))
     if fmt in ("rosbag1", "rosbag2"):
         notes.append(approx_sync_note(plan.sets))
-        if target_from == "given":
-            notes.append("a bag holds the frames only: --target is not used (it describes "
-                         "the board in kalibr and folders exports)")
     return [note for note in notes if note]
 
 

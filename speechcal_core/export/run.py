@@ -21,7 +21,12 @@ from typing import TYPE_CHECKING, Any
 
 from speechcal_core.errors import UsageError
 from speechcal_core.export.corners import corners_board, corners_problem, write_corners
-from speechcal_core.export.earlier import FORMATS, enclosing_export, not_replaceable
+from speechcal_core.export.earlier import (
+    FORMATS,
+    TARGET_FORMATS,
+    enclosing_export,
+    not_replaceable,
+)
 from speechcal_core.export.errors import ExportError
 from speechcal_core.export.manifest import manifest_document, write_manifest
 from speechcal_core.export.notes import export_notes
@@ -57,7 +62,8 @@ class ExportResult:
     frames: int
     files: int
     skipped: list[str] = field(default_factory=list)
-    target: str = ""  # where target.yaml came from (kalibr only): given | session | default
+    #: where target.yaml came from (TARGET_FORMATS only): given | session | default
+    target: str = ""
     #: what the user should know before calibrating on the export: target.yaml describes
     #: an assumed board, or not the board the session's frames were checked against; a
     #: bag's frames of one set lie further apart than Kalibr pairs by default
@@ -137,10 +143,13 @@ def _write(fmt: str, source: FrameSource, plan: Plan, root: Path, target: Target
         return write_folders(source, plan, root, progress), topic_folders(plan)
     from speechcal_core.export.bag_messages import topic_for
     from speechcal_core.export.bags import write_rosbag1, write_rosbag2
+    from speechcal_core.export.kalibr import write_target_file
 
     write = write_rosbag1 if fmt == "rosbag1" else write_rosbag2
     kinds = {s.name: s.msgtype for s in source.streams}
-    return write(source, plan, root, progress), {n: topic_for(n, kinds[n]) for n in plan.streams}
+    outcome = write(source, plan, root, progress)
+    write_target_file(root, target, outcome)  # the bag and its board in one folder
+    return outcome, {n: topic_for(n, kinds[n]) for n in plan.streams}
 
 
 def _preflight(session: Session, fmt: str, out: Path, *, force: bool, include_undecided: bool,
@@ -162,8 +171,8 @@ def _preflight(session: Session, fmt: str, out: Path, *, force: bool, include_un
 
 
 def _board_written(session: Session, fmt: str, target: TargetSpec | None) -> TargetSpec | None:
-    """The board an export in ``fmt`` describes in its target.yaml (Kalibr's only)."""
-    return export_target(session, target)[0] if fmt == "kalibr" else None
+    """The board an export in ``fmt`` describes in its target.yaml (TARGET_FORMATS)."""
+    return export_target(session, target)[0] if fmt in TARGET_FORMATS else None
 
 
 def session_inputs(session: Session, session_path: str | Path | None
@@ -227,7 +236,7 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     sets, repeated = first_of_same_frames(sets)
     plan = make_plan(source, sets, where)
     spec, target_from = export_target(session, target)
-    yaml_board = spec if fmt == "kalibr" else None  # what its target.yaml will describe
+    yaml_board = spec if fmt in TARGET_FORMATS else None  # what its target.yaml describes
     with staged_directory(out, force=force,
                           may_replace=lambda p: not_replaceable(p, yaml_board)) as root, \
             _named_as(root, out):
@@ -250,7 +259,7 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
             "recording": list(session.recording),
             "include_undecided": include_undecided,
         }
-        if fmt == "kalibr":
+        if fmt in TARGET_FORMATS:
             header["target"] = {"kind": spec.kind, "rows": spec.rows, "cols": spec.cols,
                                 "size": spec.size, "spacing": spec.spacing,
                                 "from": target_from}
@@ -264,7 +273,7 @@ def _export(session: Session, source: FrameSource, sets: list[FrameSet], fmt: st
     skipped += [f"set {sid} {stream}: {why}" for (sid, stream), why in outcome.skipped.items()]
     twins = twin_notes(source, plan.streams)
     return ExportResult(out, fmt, len(plan.sets), len(outcome.files), len(outcome.written),
-                        skipped, target_from if fmt == "kalibr" else "",
+                        skipped, target_from if fmt in TARGET_FORMATS else "",
                         [*twins, *export_notes(fmt, session, plan, spec, target_from)])
 
 

@@ -89,6 +89,6 @@ def test_an_unreadable_target_file_keeps_the_board_and_blocks_the_export(
     assert dialog.summary.text().startswith(f"Cannot use that target file: {broken}: ")
     assert not _ok(dialog).isEnabled()
     assert dialog.choice()[3] is None
-    dialog.set_format("rosbag1")  # a bag describes no board: the file does not matter
-    assert not dialog.board_row.isVisibleTo(dialog) and _ok(dialog).isEnabled()
+    dialog.set_format("rosbag1")  # a bag's target.yaml describes the board too
+    assert dialog.board_row.isVisibleTo(dialog) and not _ok(dialog).isEnabled()
     dialog.reject()

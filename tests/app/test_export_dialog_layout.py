@@ -86,16 +86,20 @@ def _needed_height(dialog: ExportDialog) -> int:
         else layout.totalSizeHint().height()
 
 
-def test_a_bag_format_leaves_no_gap_where_the_board_row_was(qtbot, tmp_path: Path) -> None:
-    dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 2, "undecided": 13})
+def test_a_shorter_summary_leaves_no_gap_where_its_lines_were(qtbot, tmp_path: Path) -> None:
+    long_reason = ("this folder holds files that are not an export (.bashrc, .cache, "
+                   ".cargo, …); choose another output folder or empty it") * 3
+    dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 2, "undecided": 13},
+                          refusal=lambda out, _board: long_reason if out.name == "data" else "")
     qtbot.addWidget(dialog)
     dialog.show()
     qtbot.waitExposed(dialog)
-    kalibr_height = dialog.height()
-    dialog.set_format("rosbag2")  # no board to describe: its row goes
-    assert not dialog.board_row.isVisibleTo(dialog)
-    qtbot.waitUntil(lambda: dialog.height() < kalibr_height, timeout=2_000)
+    dialog.set_folder(tmp_path / "data")
+    qtbot.waitUntil(lambda: _text_fits(dialog.summary), timeout=2_000)
+    refused_height = dialog.height()
+    dialog.set_folder(tmp_path / "fine")  # one line of summary again: the dialog shrinks
+    qtbot.waitUntil(lambda: dialog.height() < refused_height, timeout=2_000)
     assert dialog.height() <= _needed_height(dialog) + 2  # no blank band over the summary
-    dialog.set_format("kalibr")  # back: room for the board row again
+    dialog.set_folder(tmp_path / "data")  # back: room for the reason again
     qtbot.waitUntil(lambda: _text_fits(dialog.summary), timeout=2_000)
     assert dialog.height() >= _needed_height(dialog)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 from pathlib import Path
@@ -16,6 +17,7 @@ from speechcal_core.export.bags import ROS2_DATABASE, SQLITE_PATH_MAX
 from speechcal_core.session.store import load_session
 from speechcal_core.sources import open_recording
 from speechcal_core.sources.msgparse import parse_image
+from speechcal_core.target import TargetSpec
 
 BAG = {"rosbag1": "calibration.bag", "rosbag2": "calibration"}
 
@@ -63,6 +65,21 @@ def test_bag_of_the_same_ros_version_holds_the_source_messages_byte_for_byte(
     for key, (log_time, rawdata, _ser) in expected.items():
         assert got[key][0] == log_time
         assert got[key][1] == rawdata
+
+
+@pytest.mark.parametrize("export_fmt", ["rosbag1", "rosbag2"])
+def test_a_bag_export_describes_its_board_for_kalibr_beside_the_bag(
+        session_file, tmp_path: Path, export_fmt: str) -> None:
+    """``kalibr_calibrate_cameras --bag`` also needs ``--target``: a bag export held the
+    frames only, and the operator had to find or write the board's yaml."""
+    board = TargetSpec("checkerboard", 7, 5, 0.04)
+    out = tmp_path / "bag"
+    result = export_session_file(session_file(), export_fmt, out, target=board)
+    assert result.target == "given"
+    assert TargetSpec.from_kalibr_yaml(out / "target.yaml") == board
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["target"] == {"kind": "checkerboard", "rows": 7, "cols": 5,
+                                  "size": 0.04, "spacing": board.spacing, "from": "given"}
 
 
 def test_a_ros2_bag_has_metadata_that_humble_and_iron_can_read(session_file,

@@ -42,10 +42,13 @@ def test_json_prints_one_document_on_stdout_and_progress_on_stderr(session_file,
     accepted = [s for s in load_session(path).sets if s.decision == "accepted"]
     assert max(s.skew_ns for s in accepted) > 40_000_000
     assert doc == {"out": str(out), "format": "rosbag2", "sets": 3, "frames": 6,
-                   "files": doc["files"], "skipped": [], "notes": doc["notes"]}
-    (note,) = doc["notes"]
-    assert note == approx_sync_note(accepted) and "--approx-sync 0.05 " in note
-    assert doc["files"] == 4  # metadata.yaml, calibration.db3, manifest.json, manifest.csv
+                   "files": doc["files"], "skipped": [], "notes": doc["notes"],
+                   "target": "default"}
+    board_note, sync_note = doc["notes"]
+    assert sync_note == approx_sync_note(accepted) and "--approx-sync 0.05 " in sync_note
+    assert board_note.startswith("target.yaml describes the 6x6 AprilGrid")
+    # metadata.yaml, calibration.db3, target.yaml (for --target), manifest.json and .csv
+    assert doc["files"] == 5
     assert "writing the manifest" in result.stderr
 
 
@@ -93,18 +96,19 @@ def test_force_never_replaces_an_earlier_export_holding_other_files(
     assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*")) == before
 
 
+@pytest.mark.parametrize("fmt", ["kalibr", "rosbag1"])
 def test_force_keeps_an_earlier_export_whose_target_yaml_was_measured_and_edited(
-        session_file, tmp_path, capsys) -> None:
+        session_file, tmp_path, capsys, fmt: str) -> None:
     """A tag size put right by hand in an exported target.yaml was written over by the
     next --force without a word; the edited board is now kept, or taken with --target."""
     path = session_file()
     out = tmp_path / "exp"
-    assert _run(capsys, str(path), "--format", "kalibr", "--out", str(out))[0] == 0
+    assert _run(capsys, str(path), "--format", fmt, "--out", str(out))[0] == 0
     target = out / "target.yaml"
     edited = target.read_text().replace("tagSize: 0.055", "tagSize: 0.0588")
     assert edited != target.read_text()
     target.write_text(edited)
-    code, stdout, err = _run(capsys, str(path), "--format", "kalibr", "--out", str(out),
+    code, stdout, err = _run(capsys, str(path), "--format", fmt, "--out", str(out),
                              "--force")
     assert code == 1 and stdout == "" and err.count("\n") == 1
     assert ("its target.yaml was changed after the export wrote it: it describes a 6x6 "
