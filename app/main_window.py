@@ -60,6 +60,7 @@ from speechcal_core.review.summary import (
     FIND_WORDS,
     FIND_WORDS_KEY,
     flag_words,
+    list_place,
     no_sets_hint,
 )
 from speechcal_core.session.store import SessionChangedError, SessionFileError
@@ -791,6 +792,7 @@ class ReviewWindow(QMainWindow):
         self.model.connect("sync", self._on_sync)
         self.model.connect("rescored", self._on_rescored)
         self.model.connect("filter", lambda _name: self._apply_filter())
+        self.model.connect("filter", lambda _name: self._update_info_line())
         for event in ("rescored", "decision", "sets", "sync"):
             self.model.connect(event, self.checker.schedule)
         for event in ("decision", "sets", "sync"):  # once the step (and its stack) is done
@@ -932,12 +934,15 @@ class ReviewWindow(QMainWindow):
         # what the operator reads first leads: a narrow window cuts the line's end
         set_text = ""
         if current is not None:
-            idx = model.session.sets.index(current) + 1  # the list's # column is the id
+            # counted over the sets the filter lists, which J/K step through (the list's
+            # # column is the id)
+            place = list_place(model.session.sets, model.filter,
+                               model.session.sets.index(current))
             said = clock_text((current.t_ns - start_ns) / 1e9)
             # the skew before the time said: at 1024 px the line shows about this much
             framed = sum(f.index >= 0 for f in current.frames)
             skew = f"{current.skew_ns / 1e6:.1f} ms" if framed > 1 else MISSING
-            set_text = (f"set #{current.id} ({idx}/{len(model.session.sets)}) · skew "
+            set_text = (f"set #{current.id} ({place}) · skew "
                         f"{skew} · said at {said} · ")
         self.info_line.set_full_text(
             set_text + f"t = {rel:.3f} s from start ({model.playhead_ns / 1e9:.3f} s)")

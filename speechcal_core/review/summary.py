@@ -93,6 +93,20 @@ def shown_indices(sets: Sequence[FrameSet], filter_name: str) -> list[int]:
     return [i for i, s in enumerate(sets) if passes(s, filter_name)]
 
 
+def list_place(sets: Sequence[FrameSet], filter_name: str, index: int) -> str:
+    """Where ``sets[index]`` stands among the sets the list shows (J/K step through those):
+    "2/14" with every set listed, "2/5 undecided" under a filter, and for a set the filter
+    hides (decided there, or a filter chosen after) "not among the 5 undecided", or "no
+    accepted sets listed"."""
+    shown = shown_indices(sets, filter_name)
+    kind = "" if filter_name == "all" else f" {filter_name}"
+    if index in shown:
+        return f"{shown.index(index) + 1}/{len(shown)}{kind}"
+    if not shown:
+        return f"no{kind} sets listed"
+    return f"not among the {len(shown)}{kind}"
+
+
 @dataclass(frozen=True)
 class SetSummary:
     """One set's quality as the list shows it (None: no camera has the figure)."""

@@ -324,3 +324,21 @@ def test_c_moves_the_audio_so_the_sound_at_the_playhead_is_the_clap(
     qtbot.keyClick(window, Qt.Key.Key_U)  # the handle goes back to the sound taken before
     assert window.waveform.clap.value() == pytest.approx(taken, abs=0.001)
     assert model.session.sync_evidence["claps"][0].get("audio_source") != "manual"
+
+
+def test_undoing_a_large_clap_shift_gives_the_view_back_as_it_was(
+        qtbot, open_window, truth_session_file: Path) -> None:
+    """C with the playhead seconds from the clap widens the view to the moved marks;
+    undone, the marks are back where they were and so is the view (it stayed wide)."""
+    window = open_window(truth_session_file)
+    wave, model = window.waveform, window.model
+    before = _view(wave)
+    model.set_playhead(model.time_range_ns()[1] - 1_000_000_000)  # far from the clap
+    qtbot.keyClick(window, Qt.Key.Key_C)
+    widened = _view(wave)
+    assert widened[0] < before[0] - 5.0
+    qtbot.keyClick(window, Qt.Key.Key_U)
+    assert _view(wave) == pytest.approx(before, abs=1e-6)
+    assert wave.whole == pytest.approx(before, abs=1e-6)
+    qtbot.keyClick(window, Qt.Key.Key_Y, Qt.KeyboardModifier.ControlModifier)  # redo
+    assert _view(wave) == pytest.approx(widened, abs=1e-6)

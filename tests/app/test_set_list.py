@@ -344,3 +344,30 @@ def test_a_long_word_cell_gives_way_to_the_decision_column(
     assert cell(table, 1, word).tooltip.startswith("▲ the same frames as set #1, #3")
     table.resize(1000, 300)  # room again: the whole text
     qtbot.waitUntil(lambda: table.columnWidth(word) == wide)
+
+
+def test_the_line_under_the_grid_counts_the_sets_the_filter_lists(qtbot, window) -> None:
+    """Under a filter J/K step through the listed sets: "set #5 (2/14)" counted every set
+    while the operator stepped through three."""
+    model = window.model
+    n = len(model.session.sets)
+    window.advance_box.setChecked(False)
+    qtbot.keyClick(window, Qt.Key.Key_R)  # set 0 rejected
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    qtbot.keyClick(window, Qt.Key.Key_R)  # set 2 rejected
+    assert f"({3}/{n}) · " in window.info_line.full_text
+    click_filter(qtbot, window, "rejected")  # the current set is the second listed
+    assert f"set #{model.current_set.id} (2/2 rejected) · " in window.info_line.full_text
+    qtbot.keyClick(window, Qt.Key.Key_J)
+    assert f"set #{model.current_set.id} (1/2 rejected) · " in window.info_line.full_text
+    click_filter(qtbot, window, "accepted")  # hides every set, the current one too
+    assert f"set #{model.current_set.id} (no accepted sets listed) · " \
+        in window.info_line.full_text
+    click_filter(qtbot, window, "undecided")
+    assert f"set #{model.current_set.id} (not among the {n - 2} undecided) · " \
+        in window.info_line.full_text
+    qtbot.keyClick(window, Qt.Key.Key_K)  # on to the undecided sets
+    assert f"(1/{n - 2} undecided) · " in window.info_line.full_text
+    click_filter(qtbot, window, "all")
+    assert f"(2/{n}) · " in window.info_line.full_text

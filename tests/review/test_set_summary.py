@@ -8,6 +8,7 @@ from speechcal_core.review.model import KEY_BINDINGS, ReviewModel
 from speechcal_core.review.summary import (
     FILTERS,
     camera_lines,
+    list_place,
     no_sets_hint,
     passes,
     shown_indices,
@@ -257,3 +258,13 @@ def test_advancing_after_a_decision_goes_to_the_next_set_the_filter_shows() -> N
     model.go_to_set(0)
     model.accept()  # already accepted: no undo step, yet the operator moves on
     assert model.current == 1 and model.undo_label == ""
+
+
+def test_a_sets_place_is_counted_among_the_sets_the_filter_lists() -> None:
+    sets = [frame_set(1, decision="rejected"), frame_set(2), frame_set(3, decision="rejected"),
+            frame_set(4)]
+    assert list_place(sets, "all", 2) == "3/4"
+    assert list_place(sets, "rejected", 2) == "2/2 rejected"
+    assert list_place(sets, "undecided", 3) == "2/2 undecided"
+    assert list_place(sets, "undecided", 0) == "not among the 2 undecided"
+    assert list_place(sets, "accepted", 0) == "no accepted sets listed"
