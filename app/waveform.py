@@ -67,6 +67,9 @@ class WaveformView(pg.PlotWidget):
         self._frames_x: tuple[float, float] | None = None  # first and last frame
         self._sets_x: tuple[float, float] | None = None  # the trigger marks' extent
         self.whole: tuple[float, float] | None = None  # the whole view (x), once shown
+        #: the whole view as the session opened (show_all): marks back inside it (an
+        #: offset edit undone) give it back
+        self._opened_whole: tuple[float, float] | None = None
         self.setMouseEnabled(x=True, y=False)
         self.setMenuEnabled(False)
         self.hideButtons()
@@ -269,7 +272,7 @@ class WaveformView(pg.PlotWidget):
         lo, hi = self.extent()
         pad = PADDING * (hi - lo)
         first = self.whole is None
-        self.whole = (lo - pad, hi + pad)
+        self.whole = self._opened_whole = (lo - pad, hi + pad)
         # the first time, the limits and pyqtgraph's auto-range move its first view on
         # the way to the whole (a few seconds wide: their samples read from the file):
         # drawn once, when it is there
@@ -357,16 +360,25 @@ class WaveformView(pg.PlotWidget):
 
     def _keep_marks_within_whole(self) -> None:
         """A mark moved out of the whole view: widen it (with a margin, so further small
-        edits move nothing), and the view with it unless the operator zoomed in."""
+        edits move nothing), and the view with it unless the operator zoomed in. Every
+        mark back inside the whole view the session opened with (a large edit undone):
+        that view again, not the widened one."""
         if self.whole is None:
             return  # not shown yet: show_all takes every mark in
         lo, hi = self.extent()
         w0, w1 = self.whole
-        if w0 <= lo and hi <= w1:
+        opened = self._opened_whole
+        if opened is not None and opened[0] <= lo and hi <= opened[1]:
+            whole = opened
+        elif w0 <= lo and hi <= w1:
             return
-        margin = WIDEN_MARGIN * (max(hi, w1) - min(lo, w0))
+        else:
+            margin = WIDEN_MARGIN * (max(hi, w1) - min(lo, w0))
+            whole = (lo - margin if lo < w0 else w0, hi + margin if hi > w1 else w1)
+        if whole == self.whole:
+            return
         showed_whole = not self.zoomed_in()
-        self.whole = (lo - margin if lo < w0 else w0, hi + margin if hi > w1 else w1)
+        self.whole = whole
         self._limit_to_whole()  # the limits follow, so the wheel zooms out to the mark
         if showed_whole:
             self.show_whole()

@@ -335,10 +335,10 @@ def test_undoing_a_large_clap_shift_gives_the_view_back_as_it_was(
     before = _view(wave)
     model.set_playhead(model.time_range_ns()[1] - 1_000_000_000)  # far from the clap
     qtbot.keyClick(window, Qt.Key.Key_C)
-    widened = _view(wave)
-    assert widened[0] < before[0] - 5.0
+    assert _view(wave)[0] < before[0] - 5.0
     qtbot.keyClick(window, Qt.Key.Key_U)
     assert _view(wave) == pytest.approx(before, abs=1e-6)
     assert wave.whole == pytest.approx(before, abs=1e-6)
     qtbot.keyClick(window, Qt.Key.Key_Y, Qt.KeyboardModifier.ControlModifier)  # redo
-    assert _view(wave) == pytest.approx(widened, abs=1e-6)
+    v0, v1 = _view(wave)
+    assert v0 < before[0] - 5.0 and all(v0 <= x <= v1 for x in _marks_x(wave))
