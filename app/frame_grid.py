@@ -444,15 +444,17 @@ class FrameGrid(QWidget):
         self._enlarged = None if self._enlarged or stream is None else stream
         self._arrange()
 
-    def toggle_camera(self, number: int) -> None:
+    def toggle_camera(self, number: int) -> bool:
         """Show camera ``number`` (1-based, in grid order) alone, or back to the grid if it
-        is shown alone already (keys 1-9); another camera alone gives way to it."""
+        is shown alone already (keys 1-9); another camera alone gives way to it. False:
+        there is no such camera."""
         names = list(self.tiles)
         if not 1 <= number <= len(names):
-            return
+            return False
         stream = names[number - 1]
         self._enlarged = None if self._enlarged == stream else stream
         self._arrange()
+        return True
 
     def set_word(self, word: str, state: str | None, source: str = "",
                  decides: int | None = None) -> None:

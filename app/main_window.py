@@ -115,6 +115,9 @@ def clap_moved_text(shift_ns: int) -> str:
             "Ctrl+Z takes it back")
 
 
+#: the keys that go to another set (J, K, Home, End): when they go nowhere the status
+#: line says why
+STEP_ACTIONS = ("next_set", "previous_set", "first_set", "last_set")
 APP_ICON = "speechcal.svg"  # in resources/icons; the desktop entry names it too
 #: the Edit menu's keys (a QShortcut on them stands in only while the entry is off: both on
 #: would be ambiguous)
@@ -192,6 +195,7 @@ class ReviewWindow(QMainWindow):
         #: the "then next set" box: accept and reject go on to the next set
         self.advance_after_decision = True
         self._opened_note = ""  # what the status line said when the session opened
+        self._step_refused = ""  # why J / K / Home / End last went nowhere, as said
         #: called with what the status line says when a session opens (the command line
         #: prints it in full: the status line cuts a long note short)
         self.on_opened: Callable[[str], None] | None = None
@@ -340,7 +344,7 @@ class ReviewWindow(QMainWindow):
         QShortcut(QKeySequence("Escape"), self).activated.connect(self._leave_enlarged)
         for number in range(1, 10):  # a camera alone, as a double-click on it
             QShortcut(QKeySequence(str(number)), self).activated.connect(
-                lambda n=number: self.model is not None and self.grid.toggle_camera(n))
+                lambda n=number: self.show_camera_alone(n))
         for key, factor in (("=", 0.5), ("+", 0.5), ("-", 2.0)):  # the waveform, as the wheel
             QShortcut(QKeySequence(key), self).activated.connect(
                 lambda f=factor: self.model is not None and self.waveform.zoom_at_playhead(f))
@@ -835,6 +839,7 @@ class ReviewWindow(QMainWindow):
         n_sets = len(model.session.sets)
         offset_ns = model.session.sync.offset_ns
         model.last_decided = None
+        model.step_refused = ""
         model.trigger(action)
         # each says what it did, which also replaces a message it made untrue ("redone:
         # decision on set 2" through later decisions, "set #3 removed" after its undo)
@@ -856,7 +861,14 @@ class ReviewWindow(QMainWindow):
                             outlasts_work=True)
         elif action in ("accept", "reject") and model.last_decided is not None:
             decided = model.session.set_by_id(model.last_decided)
-            self.status.say(f"set #{decided.id} {decided.decision}")
+            # "then next set" found none: the end of the list (of the undecided ones)
+            end = f" · {model.step_refused}" if model.step_refused else ""
+            self.status.say(f"set #{decided.id} {decided.decision}{end}")
+        elif action in STEP_ACTIONS:  # why it went nowhere; gone once it went on
+            self.status.withdraw(self._step_refused)
+            self._step_refused = model.step_refused
+            if model.step_refused:
+                self.status.say(model.step_refused)
         elif action == "add_set" and model.current_set is not None:
             added = len(model.session.sets) > n_sets
             self.status.say(f"set #{model.current_set.id} added · Ctrl+Z takes it back"
@@ -1209,6 +1221,16 @@ class ReviewWindow(QMainWindow):
         run_modal()
         clicked = box.clickedButton()
         return "save_as" if clicked is save else "discard" if clicked is discard else "cancel"
+
+    def show_camera_alone(self, number: int) -> None:
+        """Keys 1-9: camera ``number`` alone, or the grid again; a number past the
+        session's cameras says so (the key seemed to do nothing)."""
+        if self.model is None or self.grid.toggle_camera(number):
+            return
+        cameras = len(self.grid.tiles)
+        keys = "key 1 shows it" if cameras == 1 else f"keys 1-{min(cameras, 9)} show one"
+        self.status.say(f"no camera {number}: this session has {counted(cameras, 'camera')} "
+                        f"({keys} alone)")
 
     def _leave_enlarged(self) -> None:
         if self.model is not None and self.grid._enlarged:

@@ -116,6 +116,14 @@ class StatusLine:
             self._notes[""] = _Note(revised)
             self._show()
 
+    def withdraw(self, message: str) -> None:
+        """Take back the plain ``message`` if it is still shown (it no longer holds: "no
+        set listed after set #4" once J went to another set)."""
+        note = self._notes.get("")
+        if message and note is not None and note.text == message:
+            del self._notes[""]
+            self._show()
+
     def _start_afresh_if_quiet(self) -> None:
         """New work or news on a line quiet for :data:`QUIET_S`: the messages of the
         spell before are outdated (warnings stay)."""

@@ -193,6 +193,9 @@ class ReviewModel:
         self.audio_duration_s = 0.0
         #: the id of the set the last accept or reject was on (it may have moved on since)
         self.last_decided: int | None = None
+        #: why the last J / K / Home / End went nowhere ("" when it went to a set), for
+        #: the window to say: a key that seems to do nothing leaves the operator guessing
+        self.step_refused = ""
         self._resume_place(session.extra.get(REVIEW_PLACE_KEY))
         #: where the review was at the last save (a close saves only a move since)
         self._saved_place = self._place()
@@ -351,13 +354,22 @@ class ReviewModel:
 
     def first_set(self) -> None:
         shown = self.shown()
+        self.step_refused = "" if shown else self._none_listed()
         if shown:
             self.go_to_set(shown[0])
 
     def last_set(self) -> None:
         shown = self.shown()
+        self.step_refused = "" if shown else self._none_listed()
         if shown:
             self.go_to_set(shown[-1])
+
+    def _none_listed(self) -> str:
+        """Why there is no set to go to: none at all, or none the filter lists."""
+        if not self.session.sets:
+            return "no frame sets to go to: T adds one at the playhead"
+        return (f"no {self.filter} sets listed: F steps through the filters (“all” lists "
+                "every set)")
 
     def _step_set(self, direction: int) -> None:
         """To the next (``direction`` +1) or previous shown set: from the playhead when it
@@ -366,6 +378,7 @@ class ReviewModel:
         the last one, the last), else from the current set."""
         shown = self.shown()
         current = self.current_set
+        self.step_refused = "" if shown else self._none_listed()
         if shown and current is not None and self.playhead_ns != set_time_ns(current):
             times = {i: self._time_of(self.session.sets[i]) for i in shown}
             around = [i for i in shown if (times[i] - self.playhead_ns) * direction > 0
@@ -375,7 +388,12 @@ class ReviewModel:
         ahead = [i for i in shown if (i - self.current) * direction > 0]
         if ahead:
             self.go_to_set(ahead[0] if direction > 0 else ahead[-1])
-        elif self.current in shown:
+            return
+        if current is not None and shown:
+            kind = "" if self.filter == "all" else f"{self.filter} "
+            side = "after" if direction > 0 else "before"
+            self.step_refused = f"no {kind}set listed {side} set #{current.id}"
+        if self.current in shown:
             self.go_to_set(self.current)  # at the end: back to the set, playhead included
 
     # -- the list's filter --------------------------------------------------------------

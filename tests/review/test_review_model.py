@@ -422,3 +422,19 @@ def test_j_and_k_after_stepping_frames_off_the_set_go_on_from_it(
     model.next_frame()
     model.previous_set()
     assert model.current == 1
+
+
+def test_a_step_that_goes_nowhere_says_why(truth_session_file: Path) -> None:
+    model = open_model(truth_session_file)
+    first, last = model.session.sets[0].id, model.session.sets[-1].id
+    model.previous_set()
+    assert model.step_refused == f"no set listed before set #{first}"
+    model.next_set()
+    assert model.step_refused == ""
+    model.last_set()
+    model.next_set()
+    assert model.step_refused == f"no set listed after set #{last}"
+    model.set_filter("accepted")
+    for step in (model.next_set, model.previous_set, model.first_set, model.last_set):
+        step()
+        assert model.step_refused.startswith("no accepted sets listed: F steps")
