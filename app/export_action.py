@@ -48,6 +48,7 @@ class ExportAction(QObject):
         self.last_result: ExportResult | None = None
         self.last_error = ""
         self.last_format = ""  # the format last chosen in the dialog, offered again
+        self._from_dialog = False  # the export being started was chosen in the dialog
 
     def busy(self) -> bool:
         """True while an export runs or waits for re-scoring."""
@@ -75,7 +76,11 @@ class ExportAction(QObject):
         assert self.dialog is not None
         fmt, out, include, target = self.dialog.choice()
         self.last_format = fmt
-        self.start(fmt, out, include_undecided=include, target=target)
+        self._from_dialog = True  # a replace declined goes back to the dialog
+        try:
+            self.start(fmt, out, include_undecided=include, target=target)
+        finally:
+            self._from_dialog = False
 
     def start(self, fmt: str, out: Path, *, force: bool = False,
               include_undecided: bool = False, target: TargetSpec | None = None) -> None:
@@ -122,12 +127,19 @@ class ExportAction(QObject):
                           QMessageBox.StandardButton.Cancel, self.window)
         replace_button = box.addButton("Replace", QMessageBox.ButtonRole.DestructiveRole)
         box.setDefaultButton(QMessageBox.StandardButton.Cancel)
+        dialog = self.dialog if self._from_dialog else None
 
         def answered(button: QAbstractButton) -> None:
             if button is replace_button:
                 self._run(fmt, out, True, include_undecided, target)
-            else:
-                self.window.status.end("export", f"Export not written: {out} already exists")
+                return
+            self.window.status.end("export", f"Export not written: {out} already exists")
+            if dialog is not None and dialog is self.dialog:
+                # back to the choices made, to name another folder (or Cancel): they
+                # were all lost, the dialog opened afresh with the default folder
+                dialog.open()
+                dialog.path_edit.setFocus()
+                dialog.path_edit.selectAll()
 
         box.buttonClicked.connect(answered)
         self.replace_box = box

@@ -135,3 +135,37 @@ def test_a_folder_under_a_file_is_refused_in_the_dialog(qtbot, window, tmp_path)
     assert f"{tmp_path / 'notes.txt'} is a file, not a folder" in text
     assert not dialog.buttons.button(QDialogButtonBox.StandardButton.Ok).isEnabled()
     dialog.reject()
+
+
+def test_declining_the_replace_goes_back_to_the_dialog_with_its_choices(
+        qtbot, window, tmp_path: Path) -> None:
+    """No to "Replace it?" closed the dialog: format, folder and the undecided box had to
+    be chosen again to write anywhere else."""
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    out = tmp_path / "earlier"
+    out.mkdir()
+    qtbot.mouseClick(window.export_button, Qt.MouseButton.LeftButton)
+    dialog = window.exporter.dialog
+    dialog.set_format("folders")
+    dialog.set_folder(out)
+    dialog.undecided_box.setChecked(True)
+    qtbot.mouseClick(dialog.buttons.button(QDialogButtonBox.StandardButton.Ok),
+                     Qt.MouseButton.LeftButton)
+    box = window.exporter.replace_box
+    qtbot.mouseClick(box.button(box.StandardButton.Cancel), Qt.MouseButton.LeftButton)
+    assert "already exists" in window.status_text.text()
+    assert window.exporter.dialog is dialog and dialog.isVisible()
+    assert dialog.choice()[:3] == ("folders", out, True)
+    assert dialog.focusWidget() is dialog.path_edit  # selected, to type another name
+    assert dialog.path_edit.selectedText() == str(out)
+    other = tmp_path / "other"
+    dialog.set_folder(other)
+    qtbot.mouseClick(dialog.buttons.button(QDialogButtonBox.StandardButton.Ok),
+                     Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.exporter.task is None and (other / "manifest.json").exists(),
+                    timeout=30_000)
+    assert [p.name for p in out.iterdir()] == []
+    window.exporter.start("folders", other)  # asked outside the dialog: no dialog again
+    box = window.exporter.replace_box
+    qtbot.mouseClick(box.button(box.StandardButton.Cancel), Qt.MouseButton.LeftButton)
+    assert not dialog.isVisible()
