@@ -550,7 +550,12 @@ class ReviewWindow(QMainWindow):
                                                    progress=report), "opening…")
 
     def _start(self, work: Callable[[Progress], ReviewInputs], text: str) -> None:
-        if not self._may_drop_unsaved():
+        if self.model is not None and not self.saver.unsaved:
+            # the set and filter shown, written before the opening reads the file: the
+            # same session opened again (a camera left out, its audio located) resumes
+            # there, not at the last decision's set
+            self.model.save_place()
+        if not self._may_drop_unsaved():  # waits for that save
             return
         self.load_error = ""
         if self.task is not None:  # the operator opens something else: the earlier opening

@@ -27,3 +27,23 @@ def test_a_camera_left_out_from_the_window_goes_and_the_decisions_stay(
     window.leave_out_action.ask = lambda streams: None
     window.leave_out_action.trigger()
     assert window.model.streams == cameras[:-1]
+
+
+def test_a_camera_left_out_keeps_the_set_and_filter_the_review_was_at(
+        open_window, truth_session_file: Path, qtbot) -> None:
+    """Moving about saves nothing, so the session opened again without the camera went
+    back to the set of the last decision (or the first), and to its filter."""
+    from PySide6.QtCore import Qt
+
+    window = open_window(truth_session_file)
+    cameras = list(window.model.streams)
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    qtbot.keyClick(window, Qt.Key.Key_F)  # undecided: every set still
+    here = window.model.current_set.id
+    window.leave_out_action.ask = lambda streams: streams[-1]
+    window.leave_out_action.trigger()
+    qtbot.waitUntil(lambda: window.model is not None
+                    and window.model.streams == cameras[:-1], timeout=30_000)
+    assert window.model.current_set.id == here and window.model.filter == "undecided"
+    assert f"set #{here} (3/" in window.info_line.full_text
