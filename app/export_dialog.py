@@ -66,6 +66,9 @@ class ExportDialog(QDialog):
         self.setWindowTitle("Export frame sets")
         self.setMinimumWidth(560)
         self.base_folder = base_folder
+        #: where a folder typed as a relative path lies (the session's folder, where the
+        #: folder offered lies: not the program's working folder, wherever it was started)
+        self.relative_to = base_folder
         self.stem = stem
         self.counts = counts
         self._edited = False
@@ -154,8 +157,10 @@ class ExportDialog(QDialog):
             self.set_target_file(Path(path))
 
     def _output(self) -> Path:
-        """The output folder as typed (surrounding spaces are not part of it)."""
-        return Path(self.path_edit.text().strip()).expanduser()
+        """The output folder as typed (surrounding spaces are not part of it; a relative
+        one in :attr:`relative_to`)."""
+        typed = Path(self.path_edit.text().strip()).expanduser()
+        return typed if typed.is_absolute() else self.relative_to / typed
 
     def _on_edited(self, _text: str) -> None:
         self._edited = True
@@ -163,7 +168,7 @@ class ExportDialog(QDialog):
 
     def _browse(self) -> None:
         parent = QFileDialog.getExistingDirectory(self, "Folder to export into",
-                                                  str(Path(self.path_edit.text()).parent))
+                                                  str(self._output().parent))
         if parent:
             self.base_folder = Path(parent)
             self._edited = False
@@ -191,6 +196,8 @@ class ExportDialog(QDialog):
                      "still frames")
         sets = "frame set" if n == 1 else "frame sets"
         folder = "the folder above" if out.exists() else "a new folder"
+        if not Path(text).expanduser().is_absolute():  # typed short: say where it goes
+            folder += f", {out}"
         self.summary.setText(f"{n} {sets} will be written to {folder}{note}")
         ok = self.buttons.button(QDialogButtonBox.StandardButton.Ok)
         ok.setEnabled(n > 0 and bool(text) and not why and not self.target_problem)

@@ -169,3 +169,26 @@ def test_declining_the_replace_goes_back_to_the_dialog_with_its_choices(
     box = window.exporter.replace_box
     qtbot.mouseClick(box.button(box.StandardButton.Cancel), Qt.MouseButton.LeftButton)
     assert not dialog.isVisible()
+
+
+def test_a_folder_typed_without_its_path_lies_beside_the_session(
+        qtbot, window, truth_session_file: Path, tmp_path: Path, monkeypatch) -> None:
+    """The dialog offers a folder beside the session; a name typed in its place went to
+    the program's working folder, wherever the window was started from."""
+    elsewhere = tmp_path / "started_here"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    qtbot.mouseClick(window.export_button, Qt.MouseButton.LeftButton)
+    dialog = window.exporter.dialog
+    dialog.set_format("folders")
+    dialog.path_edit.clear()
+    qtbot.keyClicks(dialog.path_edit, "calib out")
+    beside = truth_session_file.parent / "calib out"
+    assert dialog.choice()[1] == beside
+    assert dialog.summary.text().endswith(f"to a new folder, {beside}")
+    qtbot.mouseClick(dialog.buttons.button(QDialogButtonBox.StandardButton.Ok),
+                     Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.exporter.task is None, timeout=30_000)
+    assert (beside / "manifest.json").exists()
+    assert list(elsewhere.iterdir()) == []
