@@ -8,16 +8,12 @@ import cv2
 import numpy as np
 
 from speechcal_core.frames.detect import to_gray
-from speechcal_core.sources.base import COMPRESSED_MSGTYPE
+from speechcal_core.sources.decode import REDUCED_GRAY, compressed_payload
 from speechcal_core.sources.depth import stream_depth
 from speechcal_core.sources.errors import BadFrameError
-from speechcal_core.sources.msgparse import parse_image
 
 if TYPE_CHECKING:
     from speechcal_core.sources.base import FrameSource
-
-_REDUCED = {1: cv2.IMREAD_GRAYSCALE, 2: cv2.IMREAD_REDUCED_GRAYSCALE_2,
-            4: cv2.IMREAD_REDUCED_GRAYSCALE_4, 8: cv2.IMREAD_REDUCED_GRAYSCALE_8}
 
 
 def preview_factor(width: int, height: int, target_side: int = 640) -> int:
@@ -40,11 +36,11 @@ def preview_gray(source: FrameSource, stream: str, i: int, factor: int,
             raw = source.raw(stream, i)
         except (AttributeError, NotImplementedError):
             raw = None
-        payload = _compressed_payload(raw) if raw is not None else None
+        payload = compressed_payload(raw) if raw is not None else None
         if payload is not None:
             if len(payload) == 0:  # OpenCV asserts on an empty buffer
                 raise BadFrameError(f"{stream}: frame {i} is empty (no JPEG/PNG payload)")
-            img = cv2.imdecode(np.frombuffer(payload, np.uint8), _REDUCED[factor])
+            img = cv2.imdecode(np.frombuffer(payload, np.uint8), REDUCED_GRAY[factor])
             if img is None:
                 raise BadFrameError(f"{stream}: frame {i} cannot be decoded")
             return img
@@ -54,16 +50,3 @@ def preview_gray(source: FrameSource, stream: str, i: int, factor: int,
     h, w = gray.shape[:2]
     return cv2.resize(gray, (max(1, w // factor), max(1, h // factor)),
                       interpolation=cv2.INTER_AREA)
-
-
-def _compressed_payload(raw: object) -> memoryview | bytes | None:
-    """The JPEG/PNG bytes inside a raw frame, or None when it is not compressed."""
-    msgtype = getattr(raw, "msgtype", "")
-    serialization = getattr(raw, "serialization", "")
-    data = getattr(raw, "rawdata", b"")
-    if serialization == "file" and getattr(raw, "suffix", "").lower() in (".jpg", ".jpeg",
-                                                                         ".png"):
-        return data
-    if msgtype == COMPRESSED_MSGTYPE and serialization in ("ros1", "cdr"):
-        return parse_image(data, serialization == "cdr", True).data
-    return None

@@ -5,7 +5,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from speechcal_core.sources.base import COMPRESSED_MSGTYPE, RawFrame
 from speechcal_core.sources.errors import BadFrameError, SourceError
+from speechcal_core.sources.msgparse import parse_image
 
 # encoding -> (channels, bytes per channel)
 _LAYOUT: dict[str, tuple[int, int]] = {
@@ -150,6 +152,35 @@ def decode_compressed(data: bytes | memoryview) -> np.ndarray:
         if img.ndim == 3:
             img = to_uint8(img)
     return img
+
+
+#: the reductions libjpeg can apply while decoding, as OpenCV's gray reading flags
+REDUCED_GRAY = {1: cv2.IMREAD_GRAYSCALE, 2: cv2.IMREAD_REDUCED_GRAYSCALE_2,
+                4: cv2.IMREAD_REDUCED_GRAYSCALE_4, 8: cv2.IMREAD_REDUCED_GRAYSCALE_8}
+
+
+def decode_jpeg_gray(data: bytes | memoryview, factor: int = 1) -> np.ndarray | None:
+    """A JPEG payload decoded straight to 8-bit gray (its luma) at ``1/factor`` of its size
+    (1, 2, 4 or 8; each side rounded up): libjpeg leaves out the colour and scales while
+    decoding, several times faster than :func:`decode_compressed` and a resize. None
+    when the payload is not a complete JPEG (:func:`decode_compressed` says why)."""
+    if len(data) == 0 or bytes(data[:2]) != b"\xff\xd8" or _looks_complete(data):
+        return None
+    return cv2.imdecode(np.frombuffer(data, np.uint8), REDUCED_GRAY[factor])
+
+
+def compressed_payload(raw: RawFrame | object) -> memoryview | bytes | None:
+    """The JPEG/PNG bytes inside a raw frame (:meth:`FrameSource.raw`), or None when it is
+    not compressed. Raises ``BadFrameError`` for a malformed message."""
+    msgtype = getattr(raw, "msgtype", "")
+    serialization = getattr(raw, "serialization", "")
+    data = getattr(raw, "rawdata", b"")
+    if serialization == "file" and getattr(raw, "suffix", "").lower() in (".jpg", ".jpeg",
+                                                                         ".png"):
+        return data
+    if msgtype == COMPRESSED_MSGTYPE and serialization in ("ros1", "cdr"):
+        return parse_image(data, serialization == "cdr", True).data
+    return None
 
 
 def compressed_kind(fmt: str, data: bytes | memoryview) -> str:

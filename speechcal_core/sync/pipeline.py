@@ -24,7 +24,8 @@ from speechcal_core.sync.clap_choice import (
     closing_after,
     sound_times,
 )
-from speechcal_core.sync.clap_video import VideoClap, find_video_claps, gray_full, to_gray_small
+from speechcal_core.sync.clap_frames import full_gray, small_gray
+from speechcal_core.sync.clap_video import VideoClap, find_video_claps
 from speechcal_core.sync.errors import SyncError
 from speechcal_core.sync.estimate import (
     MAX_DRIFT,
@@ -36,7 +37,7 @@ from speechcal_core.sync.estimate import (
 
 if TYPE_CHECKING:
     from speechcal_core.audio.loader import Audio
-    from speechcal_core.sources.base import FrameSource
+    from speechcal_core.sources.base import FrameSource, StreamInfo
 
 SEARCH_S = 20.0  # the first clap is looked for in this much video from each stream's start
 NEAR_S = 2.0  # other cameras (and the closing clap) are looked for this close to the expected time
@@ -129,9 +130,10 @@ def video_clap_candidates(source: FrameSource, stream: str, t0_ns: int,
     kept: list[int] = []
     scale = 1.0
     depth = stream_depth(source, stream)
+    info = next(s for s in source.streams if s.name == stream)
     for i in range(int(i0), int(i1)):
         try:
-            img, scale = to_gray_small(source.frame(stream, i), depth=depth)
+            img, scale = small_gray(source, info, i, depth)
         except SourceError:  # a bad frame is skipped, not fatal
             continue
         if small is None:
@@ -143,15 +145,15 @@ def video_clap_candidates(source: FrameSource, stream: str, t0_ns: int,
     if small is None or len(kept) < 5:
         return []
     index = [int(np.searchsorted(stamps, k)) for k in kept]
-    detail = _detail_reader(source, stream, index, depth)
+    detail = _detail_reader(source, info, index, depth)
     return find_video_claps(small[:len(kept)], np.array(kept), stream=stream, scale=scale,
                             detail=detail)
 
 
-def _detail_reader(source: FrameSource, stream: str, index: list[int],
+def _detail_reader(source: FrameSource, info: StreamInfo, index: list[int],
                    depth: int | None) -> Callable[[int], np.ndarray]:
-    """Frame ``index[j]`` at full resolution (:func:`gray_full`), the most recently read
-    kept up to DETAIL_CACHE_BYTES."""
+    """Frame ``index[j]`` at full resolution (:func:`clap_frames.full_gray`), the most
+    recently read kept up to DETAIL_CACHE_BYTES."""
     cache: OrderedDict[int, np.ndarray] = OrderedDict()
     held = 0
 
@@ -161,7 +163,7 @@ def _detail_reader(source: FrameSource, stream: str, index: list[int],
         if img is not None:
             cache.move_to_end(j)
             return img
-        img = gray_full(source.frame(stream, index[j]), depth)
+        img = full_gray(source, info, index[j], depth)
         cache[j] = img
         held += img.nbytes
         while held > DETAIL_CACHE_BYTES and len(cache) > 1:

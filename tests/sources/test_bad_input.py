@@ -15,6 +15,7 @@ from source_data import T0, Cam, regular
 from speechcal_core.frames.preview import preview_gray
 from speechcal_core.sources import BadFrameError, SourceError, open_recording
 from speechcal_core.sources.rosbag1 import Ros1Bag
+from speechcal_core.sync.clap_frames import full_gray, small_gray
 
 
 def _index_pos(path: Path) -> int:
@@ -142,6 +143,27 @@ def test_an_empty_compressed_frame_is_a_bad_frame_in_the_reduced_preview_too(
         with pytest.raises(BadFrameError, match="frame 4 is empty"):
             preview_gray(src, "/cam0/image_raw", 4, 2)
         assert preview_gray(src, "/cam0/image_raw", 5, 2).shape == (24, 32)
+
+
+@pytest.mark.parametrize("fmt", ["ros1", "ros2-mcap"])
+def test_damaged_jpeg_frames_in_the_clap_search_are_marked_bad_as_when_decoded(
+        make_bag, fmt: str) -> None:
+    """The clap search decodes JPEG frames straight to reduced gray; a damaged, cut or
+    empty one is read as a full decoding reads it: a BadFrameError naming the frame, and
+    the frame marked bad in its stream (not a grey picture from a half-decoded JPEG)."""
+    cam = Cam("/cam0/image_raw", regular(10), encoding="jpeg", width=64, height=48)
+    cam.payloads.update({4: b"\xff\xd8\xff\xe0" + bytes(range(256)) * 3 + b"\xff\xd9",
+                         6: b"\xff\xd8\xff\xdb", 7: b""})
+    with open_recording([make_bag(fmt, [cam], name=f"clap_{fmt}")]) as src:
+        info = src.streams[0]
+        for i in (4, 6, 7):
+            with pytest.raises(BadFrameError, match=f"frame {i}"):
+                small_gray(src, info, i, None)
+            with pytest.raises(BadFrameError, match=f"frame {i}"):
+                full_gray(src, info, i, None)
+        assert src.streams[0].bad_frames == (4, 6, 7)
+        assert small_gray(src, info, 5, None)[0].shape == (48, 64)
+        assert full_gray(src, info, 5, None).shape == (48, 64)
 
 
 @pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4", "ros2-sqlite3", "ros2-mcap", "ros2-mcap-zstd"])

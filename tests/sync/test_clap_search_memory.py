@@ -67,7 +67,8 @@ def test_full_resolution_frames_are_kept_within_a_byte_budget(
         height, width = src.frame(stream, 0).shape[:2]
         monkeypatch.setattr(sync_pipeline, "DETAIL_CACHE_BYTES", 10 * width * height)
         index = list(range(100, 140))
-        detail = sync_pipeline._detail_reader(CountingSource(), stream, index, None)
+        info = src.streams[0]
+        detail = sync_pipeline._detail_reader(CountingSource(), info, index, None)
         frames = [detail(j) for j in range(40)]
         assert all(f.dtype == np.uint8 and f.shape == (height, width) for f in frames)
         assert all(np.array_equal(f, clap_video.gray_full(src.frame(stream, i)))

@@ -1,0 +1,111 @@
+"""The clap search reads each camera's frames at the size its passes need: JPEG frames
+straight to reduced gray, every other kind of frame as before."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import make_session
+
+import speechcal_core.sync.pipeline as sync_pipeline
+from speechcal_core.audio import load_audio
+from speechcal_core.sources import open_recording
+from speechcal_core.sources.depth import stream_depth
+from speechcal_core.sync.clap_frames import full_gray, small_gray
+from speechcal_core.sync.clap_video import gray_full, to_gray_small
+from speechcal_core.sync.pipeline import SEARCH_S, sync_recording, video_clap_candidates
+
+
+class CountingSource:
+    """A recording that counts the frames decoded in full (``frame``)."""
+
+    def __init__(self, source) -> None:
+        self.source, self.decoded = source, []
+
+    def __getattr__(self, name: str):
+        return getattr(self.source, name)
+
+    def frame(self, stream: str, i: int) -> np.ndarray:
+        self.decoded.append(i)
+        return self.source.frame(stream, i)
+
+
+def _search(source) -> list:
+    return [c for s in source.streams
+            for c in video_clap_candidates(source, s.name, s.first_ns,
+                                           s.first_ns + int(SEARCH_S * 1e9))]
+
+
+def test_jpeg_clap_search_decodes_no_frame_in_full_colour(session_root: Path) -> None:
+    """Full-colour decoding of every frame of the search window took most of a sync's
+    time; JPEG frames are now decoded to gray at the size each pass needs."""
+    out, truth = make_session(session_root, seed=0)
+    with open_recording(out / truth["recording"]) as src:
+        counting = CountingSource(src)
+        for s in src.streams:
+            stream_depth(counting, s.name)  # one frame read to learn the stream is 8-bit
+        counting.decoded.clear()
+        found = _search(counting)
+    assert len(found) >= 2  # each camera saw the clap
+    assert counting.decoded == []
+
+
+def test_jpeg_frames_read_reduced_find_the_same_claps(
+        session_root: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The claps found from reduced gray JPEG frames are those found from full-colour
+    decoding: the same cameras, frames and clap stamps. The V fits' standard errors (from
+    the fine pass's luma instead of gray made from colour) move by a few hundred ns at
+    most, and with them the drift (its cameras weighted by them) by about 0.0004 ppm."""
+    out, truth = make_session(session_root, seed=1, claps=2, duration=20.0)
+    with open_recording(out / truth["recording"]) as src:
+        audio = out / "audio.ogg"
+        now = sync_recording(src, load_audio(audio))
+        monkeypatch.setattr(sync_pipeline, "small_gray", lambda source, info, i, depth:
+                            to_gray_small(source.frame(info.name, i), depth=depth))
+        monkeypatch.setattr(sync_pipeline, "full_gray", lambda source, info, i, depth:
+                            gray_full(source.frame(info.name, i), depth))
+        before = sync_recording(src, load_audio(audio))
+    assert len(now.claps) == len(before.claps) == 2
+    assert abs(now.model.offset_ns - before.model.offset_ns) <= 10
+    assert now.model.drift == pytest.approx(before.model.drift, abs=1e-9)
+    pairs = [(a, b) for x, y in zip(now.claps, before.claps, strict=True)
+             for a, b in zip(x.cameras, y.cameras, strict=True)]
+    assert all((a.name, a.clap_ns, a.frame_index, a.method)
+               == (b.name, b.clap_ns, b.frame_index, b.method) for a, b in pairs)
+    assert all(a.sigma_ns == pytest.approx(b.sigma_ns, rel=0.01) for a, b in pairs)
+
+
+def test_reduced_jpeg_frames_match_the_full_decoding(session_root: Path) -> None:
+    """A coarse-pass frame decoded reduced has the work size and scale of one decoded in
+    full and made small, and nearly its values; the fine pass's luma nearly its gray."""
+    out, truth = make_session(session_root, seed=0)
+    with open_recording(out / truth["recording"]) as src:
+        info = src.streams[0]
+        for i in (0, info.count // 2, info.count - 1):
+            small, scale = small_gray(src, info, i, None)
+            want, want_scale = to_gray_small(src.frame(info.name, i))
+            assert small.dtype == np.float32 and small.shape == want.shape
+            assert scale == want_scale
+            assert np.mean(np.abs(small - want)) < 1.0
+            full = full_gray(src, info, i, None)
+            assert full.dtype == np.uint8 and full.shape == (info.height, info.width)
+            assert np.mean(np.abs(full.astype(float) - gray_full(src.frame(info.name, i)))) < 0.1
+
+
+@pytest.mark.parametrize("encoding", ["mono8", "mono16", "png"])
+def test_frames_not_jpeg_are_read_as_before(session_root: Path, encoding: str) -> None:
+    """Raw and PNG frames are decoded in full and made gray exactly as before, and the
+    clap is still found."""
+    out, truth = make_session(session_root, seed=0, encoding=encoding)
+    with open_recording(out / truth["recording"]) as src:
+        info = src.streams[0]
+        depth = stream_depth(src, info.name)
+        for i in (0, info.count // 2):
+            small, scale = small_gray(src, info, i, depth)
+            want, want_scale = to_gray_small(src.frame(info.name, i), depth=depth)
+            assert scale == want_scale and np.array_equal(small, want)
+            assert np.array_equal(full_gray(src, info, i, depth),
+                                  gray_full(src.frame(info.name, i), depth))
+        assert len(_search(src)) >= 2
