@@ -2,10 +2,19 @@
 and the clap V fit's time against its baseline.
 
 Run: ``.venv/bin/python benchmarks/bench_sync.py [--seeds 0-5] [--claps 2] [--duration 60]
-[--snr 0,10,30]``. Sessions are made by ``speechcal synth`` in a temporary folder and
-scored against their truth.json; one line per session, then the worst figures (with two
-claps also the median and worst drift error, the seed of the worst, and how many sessions
-have a note on the drift).
+[--snr 0,10,30] [--work DIR]``. Sessions are made by ``speechcal synth`` in a temporary
+folder (or kept in ``--work DIR``: made there once, then reused) and scored against their
+truth.json; one line per session, then the worst figures (with two claps also the median
+and worst drift error, the seed of the worst, and how many sessions have a note on the
+drift).
+
+How the cameras' clap times are combined into the clap's session time (which sets the
+offset) is compared in the same run: the code's weighting (inverse frame period squared,
+for two cameras within a frame of each other) against ``session_ns_inverse_variance``
+below, each camera counted by the inverse variance of its V fit's timing (its standard
+error, at least ``estimate.MIN_TIMING_SD_NS``), as the drift counts them. For each, the
+offset's error at the first clap and the clap's timing error (the synthetic cameras'
+clock offsets, a few ms, taken out: that part of the offset error no weighting can mend).
 
 The V fit (``clap_video._fit_v``) is timed in the same run against the baseline
 ``fit_v_baseline`` below, the fit as it was (one ``np.linalg.lstsq`` per grid vertex): each
@@ -23,6 +32,8 @@ import subprocess
 import sys
 import tempfile
 import time
+from contextlib import ExitStack
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +42,7 @@ from timing import median_ms
 from speechcal_core.audio import load_audio
 from speechcal_core.sources import open_recording
 from speechcal_core.sync import clap_video
+from speechcal_core.sync.estimate import Clap, SyncResult, timing_sd_ns
 from speechcal_core.sync.pipeline import sync_recording
 
 
@@ -54,6 +66,36 @@ def fit_v_baseline(x: np.ndarray, y: np.ndarray, t_min: float,
     return best, best_err
 
 
+def session_ns_inverse_variance(clap: Clap) -> int:
+    """The clap's session time with each camera counted by the inverse variance of its
+    timing (:func:`estimate.timing_sd_ns`), where the code counts it by its frame rate
+    (the same median of three cameras or more, the same clearer of two a frame apart)."""
+    if clap.session_override_ns is not None or len(clap.cameras) != 2 \
+            or clap._clearer_of_two() is not None:
+        return clap.session_ns
+    stamps = np.array([c.clap_ns for c in clap.cameras], dtype=np.int64)
+    base = int(stamps.min())
+    w = np.array([1.0 / timing_sd_ns(c) ** 2 for c in clap.cameras])
+    return base + round(float(np.sum(w * (stamps - base)) / np.sum(w)))
+
+
+def _offset_weights(result, truth: dict, offset_at_clap_ms: float) -> dict:
+    """The first clap's offset error (ms) and timing error (cameras' clock offsets taken
+    out) with frame-rate weights (the code's) and with inverse-variance weights."""
+    clap, true = result.claps[0], truth["claps"][0]
+    offsets = {c["name"]: c["clock_offset_ns"] for c in truth["cameras"]}
+    exact = replace(clap, cameras=tuple(replace(c, clap_ns=true["session_ns"] + offsets[c.name])
+                                        for c in clap.cameras))
+    rate = clap.session_ns
+    ivar = session_ns_inverse_variance(clap)
+    return {
+        "offset_rate_ms": offset_at_clap_ms,
+        "offset_ivar_ms": round(offset_at_clap_ms + (ivar - rate) / 1e6, 3),
+        "timing_rate_ms": round((rate - exact.session_ns) / 1e6, 3),
+        "timing_ivar_ms": round((ivar - session_ns_inverse_variance(exact)) / 1e6, 3),
+    }
+
+
 def _sync_with(fit, recording: Path, audio: Path, calls: list | None = None):
     """Sync in this process with ``fit`` as the V fit: (result, seconds); ``calls``
     collects the fits' arguments."""
@@ -74,8 +116,9 @@ def _sync_with(fit, recording: Path, audio: Path, calls: list | None = None):
         clap_video._fit_v = kept
 
 
-def _compare_fit(out: Path, truth: dict, repeats: int) -> dict:
-    """The V fit against its baseline on one session: sync times, fit times, differences."""
+def _compare_fit(out: Path, truth: dict, repeats: int) -> tuple[dict, SyncResult]:
+    """The V fit against its baseline on one session: sync times, fit times, differences;
+    and the sync made with the current fit."""
     recording, audio = out / truth["recording"], out / "audio.ogg"
     old, old_s = _sync_with(fit_v_baseline, recording, audio)
     calls: list = []
@@ -94,16 +137,18 @@ def _compare_fit(out: Path, truth: dict, repeats: int) -> dict:
         "drift_diff_ppm": (new.model.drift - old.model.drift) * 1e6,
         "max_clap_diff_ns": max((abs(a - b) for a, b in zip(old_clap, new_clap,
                                                             strict=False)), default=0),
-    }
+    }, new
 
 
 def _run(args: argparse.Namespace, seed: int, snr: float, work: Path) -> dict:
-    out = work / f"s{seed}_{snr:g}"
+    out = work / (f"d{args.duration:g}_c{args.claps}_n{args.cameras}_{args.size}"
+                  f"_p{args.drift_ppm:g}_s{seed}_{snr:g}")
     cmd = [sys.executable, "-m", "speechcal_core.cli", "synth", str(out), "--cameras",
            str(args.cameras), "--duration", str(args.duration), "--size", args.size,
            "--claps", str(args.claps), "--seed", str(seed), "--snr", str(snr),
-           "--drift-ppm", str(args.drift_ppm)]
-    subprocess.run(cmd, check=True, capture_output=True)
+           "--drift-ppm", str(args.drift_ppm), "--force"]
+    if not (out / "truth.json").exists():
+        subprocess.run(cmd, check=True, capture_output=True)
     truth = json.loads((out / "truth.json").read_text())
     t0 = time.perf_counter()
     p = subprocess.run([sys.executable, "-m", "speechcal_core.cli", "sync",
@@ -112,7 +157,7 @@ def _run(args: argparse.Namespace, seed: int, snr: float, work: Path) -> dict:
     elapsed = time.perf_counter() - t0
     if p.returncode:
         return {"seed": seed, "snr": snr, "error": p.stderr.strip()}
-    fit = _compare_fit(out, truth, args.repeats)  # after the index the sync above kept
+    fit, result = _compare_fit(out, truth, args.repeats)  # after the index the sync kept
     doc = json.loads(p.stdout)
     offsets = {c["name"]: c["clock_offset_ns"] for c in truth["cameras"]}
     cam_ms = [(k["clap_ns"] - t["session_ns"] - offsets[k["name"]]) / 1e6
@@ -120,13 +165,14 @@ def _run(args: argparse.Namespace, seed: int, snr: float, work: Path) -> dict:
     t_a = truth["claps"][0]["audio_s"]
     true_at = truth["sync"]["offset_ns"] + round(t_a * truth["sync"]["drift"] * 1e9)
     got_at = doc["offset_ns"] + round(t_a * doc["drift"] * 1e9)
+    offset_ms = round((got_at - true_at) / 1e6, 3)
     return {
         "seed": seed, "snr": snr, "claps_found": len(doc["claps"]),
         "claps_true": len(truth["claps"]),
         "audio_ms": [round((c["audio_s"] - t["audio_s"]) * 1e3, 3)
                      for c, t in zip(doc["claps"], truth["claps"], strict=False)],
         "camera_ms": [round(v, 2) for v in cam_ms],
-        "offset_at_clap_ms": round((got_at - true_at) / 1e6, 3),
+        "offset_at_clap_ms": offset_ms, **_offset_weights(result, truth, offset_ms),
         "drift_error_ppm": round((doc["drift"] - truth["sync"]["drift"]) * 1e6, 2),
         "sync_s": round(elapsed, 2), "warnings": doc["warnings"], **fit,
     }
@@ -148,11 +194,13 @@ def main() -> int:
     ap.add_argument("--size", default="320x240")
     ap.add_argument("--drift-ppm", type=float, default=40.0)
     ap.add_argument("--repeats", type=int, default=5, help="runs of the V fits timed alone")
+    ap.add_argument("--work", help="keep the sessions here (made once, then reused)")
     args = ap.parse_args()
     lo, _, hi = args.seeds.partition("-")
     seeds = range(int(lo), int(hi or lo) + 1)
     rows = []
-    with tempfile.TemporaryDirectory() as tmp:
+    with ExitStack() as stack:
+        tmp = args.work or stack.enter_context(tempfile.TemporaryDirectory())
         for seed in seeds:
             for snr in (float(s) for s in args.snr.split(",")):
                 row = _run(args, seed, snr, Path(tmp))
@@ -180,6 +228,13 @@ def main() -> int:
         },
     }
     summary["median_offset_ms"] = _median(abs(r["offset_at_clap_ms"]) for r in ok)
+    summary["offset_weights"] = {
+        "baseline": "frame-rate weights (the code's); candidate: session_ns_inverse_variance",
+    }
+    for key in ("offset_rate", "offset_ivar", "timing_rate", "timing_ivar"):
+        errors = [abs(r[f"{key}_ms"]) for r in ok]
+        summary["offset_weights"][f"median_{key}_ms"] = _median(errors)
+        summary["offset_weights"][f"max_{key}_ms"] = max(errors, default=None)
     if args.claps == 2:
         drift = [abs(r["drift_error_ppm"]) for r in ok]
         worst = max(ok, key=lambda r: abs(r["drift_error_ppm"]), default=None)
