@@ -12,6 +12,7 @@ from conftest import make_session
 import speechcal_core.sync.pipeline as sync_pipeline
 from speechcal_core.audio import load_audio
 from speechcal_core.sources import open_recording
+from speechcal_core.sources.decode import compressed_payload
 from speechcal_core.sources.depth import stream_depth
 from speechcal_core.sync.clap_frames import full_gray, small_gray
 from speechcal_core.sync.clap_video import gray_full, to_gray_small
@@ -50,6 +51,31 @@ def test_jpeg_clap_search_decodes_no_frame_in_full_colour(session_root: Path) ->
         found = _search(counting)
     assert len(found) >= 2  # each camera saw the clap
     assert counting.decoded == []
+
+
+def test_a_folder_of_jpeg_files_is_read_reduced_and_finds_the_bags_clap(
+        session_root: Path, tmp_path: Path) -> None:
+    """JPEG image files (``<stamp_ns>.jpg``) are read reduced as bag payloads are: the
+    same bytes in a folder give the same clap, with no frame decoded in full colour."""
+    out, truth = make_session(session_root, seed=0)
+    with open_recording(out / truth["recording"]) as bag:
+        info = bag.streams[0]
+        folder = tmp_path / "cam0"
+        folder.mkdir()
+        for i, stamp in enumerate(bag.stamps(info.name)):
+            payload = compressed_payload(bag.raw(info.name, i))
+            (folder / f"{int(stamp)}.jpg").write_bytes(bytes(payload))
+        end = info.first_ns + int(SEARCH_S * 1e9)
+        from_bag = video_clap_candidates(bag, info.name, info.first_ns, end)
+    with open_recording(folder) as files:
+        counting = CountingSource(files)
+        (name,) = [s.name for s in files.streams]
+        stream_depth(counting, name)
+        counting.decoded.clear()
+        from_files = video_clap_candidates(counting, name, info.first_ns, end)
+    assert from_bag and counting.decoded == []
+    assert [(c.clap_ns, c.sigma_ns, c.method) for c in from_files] == \
+        [(c.clap_ns, c.sigma_ns, c.method) for c in from_bag]
 
 
 def test_jpeg_frames_read_reduced_find_the_same_claps(
