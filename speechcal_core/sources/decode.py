@@ -162,8 +162,9 @@ REDUCED_GRAY = {1: cv2.IMREAD_GRAYSCALE, 2: cv2.IMREAD_REDUCED_GRAYSCALE_2,
 def decode_jpeg_gray(data: bytes | memoryview, factor: int = 1) -> np.ndarray | None:
     """A JPEG payload decoded straight to 8-bit gray (its luma) at ``1/factor`` of its size
     (1, 2, 4 or 8; each side rounded up): libjpeg leaves out the colour and scales while
-    decoding, several times faster than :func:`decode_compressed` and a resize. None
-    when the payload is not a complete JPEG (:func:`decode_compressed` says why)."""
+    decoding (a 1280x720 frame at 1/8 in about half the time of :func:`decode_compressed`,
+    and no gray conversion or resize after). None when the payload is not a complete JPEG
+    (:func:`decode_compressed` says why)."""
     if len(data) == 0 or bytes(data[:2]) != b"\xff\xd8" or _looks_complete(data):
         return None
     return cv2.imdecode(np.frombuffer(data, np.uint8), REDUCED_GRAY[factor])
