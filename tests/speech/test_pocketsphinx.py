@@ -12,7 +12,12 @@ from speech_scenes import RATE, Scene, clip, make_scene, real_speech
 from speechcal_core.audio import Audio, load_audio
 from speechcal_core.speech import SpeechError, TriggerSpec, detect_triggers
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
-from speechcal_core.speech.pocketsphinx_backend import TIERS, PocketsphinxBackend, phone_log10
+from speechcal_core.speech.pocketsphinx_backend import (
+    TIERS,
+    Heard,
+    PocketsphinxBackend,
+    phone_log10,
+)
 from speechcal_core.speech.vad import voice_activity
 
 
@@ -303,18 +308,24 @@ def test_too_few_heard_to_search_from_decodes_again_more_sensitively(tmp_path: P
                             "alike, so it listened again at 0.7 and heard 2"]
 
 
+def _heard_then_listening_harder(backend: PocketsphinxBackend, scene: Scene,
+                                 spec: TriggerSpec) -> tuple[Heard, tuple[Heard, TriggerSpec]]:
+    """What ``backend`` hears in the scene's speech, and that after it listened harder."""
+    x = load_audio(scene.path, rate=RATE).samples
+    activity = voice_activity(x, RATE)
+    first = backend._hear(x, activity, activity.segments, spec, (0.0, 1.0))
+    return first, backend._listen_harder(x, activity, spec, first)
+
+
 def test_the_noisiest_spans_where_nothing_was_heard_are_decoded_again(tmp_path: Path) -> None:
     """A voice the recogniser hardly hears in loud noise: its triggers pass a dearer
     filler, and then serve the similarity search as templates of that voice."""
     items = [("loud", f"rms/capture_{k}", 6.0) for k in (1, 2, 3)]
     items += [("quiet", f"slt/capture_{k}", -4.0) for k in (1, 2, 3, 4)]
     scene = make_scene(tmp_path / "quiet_voice.wav", items, snr_db=8, seed=0)
-    x = load_audio(scene.path, rate=RATE).samples
     spec = TriggerSpec(("capture",))
     backend = PocketsphinxBackend()
-    activity = voice_activity(x, RATE)
-    first = backend._hear(x, activity, activity.segments, spec, (0.0, 1.0))
-    harder, used = backend._listen_harder(x, activity, spec, first)
+    first, (harder, used) = _heard_then_listening_harder(backend, scene, spec)
 
     def heard(words: list, kind: str) -> int:
         return sum(any(abs(w.t - (a + b) / 2) < 0.15 for w in words)
@@ -335,12 +346,9 @@ def test_the_clearest_spans_where_nothing_was_heard_are_decoded_much_more_sensit
     items += [("other", "awb/snap_shut_1"), ("other", "rms/okay_1"),
               ("other", "awb/hold_on_1")]
     scene = make_scene(tmp_path / "snapshot.wav", items, snr_db=25, seed=0)
-    x = load_audio(scene.path, rate=RATE).samples
     spec = TriggerSpec(("snapshot",))
     backend = PocketsphinxBackend()
-    activity = voice_activity(x, RATE)
-    first = backend._hear(x, activity, activity.segments, spec, (0.0, 1.0))
-    harder, used = backend._listen_harder(x, activity, spec, first)
+    first, (harder, used) = _heard_then_listening_harder(backend, scene, spec)
 
     def heard(words: list) -> list[str]:
         return [text for text, a, b in scene.placed
