@@ -144,6 +144,9 @@ def test_four_real_triggers_are_too_few_to_check_against_each_other(tmp_path: Pa
     items = [(n, load_audio(real_speech(n), rate=RATE).samples) for n in names]
     scene = make_scene(tmp_path / "four.wav", items, snr_db=25, seed=1)
     assert len(detect_triggers(scene.path, ["clubs"]).triggers) == 4
+    # clear spans where nothing was heard are decoded again more sensitively, up to a
+    # limit: from 0.8, at 1, "clubs" was heard in the clearly said "five five"
+    assert len(detect_triggers(scene.path, ["clubs"], sensitivity=0.8).triggers) == 4
 
 
 def test_silence_noise_and_tones_give_no_triggers(tmp_path: Path) -> None:
