@@ -410,6 +410,9 @@ class ReviewWindow(QMainWindow):
         left_layout = QVBoxLayout(left)
         left_layout.setContentsMargins(0, 0, 0, 0)
         self.grid = FrameGrid(model.streams)
+        # the keys act on the window wherever the focus is; it rests on the grid (a click
+        # there takes it back from the box or the waveform)
+        self.grid.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         left_layout.addWidget(self.grid, 1)
         left_layout.addLayout(self._build_transport_row())
         top.addWidget(left)
@@ -509,6 +512,10 @@ class ReviewWindow(QMainWindow):
         self.waveform.clap_dragging.connect(model.preview_offset)
         self.waveform.set_sets(model.session.sets)
         self.waveform.show_all(start_ns, end_ns)
+        # Tab in the order the eyes go: frames, sound, the list's box, Cancel (when shown)
+        for before, after in ((self.grid, self.waveform), (self.waveform, self.advance_box),
+                              (self.advance_box, self.cancel_button)):
+            QWidget.setTabOrder(before, after)
         self.waveform.playhead_moved.connect(model.set_playhead)
         self.waveform.word_clicked.connect(model.click_word)
         self.table.set_sets(model.session.sets, start_ns, self._rescore_marks())
@@ -814,6 +821,8 @@ class ReviewWindow(QMainWindow):
                            if p)
         self.setWindowTitle(f"SpeechCal — {title}")
         self.stack.setCurrentWidget(self.review_page)
+        # the focus was on the status line's Cancel, hidden as the opening ended
+        self.grid.setFocus(Qt.FocusReason.OtherFocusReason)
         self.export_button.setEnabled(True)
         self.export_action.setEnabled(True)
         n = len(inputs.session.sets)
