@@ -457,9 +457,10 @@ class ReviewModel:
     def clap_at_playhead(self) -> None:
         """Key C: the sound under the playhead is the clap. The offset moves so that it
         lands where the cameras saw the clap: the fix when another sound (a knock, a
-        door) was taken for it. Nothing without a camera clap (see :meth:`camera_clap_ns`)."""
+        door) was taken for it. Nothing without a camera clap (see :meth:`camera_clap_ns`),
+        nor with the clap at the playhead already (no shift, no step to undo)."""
         seen = self.camera_clap_ns()
-        if seen is None:
+        if seen is None or seen == self.playhead_ns:
             return
         heard_s = self.session.sync.to_audio(self.playhead_ns)
         self.nudge_offset(seen - self.playhead_ns)  # undo restores the clap heard too

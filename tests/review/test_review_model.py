@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from dataclasses import replace
 from pathlib import Path
 
@@ -267,6 +268,24 @@ def test_c_puts_the_sound_at_the_playhead_where_the_cameras_saw_the_clap(
     model.session.sync_evidence = {}  # an offset given by hand: no clap seen to go by
     model.clap_at_playhead()
     assert model.session.sync == before and model.undo_label == ""
+
+
+def test_c_with_the_clap_already_at_the_playhead_changes_nothing(
+        truth_session_file: Path) -> None:
+    """No shift, no step: the clap heard stayed what it was, unsaved, or it was a change
+    that no undo could take back."""
+    saves: list = []
+    model = open_model(truth_session_file, saves)
+    seen = model.camera_clap_ns()
+    model.set_playhead(seen)
+    sync, evidence = model.session.sync, copy.deepcopy(model.session.sync_evidence)
+    told: list = []
+    model.connect("sync", told.append)
+    saved = len(saves)
+    model.clap_at_playhead()
+    assert model.session.sync == sync and model.undo_label == ""
+    assert model.session.sync_evidence == evidence
+    assert told == [] and len(saves) == saved
 
 
 def test_an_offset_edit_is_undone_and_redone_in_turn_with_decisions(
