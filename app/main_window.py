@@ -34,6 +34,7 @@ from app.export_action import ExportAction
 from app.frame_grid import DROPPED_CAPTION, NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
 from app.leave_out_action import LeaveOutAction
+from app.offset_text import NO_CAMERA_CLAP, clap_moved_text
 from app.open_request import OpenRequest, drop_request
 from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver, free_name_beside
@@ -104,17 +105,6 @@ MOVING_WORDS_TIP = (
     "zooms out to the whole audio: it may lie before the first frame), click it and "
     "press C; or move the audio with { } (±1 frame) until the words fall where the "
     "board stops.")
-#: the status line after C in a session whose cameras saw no clap
-NO_CAMERA_CLAP = ("the cameras saw no clap in this session (its offset was given): move "
-                  "the audio with [ ] { } or drag the clap handle")
-
-
-def clap_moved_text(shift_ns: int) -> str:
-    """The status line after C: how far the audio moved to put the clap at the playhead."""
-    return (f"the clap is at the playhead: audio moved {shift_ns / 1e9:+.3f} s · "
-            "Ctrl+Z takes it back")
-
-
 #: the keys that go to another set (J, K, Home, End): when they go nowhere the status
 #: line says why
 STEP_ACTIONS = ("next_set", "previous_set", "first_set", "last_set")

@@ -326,6 +326,26 @@ def test_c_moves_the_audio_so_the_sound_at_the_playhead_is_the_clap(
     assert model.session.sync_evidence["claps"][0].get("audio_source") != "manual"
 
 
+def test_c_says_a_shift_under_a_millisecond_and_when_the_clap_was_there_already(
+        qtbot, window) -> None:
+    """Zoomed in on the clap, C moves the audio by microseconds: it said "+0.000 s"; with
+    the clap at the playhead already it made no step yet said "Ctrl+Z takes it back"."""
+    model = window.model
+    seen = model.camera_clap_ns()
+    model.set_playhead(seen - 400_000)
+    qtbot.keyClick(window, Qt.Key.Key_C)
+    assert window.status_text.text() == \
+        "the clap is at the playhead: audio moved +400 µs · Ctrl+Z takes it back"
+    assert model.undo_label == "audio offset change"
+    model.undo()
+    assert model.undo_label == ""
+    model.set_playhead(seen)  # the clap handle clicked: the playhead on it
+    qtbot.keyClick(window, Qt.Key.Key_C)
+    assert window.status_text.text() == \
+        "the clap is at the playhead already: the audio did not move, nothing to undo"
+    assert model.undo_label == ""
+
+
 def test_undoing_a_large_clap_shift_gives_the_view_back_as_it_was(
         qtbot, open_window, truth_session_file: Path) -> None:
     """C with the playhead seconds from the clap widens the view to the moved marks;

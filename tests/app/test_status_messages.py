@@ -171,7 +171,7 @@ def test_what_c_and_t_did_stays_through_the_rescoring_they_start(qtbot, window) 
     model = window.model
     model.set_playhead(model.camera_clap_ns() - 250_000_000)
     qtbot.keyClick(window, Qt.Key.Key_C)  # the audio moves: every set is re-scored
-    said = "the clap is at the playhead: audio moved +0.250 s · Ctrl+Z takes it back"
+    said = "the clap is at the playhead: audio moved +250 ms · Ctrl+Z takes it back"
     qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
     assert said in window.status_text.text()  # not wiped the moment re-scoring begins
     qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
