@@ -35,6 +35,8 @@ WIDEN_MARGIN = 0.05
 MIN_SPAN_S = 0.02
 #: an offset edit moves the envelope as drawn; it is drawn anew this long after the last
 REDRAW_AFTER_SHIFT_MS = 150
+#: the "whole session" and playhead buttons' distance from the view's bottom edge, pixels
+BUTTON_MARGIN_PX = 1
 
 
 class WaveformView(pg.PlotWidget):
@@ -409,7 +411,12 @@ class WaveformView(pg.PlotWidget):
         right = self.width() - 6 - (self.whole_button.sizeHint().width() + 6
                                     if self.whole_button.isVisible() else 0)
         left = 6 if side < 0 else right - hint.width()
-        button.setGeometry(left, 6, hint.width(), hint.height())
+        button.setGeometry(left, self._buttons_top(hint.height()), hint.width(), hint.height())
+
+    def _buttons_top(self, height: int) -> int:
+        """Where the view's buttons stand (y): in the bottom corners, beside the axis's
+        name, under the tick numbers; at the top they covered the sets' labels."""
+        return self.height() - height - BUTTON_MARGIN_PX
 
     def show_playhead(self) -> None:
         """Scroll the view (its width kept) so the playhead stands in its middle."""
@@ -418,7 +425,7 @@ class WaveformView(pg.PlotWidget):
         self.setXRange(x - half, x + half, padding=0)
 
     def resizeEvent(self, event: QResizeEvent) -> None:
-        """Keep the "whole session" button in the top right corner."""
+        """Keep the "whole session" button in the bottom right corner."""
         super().resizeEvent(event)
         self._place_playhead_button()
         if getattr(self, "message", None) is not None:  # pyqtgraph resizes in __init__
@@ -426,7 +433,8 @@ class WaveformView(pg.PlotWidget):
         button = getattr(self, "whole_button", None)  # pyqtgraph resizes in __init__
         if button is not None:
             hint = button.sizeHint()
-            button.setGeometry(self.width() - hint.width() - 6, 6, hint.width(), hint.height())
+            button.setGeometry(self.width() - hint.width() - 6, self._buttons_top(hint.height()),
+                               hint.width(), hint.height())
 
     def redraw(self) -> None:
         """Draw the envelope of the audio in the visible range (once :meth:`show_all` has

@@ -8,10 +8,11 @@ import shutil
 from pathlib import Path
 
 import pytest
-from PySide6.QtCore import QPoint, QPointF, Qt
+from PySide6.QtCore import QPoint, QPointF, QRect, Qt
 from truth_sessions import truth_session
 
 from app.main_window import ReviewWindow
+from app.word_marks import LABEL_TOP_Y
 from speechcal_core.session.store import save_session
 
 
@@ -139,6 +140,58 @@ def test_a_playhead_out_of_the_zoomed_view_has_a_button_that_goes_to_it(window,
     waveform.setXRange(x - 3.0, x - 2.0, padding=0)  # before it
     qtbot.waitUntil(lambda: waveform.playhead_button.isVisible())
     assert waveform.playhead_button.text() == "playhead ▶"
+
+
+def _hidden_labels(wave) -> list[int]:
+    """The sets whose label (as drawn along the top) a button of the view covers."""
+    box = wave.getViewBox()
+    buttons = [b.geometry() for b in (wave.whole_button, wave.playhead_button)
+               if b.isVisible()]
+    hidden = []
+    for mark in wave.marks.shown_labels():
+        scene = box.mapViewToScene(QPointF(mark.middle, LABEL_TOP_Y))
+        top = wave.viewport().mapTo(wave, wave.mapFromScene(scene))
+        width, height = wave.marks.label_width(mark), wave.marks.label_height()
+        label = QRect(round(top.x() - width / 2), top.y(), round(width), round(height))
+        if any(label.intersects(b) for b in buttons):
+            hidden.append(mark.set_id)
+    return hidden
+
+
+def _view_with_label_near_the_edge(wave, set_id: int, side: int, span_s: float = 3.0,
+                                   edge_px: float = 30.0) -> None:
+    """Zoom to ``span_s`` with the set's label middle ``edge_px`` from the right (``side``
+    1) or left (-1) edge of the view."""
+    a, b = wave.mark_extent(set_id)
+    middle = (a + b) / 2
+    margin = span_s * edge_px / wave.getViewBox().width()
+    if side > 0:
+        wave.setXRange(middle + margin - span_s, middle + margin, padding=0)
+    else:
+        wave.setXRange(middle - margin, middle - margin + span_s, padding=0)
+
+
+def test_the_view_buttons_leave_the_sets_labels_and_the_sound_uncovered(qtbot, window) -> None:
+    """Zoomed in, "whole session" and "playhead ▶" stood over the labels at the top right
+    of the view (and "◀ playhead" over those at the top left)."""
+    wave, model = window.waveform, window.model
+    sets = model.session.sets
+    model.go_to_set(len(sets) - 1)  # the playhead after the view
+    _view_with_label_near_the_edge(wave, sets[-2].id, side=1)
+    qtbot.waitUntil(lambda: wave.playhead_button.isVisible())
+    assert wave.whole_button.isVisible() and wave.playhead_button.text() == "playhead ▶"
+    assert sets[-2].id in {m.set_id for m in wave.marks.shown_labels()}
+    assert _hidden_labels(wave) == []
+    model.go_to_set(0)  # the playhead before the view
+    _view_with_label_near_the_edge(wave, sets[1].id, side=-1)
+    qtbot.waitUntil(lambda: wave.playhead_button.text() == "◀ playhead")
+    assert sets[1].id in {m.set_id for m in wave.marks.shown_labels()}
+    assert _hidden_labels(wave) == []
+    # nor do they stand on the waveform itself: they sit beside the axis's name
+    plot = wave.mapFromScene(wave.getViewBox().sceneBoundingRect()).boundingRect()
+    for button in (wave.whole_button, wave.playhead_button):
+        assert button.isVisible() and not button.geometry().intersects(plot)
+        assert wave.rect().contains(button.geometry())
 
 
 def test_an_offset_edit_moves_the_envelope_then_draws_it_anew(window, qtbot) -> None:
