@@ -34,7 +34,7 @@ from app.export_action import ExportAction
 from app.frame_grid import DROPPED_CAPTION, NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
 from app.leave_out_action import LeaveOutAction
-from app.offset_text import NO_CAMERA_CLAP, clap_moved_text
+from app.offset_text import NO_CAMERA_CLAP, clap_moved_text, offset_moved_text
 from app.open_request import OpenRequest, drop_request
 from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver, free_name_beside
@@ -108,6 +108,9 @@ MOVING_WORDS_TIP = (
 #: the keys that go to another set (J, K, Home, End): when they go nowhere the status
 #: line says why
 STEP_ACTIONS = ("next_set", "previous_set", "first_set", "last_set")
+#: the keys and buttons that move the audio, with what the status line calls the step
+OFFSET_ACTIONS = {"offset_minus_ms": "", "offset_plus_ms": "",
+                  "offset_minus_frame": "one frame", "offset_plus_frame": "one frame"}
 APP_ICON = "speechcal.svg"  # in resources/icons; the desktop entry names it too
 #: the Edit menu's keys (a QShortcut on them stands in only while the entry is off: both on
 #: would be ambiguous)
@@ -498,7 +501,7 @@ class ReviewWindow(QMainWindow):
             self.waveform.show_message(f"no waveform: {inputs.no_waveform}" + (
                 " · File ▸ Locate audio… shows where it is now" if gone else ""))
         self.waveform.set_claps(inputs.claps_audio_s)
-        self.waveform.clap_moved.connect(model.nudge_offset)
+        self.waveform.clap_moved.connect(self._clap_dragged)
         self.waveform.clap_dragging.connect(model.preview_offset)
         self.waveform.set_sets(model.session.sets)
         self.waveform.show_all(start_ns, end_ns)
@@ -868,17 +871,34 @@ class ReviewWindow(QMainWindow):
             # "then next set" found none: the end of the list (of the undecided ones)
             end = f" · {model.step_refused}" if model.step_refused else ""
             self.status.say(f"set #{decided.id} {decided.decision}{end}")
-        elif action in STEP_ACTIONS:  # why it went nowhere; gone once it went on
-            self.status.withdraw(self._step_refused)
-            self._step_refused = model.step_refused
+        elif action in STEP_ACTIONS:  # why it went nowhere (counted); gone once it went on
             if model.step_refused:
                 self.status.say(model.step_refused)
+            else:
+                self.status.withdraw(self._step_refused)
+            self._step_refused = model.step_refused
+        elif action in OFFSET_ACTIONS:  # its words stay through the re-scoring
+            moved = model.session.sync.offset_ns - offset_ns
+            self.status.say(offset_moved_text(moved, OFFSET_ACTIONS[action]),
+                            outlasts_work=bool(moved))
         elif action == "add_set" and model.current_set is not None:
             added = len(model.session.sets) > n_sets
             self.status.say(f"set #{model.current_set.id} added · Ctrl+Z takes it back"
                             if added else f"set #{model.current_set.id} is here already: "
                             "selected it (T adds a set away from the others)",
                             outlasts_work=added)  # through the added set's re-scoring
+
+    def _clap_dragged(self, shift_ns: int) -> None:
+        """The clap handle released ``shift_ns`` from where it was: the audio moves with
+        it, and the status line says so as for the keys."""
+        model = self.model
+        if model is None:
+            return
+        offset_ns = model.session.sync.offset_ns
+        model.nudge_offset(shift_ns)
+        moved = model.session.sync.offset_ns - offset_ns
+        self.status.say(offset_moved_text(moved, "clap handle dragged"),
+                        outlasts_work=bool(moved))
 
     def _on_current_set(self) -> None:
         """The waveform marks the new current set and, zoomed in, takes it into view."""

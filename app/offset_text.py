@@ -29,3 +29,13 @@ def clap_moved_text(shift_ns: int) -> str:
     if shift_ns == 0:
         return "the clap is at the playhead already: the audio did not move, nothing to undo"
     return f"the clap is at the playhead: audio moved {shift_text(shift_ns)} · {UNDO_HINT}"
+
+
+def offset_moved_text(shift_ns: int, how: str = "") -> str:
+    """The status line after an offset edit ([ ] { }, the clap handle): how far the
+    audio moved, after ``how`` ("one frame", "clap handle dragged"), or that it did not
+    move (the handle released where it was: no step to undo)."""
+    lead = f"{how}: " if how else ""
+    if shift_ns == 0:
+        return f"{lead}the audio did not move, nothing to undo"
+    return f"{lead}audio moved {shift_text(shift_ns)} · {UNDO_HINT}"

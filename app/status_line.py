@@ -8,8 +8,9 @@ side by side (newest first), so an export's result is not lost when re-scoring f
 after it; once the line has been quiet for :data:`QUIET_S`, whatever comes next replaces
 them, so a result from long ago does not linger beside newer ones. A warning (a save that
 failed) stays until its own job reports again. The same message from a job twice in a
-row is counted ("(×2)"), also when other jobs ended in between, so a repeated action
-visibly did something.
+row is counted ("(×2)"), also when other jobs ended in between, and so is a plain
+message (what a key did) said again while it shows, so a repeated action visibly did
+something.
 """
 
 from __future__ import annotations
@@ -102,10 +103,15 @@ class StatusLine:
     def say(self, message: str, *, outlasts_work: bool = False) -> None:
         """A plain message (not from a job): replaces every job's message but warnings.
         One that ``outlasts_work`` (what C or T did, "Ctrl+Z takes it back") stays when
-        the work it starts begins, as a job's message does; others give way to it."""
+        the work it starts begins, as a job's message does; others give way to it. The
+        message shown said again is counted ("(×2)"), as a job's is."""
+        shown = self._notes.get("")
         self._notes = {job: n for job, n in self._notes.items() if n.warning}
         if message:
-            self._notes[""] = _Note(message, outlasts_work=outlasts_work)
+            note = _Note(message, outlasts_work=outlasts_work)
+            if shown is not None and shown.text == message:
+                note.repeats = shown.repeats + 1
+            self._notes[""] = note
         self._show()
 
     def revise(self, message: str, revised: str) -> None:

@@ -50,6 +50,8 @@ def test_j_k_home_and_end_say_why_when_they_go_nowhere(qtbot, window) -> None:
     qtbot.keyClick(window, Qt.Key.Key_K)
     assert model.current == len(sets) - 1
     assert window.status_text.text() == f"no set listed after set #{sets[-1].id}"
+    qtbot.keyClick(window, Qt.Key.Key_K)  # again: the key was heard
+    assert window.status_text.text() == f"no set listed after set #{sets[-1].id} (×2)"
     qtbot.keyClick(window, Qt.Key.Key_A)  # "then next set" finds none either
     assert window.status_text.text() == \
         f"set #{sets[-1].id} accepted · no set listed after set #{sets[-1].id}"

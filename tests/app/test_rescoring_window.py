@@ -31,7 +31,10 @@ def test_offset_nudge_rescores_in_the_background_and_the_list_gets_figures_again
     assert {t.caption for t in window.grid.tiles.values()} == {"nearest frame, re-scoring…"}
     qtbot.waitUntil(lambda: window.rescorer.task is not None, timeout=5_000)
     # the UI thread goes on while the worker is busy
-    assert window.status_text.text() == f"re-scoring {len(model.session.sets)} frame sets…"
+    # and what the keys did stays beside it (counted: the same step twice)
+    assert window.status_text.text().startswith(
+        f"re-scoring {len(model.session.sets)} frame sets…  ·  one frame: audio moved ")
+    assert window.status_text.text().endswith("Ctrl+Z takes it back (×2)")
     assert window.progress.isVisible() and window.cancel_button.isVisible()
     qtbot.keyClick(window, Qt.Key.Key_K)
     assert model.current == 1

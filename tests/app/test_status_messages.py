@@ -9,6 +9,7 @@ import time
 import pytest
 from PySide6.QtCore import Qt
 
+from app.offset_text import shift_text
 from app.status_line import QUIET_S
 from speechcal_core.review.model import set_time_ns
 from speechcal_core.review.similar import SIMILAR_SOURCE
@@ -75,7 +76,8 @@ def test_a_result_from_long_ago_gives_way_to_newer_work(
     qtbot.keyClick(window, Qt.Key.Key_W)  # away from any set
     assert "no frame set at the playhead" in window.status_text.text()
     clock[0] += QUIET_S / 2  # soon after: an offset edit's re-scoring stands beside it
-    qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    # (the model's edit: the ] key's own words, a plain message, would replace it)
+    model.nudge_offset(1_000_000)
     qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
     assert "no frame set at the playhead" in window.status_text.text()
     qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
@@ -83,7 +85,7 @@ def test_a_result_from_long_ago_gives_way_to_newer_work(
     assert text.startswith("re-scored") and "no frame set at the playhead" in text
 
     clock[0] += QUIET_S + 1  # long after: the next edit's work replaces both
-    qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    model.nudge_offset(1_000_000)
     qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
     text = window.status_text.text()
     assert text.startswith("re-scoring") and "no frame set" not in text
@@ -185,6 +187,32 @@ def test_what_c_and_t_did_stays_through_the_rescoring_they_start(qtbot, window) 
     qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
     assert added in window.status_text.text()
     assert "the clap is at the playhead" not in window.status_text.text()  # said anew
+
+
+def test_offset_keys_say_how_far_the_audio_moved_and_repeats_are_counted(
+        qtbot, window) -> None:
+    """[ ] { } changed only the offset line, and three undos showed one "undone: …"."""
+    model = window.model
+    start = model.session.sync.offset_ns
+    said = "audio moved +1 ms · Ctrl+Z takes it back"
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    assert said in window.status_text.text() and "(×" not in window.status_text.text()
+    qtbot.keyClick(window, Qt.Key.Key_BracketRight)
+    assert f"{said} (×2)" in window.status_text.text()
+    assert window.status_text.text().count(said) == 1
+    qtbot.keyClick(window, Qt.Key.Key_BraceLeft)  # one frame earlier
+    frame_ns = start + 2_000_000 - model.session.sync.offset_ns
+    assert frame_ns > 1_000_000
+    assert f"one frame: audio moved {shift_text(-frame_ns)} · Ctrl+Z takes it back" \
+        in window.status_text.text()
+    for n in (1, 2, 3):
+        qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+        text = window.status_text.text()
+        assert text.count("undone: audio offset change") == 1
+        assert (f"undone: audio offset change (×{n})" in text) if n > 1 else "(×" not in text
+    assert model.session.sync.offset_ns == start
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert "nothing to undo" in window.status_text.text()
 
 
 def test_undoing_the_offset_edit_takes_back_its_look_again_warning(qtbot, window) -> None:

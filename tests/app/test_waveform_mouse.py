@@ -12,6 +12,7 @@ from PySide6.QtGui import QMouseEvent, QWheelEvent
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication
 
+from app.offset_text import shift_text
 from app.waveform import MIN_SPAN_S, WaveformView
 from speechcal_core.session.store import load_session, save_session
 
@@ -98,6 +99,21 @@ def test_the_clap_handle_is_dragged_when_the_playhead_sits_on_it(window, qtbot) 
     shift_ns = window.model.session.sync.offset_ns - offset
     assert abs(shift_ns - 200_000_000) < 10_000_000  # the clap moved, not the playhead
     assert abs(wave.clap.value() - (clap_x + 0.2)) < 0.01
+
+
+def test_a_clap_handle_drag_says_how_far_the_audio_moved(window, qtbot) -> None:
+    """Only the offset line changed: the status line said nothing, as it does for C."""
+    wave = window.waveform
+    clap_x = wave.clap.value()
+    wave.setXRange(clap_x - 2, clap_x + 2, padding=0)
+    offset = window.model.session.sync.offset_ns
+    drag(qtbot, wave, clap_x, clap_x + 0.2)
+    shift_ns = window.model.session.sync.offset_ns - offset
+    assert abs(shift_ns - 200_000_000) < 10_000_000
+    assert f"clap handle dragged: audio moved {shift_text(shift_ns)} · Ctrl+Z takes it " \
+        "back" in window.status_text.text()
+    drag(qtbot, wave, wave.clap.value(), wave.clap.value() + 0.2)  # the same again
+    assert window.status_text.text().count("clap handle dragged") == 1
 
 
 def test_the_word_marks_and_the_envelope_slide_with_the_clap_handle_while_dragged(
