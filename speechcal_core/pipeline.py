@@ -123,6 +123,7 @@ def process_loaded(
     (the review keeps both for display instead of reading them twice); ``streams`` is
     the choice ``source`` was opened with, kept in the session."""
     from speechcal_core.frames.analysis import analyse_frames
+    from speechcal_core.frames.unseen_cameras import unseen_camera_notes
     from speechcal_core.frames.word_stillness import moving_words_note, word_stillness
     from speechcal_core.sync.pipeline import sync_recording
     from speechcal_core.target import TargetSpec
@@ -165,7 +166,8 @@ def process_loaded(
     unseen = target_not_found_note(analysis.sets, target, assumed)
     # what is wrong with the recording's files comes first: it may explain the rest
     notes = [*recording_notes(source), *notes,
-             *(n for n in (outside, short, moving, unseen) if n)]
+             *(n for n in (outside, short, moving, unseen) if n),
+             *unseen_camera_notes(analysis.sets, target)]
     # what the review's "find trigger words" starts from (a transcript has no settings)
     settings = {} if transcript is not None else {
         SENSITIVITY_KEY: float(sensitivity),

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 from speechcal_core.calibration.check import MIN_POINTS, MIN_VIEWS
 from speechcal_core.calibration.collect import detections_from_details
 from speechcal_core.frames.analysis import checks_basis, frame_checks
+from speechcal_core.frames.unseen_cameras import SMALLEST_TAG_PX
 from speechcal_core.review.rescore import rescore_ids
 from speechcal_core.session.model import FrameSet, Session
 from speechcal_core.target import TargetSpec
@@ -154,9 +155,12 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
             lines.append(f"{name}: {entry.get('model')} RMS {entry.get('rms_px', 0):.2f} px "
                          f"over {len(entry.get('views') or [])} views{spread}")
         else:
-            lines.append(f"{name}: no model fits its {cov.get('views', 0)} views of the "
+            views = int(cov.get("views", 0))
+            unseen = f"; {WARNING_SYMBOL} {UNSEEN_HERE}" \
+                if views == 0 and _most_views(cover, streams) > 0 else ""
+            lines.append(f"{name}: no model fits its {views} views of the "
                          f"target (at least {MIN_VIEWS} with {MIN_POINTS} corners or more are "
-                         f"needed){spread}")
+                         f"needed){spread}{unseen}")
     rms = [e["rms_px"] for e in fits.values() if isinstance(e, dict) and "rms_px" in e]
     line = (f"calibration check over {kept} set{'' if kept == 1 else 's'} not rejected: "
             f"{len(rms)} of {counted(len(streams), 'camera')} fit")
@@ -184,6 +188,14 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
 CENTRE_ONLY_BELOW = 0.3
 CENTRE_ONLY = ("the board stayed near the image centre: the fit says little of the lens "
                "toward the edges (a fisheye's most), hold it near the edges and corners too")
+
+
+#: why a camera saw the target in no set that other cameras saw it in
+UNSEEN_HERE = ("the target was found in none of its frames while other cameras found it: "
+               "it likely shows too small there to read (a fisheye lens or a low "
+               "resolution shows the board small; AprilGrid tags need about "
+               f"{SMALLEST_TAG_PX} px or more), or out of its view; hold the board closer to "
+               "this camera, or record it at a higher resolution")
 
 
 def near_centre_only(progress: Mapping[str, Any]) -> bool:

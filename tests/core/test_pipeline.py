@@ -8,6 +8,14 @@ import pytest
 
 from speechcal_core.pipeline import process_recording
 
+#: the tiny session's fisheye camera: at 256x192 it finds the board in none of its sets
+TINY_FISHEYE = "/cam2/image_raw"
+
+
+def _noted_cameras(notes: list[str]) -> list[str]:
+    """The cameras the notes name as finding the target in none of their frames."""
+    return [n.split(": ")[0] for n in notes if "was found in none of its" in n]
+
 
 def test_transcript_and_known_offset_give_one_set_per_trigger_inside_its_hold(
     tiny_synth: tuple[Path, dict], tmp_path: Path
@@ -31,7 +39,9 @@ def test_transcript_and_known_offset_give_one_set_per_trigger_inside_its_hold(
             assert frame.index >= 0
             assert start - 40e6 <= frame.stamp_ns <= end + 40e6
     assert "finding the clap" not in stages and stages[-1] == "done"
-    assert "detection_notes" not in session.extra
+    # the one note: the 256x192 fisheye camera shows the board too small to read
+    notes = session.extra.get("detection_notes", [])
+    assert len(notes) == 1 and _noted_cameras(notes) == [TINY_FISHEYE]
     # no target given: the session says its 6x6 AprilGrid is an assumption
     assert session.extra["target"]["kind"] == "aprilgrid"
     assert session.extra["target_assumed"] is True
@@ -139,9 +149,11 @@ def test_json_says_what_was_written_and_stdout_holds_nothing_else(
                  "-o", str(out), "--json"]) == 0
     captured = capsys.readouterr()
     doc = json.loads(captured.out)
+    notes = doc.pop("notes")
+    assert len(notes) == 1 and _noted_cameras(notes) == [TINY_FISHEYE]
     assert doc == {"session": str(out.absolute()), "sets": len(truth["triggers"]),
                    "sync": {"offset_ns": offset, "drift": 0.0, "source": "manual"},
-                   "notes": [], "replaced": False, "streams": None}
+                   "replaced": False, "streams": None}
     assert f"wrote {out}" in captured.err
 
 
