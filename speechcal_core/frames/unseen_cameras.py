@@ -34,7 +34,7 @@ def unseen_camera_notes(sets: Sequence[FrameSet], target: Target) -> list[str]:
             continue
         why = (f"its tags are likely under about {SMALLEST_TAG_PX} px across there, too small "
                "to read (a fisheye lens or a low resolution shows the board small)"
-               if getattr(target, "kind", "") == "aprilgrid"
+               if target.kind == "aprilgrid"
                else "the board likely shows too small there to find (a fisheye lens or a "
                "low resolution shows it small)")
         notes.append(f"{name}: the {target.describe()} was found in none of its "
