@@ -54,15 +54,23 @@ def test_one_set_is_one_set(qtbot, tmp_path: Path) -> None:
     assert dialog.summary.text().startswith("1 frame set will be written")
 
 
-def test_a_long_refusal_grows_the_dialog_and_squashes_no_field(qtbot, tmp_path: Path) -> None:
+def _shown_refusing_data(qtbot, tmp_path: Path, repeats: int,
+                         counts: dict[str, int]) -> ExportDialog:
+    """The dialog on screen, refusing a folder named "data" with a reason of ``repeats``
+    sentences, and that folder chosen."""
     long_reason = ("this folder holds files that are not an export (.bashrc, .cache, "
-                   ".cargo, …); choose another output folder or empty it") * 2
-    dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 3, "undecided": 0},
+                   ".cargo, …); choose another output folder or empty it") * repeats
+    dialog = ExportDialog(None, tmp_path, "rec", counts,
                           refusal=lambda out, _board: long_reason if out.name == "data" else "")
     qtbot.addWidget(dialog)
     dialog.show()
     qtbot.waitExposed(dialog)
     dialog.set_folder(tmp_path / "data")
+    return dialog
+
+
+def test_a_long_refusal_grows_the_dialog_and_squashes_no_field(qtbot, tmp_path: Path) -> None:
+    dialog = _shown_refusing_data(qtbot, tmp_path, 2, {"accepted": 3, "undecided": 0})
     assert dialog.summary.text().startswith("Cannot export there:")
     qtbot.waitUntil(lambda: _text_fits(dialog.summary), timeout=2_000)
     for field in (dialog.format_box, dialog.path_edit, dialog.undecided_box):
@@ -87,14 +95,7 @@ def _needed_height(dialog: ExportDialog) -> int:
 
 
 def test_a_shorter_summary_leaves_no_gap_where_its_lines_were(qtbot, tmp_path: Path) -> None:
-    long_reason = ("this folder holds files that are not an export (.bashrc, .cache, "
-                   ".cargo, …); choose another output folder or empty it") * 3
-    dialog = ExportDialog(None, tmp_path, "rec", {"accepted": 2, "undecided": 13},
-                          refusal=lambda out, _board: long_reason if out.name == "data" else "")
-    qtbot.addWidget(dialog)
-    dialog.show()
-    qtbot.waitExposed(dialog)
-    dialog.set_folder(tmp_path / "data")
+    dialog = _shown_refusing_data(qtbot, tmp_path, 3, {"accepted": 2, "undecided": 13})
     qtbot.waitUntil(lambda: _text_fits(dialog.summary), timeout=2_000)
     refused_height = dialog.height()
     dialog.set_folder(tmp_path / "fine")  # one line of summary again: the dialog shrinks
