@@ -71,7 +71,8 @@ def full_gray(source: FrameSource, info: StreamInfo, i: int, depth: int | None) 
 def _jpeg(source: FrameSource, info: StreamInfo, i: int, factor: int) -> np.ndarray | None:
     """Frame ``i`` decoded to gray at ``1/factor``, or None when it is not a whole JPEG
     (a PNG, a damaged frame: the caller reads it as :meth:`FrameSource.frame` does, which
-    marks a damaged frame bad and says why)."""
+    marks a damaged frame bad and says why), or from a source that gives no raw frames (a
+    wrapper offering ``frame`` alone: AttributeError)."""
     try:
         payload = compressed_payload(source.raw(info.name, i))
     except (SourceError, NotImplementedError, AttributeError):  # the full reading says why
