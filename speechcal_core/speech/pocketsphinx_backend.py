@@ -366,12 +366,7 @@ class PocketsphinxBackend:
         quarter = (DECODING_SHARE + middle) / 2
         at_first = heard.triggers(spec)  # at spec's own sensitivity, for the note
         heard = self._hear_clear_again(x, activity, spec, heard, (DECODING_SHARE, quarter))
-        noisiest = len(TIERS) - 1
-        unheard = [(a, b) for a, b in activity.segments
-                   if _tier_index(activity.level_db(a, b),
-                                  activity.level_db(a, b, PEAK_PERCENTILE)) == noisiest
-                   and not any(w.start_s < b and a < w.end_s
-                               for w in heard.words + heard.running_on)]
+        unheard = _unheard_spans(activity, heard, len(TIERS) - 1)  # the noisiest
         more = self._hear(x, activity, unheard, louder, (quarter, middle))
         heard = heard.with_triggers(more, spec)
         if _too_few_to_search(heard.triggers(spec)):
@@ -392,11 +387,7 @@ class PocketsphinxBackend:
                                              spec.sensitivity + CLEAR_RETRY_STEP))
         if keen.sensitivity <= spec.sensitivity:
             return heard
-        clearest = [(a, b) for a, b in activity.segments
-                    if _tier_index(activity.level_db(a, b),
-                                   activity.level_db(a, b, PEAK_PERCENTILE)) == 0
-                    and not any(w.start_s < b and a < w.end_s
-                                for w in heard.words + heard.running_on)]
+        clearest = _unheard_spans(activity, heard, 0)
         return heard.with_triggers(self._hear(x, activity, clearest, keen, shares), spec)
 
     def _hear(self, x: np.ndarray, activity: VoiceActivity,
@@ -516,6 +507,17 @@ class PocketsphinxBackend:
         self._rivals, self._confusables = rivals, confusables
         self._hiss_first, self._hiss_last = hiss_first, hiss_last
         return decoder
+
+
+def _unheard_spans(activity: VoiceActivity, heard: Heard, tier: int
+                   ) -> list[tuple[float, float]]:
+    """The voice-active spans of ``tier`` where ``heard`` holds no word (running on or
+    not)."""
+    words = heard.words + heard.running_on
+    return [(a, b) for a, b in activity.segments
+            if _tier_index(activity.level_db(a, b),
+                           activity.level_db(a, b, PEAK_PERCENTILE)) == tier
+            and not any(w.start_s < b and a < w.end_s for w in words)]
 
 
 def _search_for(seed_levels: list[float]
