@@ -8,6 +8,7 @@ from pathlib import Path
 
 import soundfile as sf
 
+from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.loader import header_frames, sound_file
 
 #: where a session keeps its audio file's identity (``Session.extra``)
@@ -23,7 +24,7 @@ def audio_identity(path: str | Path) -> dict | None:
     try:
         with sound_file(path) as f:
             frames, rate, channels = header_frames(f), int(f.samplerate), int(f.channels)
-    except (OSError, RuntimeError, TypeError, ValueError, sf.LibsndfileError):
+    except (OSError, RuntimeError, TypeError, ValueError, sf.LibsndfileError, AudioError):
         return None
     if rate <= 0 or frames is None:
         return None  # no rate, or a length the header does not know

@@ -12,6 +12,7 @@ import numpy as np
 import soundfile as sf
 
 from speechcal_core.audio.errors import AudioError
+from speechcal_core.audio.ogg_chain import OggChain, open_ogg_chain
 from speechcal_core.audio.resampling import resample, resample_blocks
 from speechcal_core.fsutil import shell_quoted
 
@@ -28,6 +29,8 @@ SUPPORTED = "WAV, FLAC, Ogg Vorbis, Opus, MP3"
 #: know it: an Ogg file whose pages switch to another stream part way, as when two
 #: programs wrote the same file at once
 UNKNOWN_FRAMES = 1 << 62
+#: what :func:`sound_file` opens: libsndfile's file, or a chained Ogg file's links as one
+SoundFileLike = sf.SoundFile | OggChain
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,22 +109,26 @@ def _finite(blocks: Iterator[np.ndarray]) -> Iterator[np.ndarray]:
         yield block
 
 
-def header_frames(f: sf.SoundFile) -> int | None:
+def header_frames(f: SoundFileLike) -> int | None:
     """The file's length in frames as its header gives it; None where the header does not
     know it (decode the file to its end to learn it)."""
     frames = int(f.frames or 0)
     return frames if 0 <= frames < UNKNOWN_FRAMES else None
 
 
-def decoded_frames(f: sf.SoundFile, path: str | Path) -> int:
+def decoded_frames(f: SoundFileLike, path: str | Path) -> int:
     """How many frames of ``f`` decode, counted by decoding them all (from its start)."""
     return sum(block.size for block in mono_blocks(f, path))
 
 
-def sound_file(path: str | Path) -> sf.SoundFile:
+def sound_file(path: str | Path) -> SoundFileLike:
     """``path`` opened for reading by soundfile, also where its name is not UTF-8 (a
     Latin-1 name from a FAT card: libsndfile takes names as text, so such a file is
-    opened by descriptor)."""
+    opened by descriptor). A chained Ogg file (streams one after another) reads through
+    all its links; libsndfile alone stops after the first."""
+    chain = open_ogg_chain(path)
+    if chain is not None:
+        return chain
     name = str(path)
     try:
         name.encode()
@@ -136,7 +143,7 @@ def sound_file(path: str | Path) -> sf.SoundFile:
     return sf.SoundFile(name)
 
 
-def open_audio(path: str | Path, channel: int | None = None) -> sf.SoundFile:
+def open_audio(path: str | Path, channel: int | None = None) -> SoundFileLike:
     """The opened file, after the checks :func:`load_audio` makes (:class:`AudioError`)."""
     p = Path(path)
     if not p.exists():
@@ -166,7 +173,7 @@ def open_audio(path: str | Path, channel: int | None = None) -> sf.SoundFile:
     return f
 
 
-def mono_blocks(f: sf.SoundFile, path: str | Path,
+def mono_blocks(f: SoundFileLike, path: str | Path,
                 channel: int | None = None) -> Iterator[np.ndarray]:
     """The file decoded in blocks of :data:`BLOCK_FRAMES` (only the last one shorter), each
     mixed (or picked) to mono float32 as :func:`load_audio` does; NaN and inf left as read.
@@ -203,7 +210,7 @@ def mono_blocks(f: sf.SoundFile, path: str | Path,
             return
 
 
-def _read_mono(f: sf.SoundFile, p: Path, channel: int | None) -> np.ndarray:
+def _read_mono(f: SoundFileLike, p: Path, channel: int | None) -> np.ndarray:
     """Decode block by block into one preallocated mono array."""
     out = np.empty(max(header_frames(f) or 0, BLOCK_FRAMES), dtype=np.float32)
     n = 0

@@ -39,3 +39,15 @@ def write_spliced_ogg(path: Path, rate: int, seconds: float, *, seed: int) -> Pa
     switch = len(takes[0]) // 4
     path.write_bytes(takes[1][:switch] + takes[0][switch:])
     return path
+
+
+def write_chained_ogg(path: Path, parts: list[tuple[np.ndarray, int]]) -> Path:
+    """Whole Ogg Vorbis files of ``(samples, rate)`` one after another in one file, as a
+    recorder that resumed or ``cat a.ogg b.ogg`` writes them (a chained Ogg file)."""
+    takes = []
+    for data, rate in parts:
+        buf = io.BytesIO()
+        sf.write(buf, data, rate, format="OGG", subtype="VORBIS")
+        takes.append(buf.getvalue())
+    path.write_bytes(b"".join(takes))
+    return path

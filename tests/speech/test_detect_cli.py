@@ -118,3 +118,30 @@ def test_unknown_backend_and_bad_options_are_reported(capture_scene,
         assert says in capsys.readouterr().err, option
     assert main(["detect", str(capture_scene.path), "--pronounce", "kaptcha"]) == 2
     assert main(["detect", str(capture_scene.path), "--example", "3"]) == 2
+
+
+def test_a_trigger_after_the_recorder_resumed_is_found(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A chained Ogg file (the recorder paused and resumed: a second whole stream after
+    the first): the trigger in the second stream is found, at its time in the whole file."""
+    import io
+
+    import soundfile as sf
+    from speech_scenes import RATE, make_scene
+
+    scene = make_scene(tmp_path / "scene.wav",
+                       [("capture", "rms/capture_2"), ("capture", "slt/capture_1")])
+    (_, end_1), (start_2, _) = scene.spans("capture")
+    joint = int((end_1 + start_2) / 2 * RATE)
+    takes = []
+    for part in (scene.samples[:joint], scene.samples[joint:]):
+        buf = io.BytesIO()
+        sf.write(buf, part, RATE, format="OGG", subtype="VORBIS")
+        takes.append(buf.getvalue())
+    chained = tmp_path / "resumed.ogg"
+    chained.write_bytes(b"".join(takes))
+    assert main(["detect", str(chained), "--json"]) == 0
+    found = [d["t"] for d in json.loads(capsys.readouterr().out)]
+    assert len(found) == 2
+    for t, (start, end) in zip(found, scene.spans("capture"), strict=True):
+        assert start < t < end
