@@ -22,6 +22,8 @@ from speechcal_core.audio.resampling import resample_poly
 #: seek differently (the overlap of the previous block is missing); 4096 was enough on
 #: every one of 300 random seeks into a synthetic session, this leaves room
 PREROLL = 16384
+#: frames read at a time from a file that stops decoding part way, to keep what decodes
+SALVAGE_BLOCK = 4096
 
 
 class FileSamples:
@@ -75,9 +77,7 @@ class FileSamples:
         b = min(b, self.size_in)
         start = max(0, a - PREROLL)
         try:
-            with sound_file(self.path) as f:
-                f.seek(start)
-                got = f.read(b - start, dtype="float32", always_2d=True)
+            got = self._read(start, b - start)
         except (sf.LibsndfileError, RuntimeError, OSError) as exc:
             raise AudioError(f"{self.path}: could not read the audio again ({exc}); "
                              "was the file moved or changed?") from exc
@@ -92,3 +92,29 @@ class FileSamples:
         if not np.all(np.isfinite(x)):
             x = np.nan_to_num(x, nan=0.0, posinf=1.0, neginf=-1.0)
         return x
+
+    def _read(self, start: int, n: int) -> np.ndarray:
+        """File frames ``start`` .. ``start + n`` (all channels). Where the file stops
+        decoding part way (cut short, damaged: its header promises more, as a playback
+        past the end of what loaded asks for), what decodes and then silence."""
+        with sound_file(self.path) as f:
+            try:
+                f.seek(start)
+                return f.read(n, dtype="float32", always_2d=True)
+            except (sf.LibsndfileError, RuntimeError):
+                pass
+        with sound_file(self.path) as f:
+            out = np.zeros((n, f.channels), np.float32)
+            done = 0
+            try:
+                f.seek(start)
+                while done < n:
+                    got = f.read(min(SALVAGE_BLOCK, n - done), dtype="float32",
+                                 always_2d=True)
+                    if got.shape[0] == 0:
+                        break
+                    out[done:done + got.shape[0]] = got
+                    done += got.shape[0]
+            except (sf.LibsndfileError, RuntimeError):
+                pass  # the rest does not decode: silence
+            return out

@@ -29,6 +29,9 @@ SUPPORTED = "WAV, FLAC, Ogg Vorbis, Opus, MP3"
 #: know it: an Ogg file whose pages switch to another stream part way, as when two
 #: programs wrote the same file at once
 UNKNOWN_FRAMES = 1 << 62
+#: a file decoding this much short of its header's length is cut short (codecs' blocks
+#: and a Vorbis file's last granule lie well within it)
+CUT_SHORT_S = 0.1
 #: what :func:`sound_file` opens: libsndfile's file, or a chained Ogg file's links as one
 SoundFileLike = sf.SoundFile | OggChain
 
@@ -43,6 +46,7 @@ class Audio:
     channels_in_file: int = 1
     rate_in_file: int = 0
     channel: int | None = None  # the channel picked, None when mixed
+    header_s: float | None = None  # the length the file's header gives, None if unknown
 
     @property
     def duration_s(self) -> float:
@@ -58,7 +62,7 @@ class Audio:
         if rate == self.rate:
             return self
         return Audio(resample(self.samples, self.rate, rate), int(rate), self.path,
-                     self.channels_in_file, self.rate_in_file, self.channel)
+                     self.channels_in_file, self.rate_in_file, self.channel, self.header_s)
 
 
 def load_audio(path: str | Path, *, rate: int | None = None,
@@ -74,12 +78,13 @@ def load_audio(path: str | Path, *, rate: int | None = None,
         raise AudioError(f"{p}: cannot resample to {rate} Hz; give a positive rate")
     with open_audio(p, channel) as f:
         channels, rate_in = int(f.channels), int(f.samplerate)
+        header_s = _header_seconds(f)
         mono = _read_mono(f, p, channel)
     if mono.size == 0:
         raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
     if not np.all(np.isfinite(mono)):
         mono = np.nan_to_num(mono, nan=0.0, posinf=1.0, neginf=-1.0)
-    audio = Audio(mono, rate_in, p, channels, rate_in, channel)
+    audio = Audio(mono, rate_in, p, channels, rate_in, channel, header_s)
     return audio.resampled(int(rate)) if rate is not None else audio
 
 
@@ -94,11 +99,12 @@ def load_resampled(path: str | Path, rate: int, *,
     with open_audio(p, channel) as f:
         channels, rate_in = int(f.channels), int(f.samplerate)
         expected = header_frames(f) or 0
+        header_s = _header_seconds(f)
         samples, size_in = resample_blocks(_finite(mono_blocks(f, p, channel)), rate_in,
                                            int(rate), size_hint=expected)
     if size_in == 0:
         raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
-    return Audio(samples, int(rate), p, channels, rate_in, channel), size_in
+    return Audio(samples, int(rate), p, channels, rate_in, channel, header_s), size_in
 
 
 def _finite(blocks: Iterator[np.ndarray]) -> Iterator[np.ndarray]:
@@ -114,6 +120,25 @@ def header_frames(f: SoundFileLike) -> int | None:
     know it (decode the file to its end to learn it)."""
     frames = int(f.frames or 0)
     return frames if 0 <= frames < UNKNOWN_FRAMES else None
+
+
+def _header_seconds(f: SoundFileLike) -> float | None:
+    frames = header_frames(f)
+    return frames / f.samplerate if frames is not None and f.samplerate > 0 else None
+
+
+def cut_short_note(audio: Audio) -> str:
+    """A note when ``audio`` decoded to well short of the length its file's header gives
+    (a copy that stopped early, a recorder that lost power, a damaged file), else "".
+
+    libsndfile keeps what decodes; without this the rest of the take would be missing
+    without a word."""
+    if audio.header_s is None or audio.header_s - audio.duration_s < CUT_SHORT_S:
+        return ""
+    return (f"{audio.path}: only the first {audio.duration_s:.1f} s of the "
+            f"{audio.header_s:.1f} s its header gives decode; the file is cut short or "
+            "damaged (a copy that stopped early, a recorder that lost power), and the "
+            "rest is left out: copy the take again if you have it whole")
 
 
 def decoded_frames(f: SoundFileLike, path: str | Path) -> int:

@@ -103,6 +103,7 @@ def detect_triggers(audio_path: str | Path | Audio | None,
         if audio_path is None:
             raise SpeechError("no audio given; pass the microphone recording")
         from speechcal_core.audio import Audio, load_audio
+        from speechcal_core.audio.loader import cut_short_note
 
         if isinstance(audio_path, Audio):
             audio = audio_path if audio_path.rate == 16000 else audio_path.resampled(16000)
@@ -110,6 +111,9 @@ def detect_triggers(audio_path: str | Path | Audio | None,
         else:
             audio = load_audio(audio_path, rate=16000, channel=channel)
         duration = audio.duration_s
+        cut_short = cut_short_note(audio)
+        if cut_short:
+            notes.append(cut_short)
         if 0 < audio.rate_in_file < MIN_SPEECH_RATE:
             notes.append(f"{audio_path}: recorded at {audio.rate_in_file} Hz, too coarse for "
                          f"speech (it needs {MIN_SPEECH_RATE} Hz or more); record the "
