@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import make_session
+from sync_recordings import make_session
 
 import speechcal_core.sync.pipeline as sync_pipeline
 from speechcal_core.audio import load_audio

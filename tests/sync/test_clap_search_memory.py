@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import make_session
+from sync_recordings import make_session
 
 import speechcal_core.sync.clap_video as clap_video
 import speechcal_core.sync.pipeline as sync_pipeline

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import soundfile as sf
-from conftest import make_session
+from sync_recordings import make_session
 
 from speechcal_core.audio import load_audio
 from speechcal_core.cli import main
