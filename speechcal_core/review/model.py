@@ -15,6 +15,7 @@ same way (:meth:`ReviewModel.checks_request`, :meth:`ReviewModel.apply_checks`),
 from __future__ import annotations
 
 import copy
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
@@ -144,6 +145,25 @@ def set_time_ns(frame_set: FrameSet) -> int:
     return stamps[len(stamps) // 2] if stamps else frame_set.t_ns
 
 
+def _saving_once(method: Callable[..., Any]) -> Callable[..., Any]:
+    """``method`` with the saves it asks for held back to one as it ends, once its step
+    is on the undo or redo stack: one action is one save (one ``.bak``: C saved twice),
+    of the state the action ended in, its undo and redo stacks included."""
+
+    @functools.wraps(method)
+    def run(self: ReviewModel, *args: Any, **kwargs: Any) -> Any:
+        self._holding += 1
+        try:
+            return method(self, *args, **kwargs)
+        finally:
+            self._holding -= 1
+            if not self._holding and self._save_held:
+                self._save_held = False
+                self._save()
+
+    return run
+
+
 class ReviewModel:
     """Review state over a session and its recording."""
 
@@ -159,6 +179,9 @@ class ReviewModel:
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
         self._undo: list[UndoStep] = []
         self._redo: list[UndoStep] = []
+        # saves held back while an action runs (:func:`_saving_once`)
+        self._holding = 0
+        self._save_held = False
         #: per set, the frames it showed before an offset edit whose re-scoring has not
         #: landed yet (what a decision made before the edit looked at)
         self._shown_before_edit = _read_frames_before_edit(
@@ -454,6 +477,7 @@ class ReviewModel:
         value = first.get("session_ns") if isinstance(first, dict) else None
         return int(value) if isinstance(value, (int, float)) else None
 
+    @_saving_once
     def clap_at_playhead(self) -> None:
         """Key C: the sound under the playhead is the clap. The offset moves so that it
         lands where the cameras saw the clap: the fix when another sound (a knock, a
@@ -538,10 +562,12 @@ class ReviewModel:
         if self.advance_after_decision:
             self.next_set()
 
+    @_saving_once
     def undo(self) -> None:
         if self._undo:
             self._redo.append(self._revert(self._undo.pop()))
 
+    @_saving_once
     def redo(self) -> None:
         if self._redo:
             self._undo.append(self._revert(self._redo.pop()))
@@ -686,6 +712,7 @@ class ReviewModel:
                      else next((s for s in self.session.sets if s.id == set_id), None))
         return similar_request(self.session, frame_set) if frame_set is not None else None
 
+    @_saving_once
     def apply_similar(self, result: SimilarResult) -> list[int]:
         """Add a set for every word found that no set covers; returns their ids.
 
@@ -697,6 +724,7 @@ class ReviewModel:
         return self._add_found([Trigger(w.word, w.start_s, w.end_s, w.score, SIMILAR_SOURCE)
                                 for w in result.words])
 
+    @_saving_once
     def apply_detected(self, result: DetectResult) -> list[int]:
         """Add a set for every trigger word detected again that no set covers (as
         :meth:`apply_similar` does, the detector's ``source`` kept); returns their ids.
@@ -739,6 +767,7 @@ class ReviewModel:
         self._redo.clear()
         return ids
 
+    @_saving_once
     def remove_set(self) -> None:
         """Remove the set the keys act on (:meth:`acting_set`: a false trigger); undo
         brings it back."""
@@ -1001,6 +1030,9 @@ class ReviewModel:
             self._save()
 
     def _save(self) -> None:
+        if self._holding:  # once the action ends (:func:`_saving_once`)
+            self._save_held = True
+            return
         self._saved_place = self._place()
         if self._saved_place is not None:
             self.session.extra[REVIEW_PLACE_KEY] = self._saved_place
