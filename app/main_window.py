@@ -1024,7 +1024,7 @@ class ReviewWindow(QMainWindow):
     def _opening_text(self) -> str:
         """What the status line says of the session opened: cameras, sets, the note."""
         assert self.model is not None and self.inputs is not None
-        note = self.inputs.note
+        note = "; ".join(filter(None, [self.inputs.note, self.model.history_note]))
         return (f"{counted(len(self.model.streams), 'camera')}, "
                 f"{counted(len(self.model.session.sets), 'frame set')}"
                 + (f" · {note}" if note else ""))

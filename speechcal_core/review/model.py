@@ -55,10 +55,12 @@ from speechcal_core.review.similar import (
     similar_request,
 )
 from speechcal_core.review.summary import FILTERS, shown_indices
+from speechcal_core.review.undo_history import UNDO_HISTORY_KEY, HistoryWriter, read_history
 from speechcal_core.review.undo_steps import (
     Added,
     AddedMany,
     Decided,
+    EarlierOffsetChange,
     OffsetChanged,
     Removed,
     RemovedMany,
@@ -177,8 +179,15 @@ class ReviewModel:
         self.source = source
         self._autosave = autosave
         self._listeners: dict[str, list[Callable[..., None]]] = {e: [] for e in EVENTS}
-        self._undo: list[UndoStep] = []
-        self._redo: list[UndoStep] = []
+        # the steps of the last review, when the session file kept them for these sets
+        # (read before anything moves a set); each save replaces them
+        history = read_history(session.extra.get(UNDO_HISTORY_KEY), session)
+        self._undo: list[UndoStep] = history.undo
+        self._redo: list[UndoStep] = history.redo
+        #: why the undo steps saved with the session were dropped ("" when they were read
+        #: back, or there were none), for the window to say
+        self.history_note = history.note
+        self._history = HistoryWriter()
         # saves held back while an action runs (:func:`_saving_once`)
         self._holding = 0
         self._save_held = False
@@ -509,10 +518,15 @@ class ReviewModel:
         """
         self._undo.append(self._sync_state())
         self._redo.clear()
-        for frame_set in self.session.sets:  # sets still waiting keep what they showed
+        self._keep_shown_before_edit()
+        self._change_sync(sync)
+
+    def _keep_shown_before_edit(self) -> None:
+        """Note the frames each set shows before the sync changes and its sets wait for
+        re-scoring (a set waiting already keeps what it showed before)."""
+        for frame_set in self.session.sets:
             if frame_set.id not in self._shown_before_edit and not self.needs_rescore(frame_set):
                 self._shown_before_edit[frame_set.id] = _frame_keys(frame_set)
-        self._change_sync(sync)
 
     def _sync_state(self) -> OffsetChanged:
         """An undo step restoring the sync as it is now, with the sets' frames, their
@@ -605,6 +619,15 @@ class ReviewModel:
             waiting = set(self.rescore_ids())  # the others show scored frames again
             self._shown_before_edit = {i: keys for i, keys in self._shown_before_edit.items()
                                        if i in waiting}
+            self._change_sync(step.sync)
+            return now
+        if isinstance(step, EarlierOffsetChange):
+            now = self._sync_state()
+            evidence = {k: v for k, v in self.session.sync_evidence.items() if k != "claps"}
+            if step.claps is not None:
+                evidence["claps"] = copy.deepcopy(list(step.claps))
+            self.session.sync_evidence = evidence
+            self._keep_shown_before_edit()  # its frames and figures were not kept
             self._change_sync(step.sync)
             return now
         if isinstance(step, Decided):
@@ -1041,6 +1064,11 @@ class ReviewModel:
                 str(i): [list(k) for k in keys] for i, keys in self._shown_before_edit.items()}
         else:
             self.session.extra.pop(FRAMES_BEFORE_EDIT_KEY, None)
+        history = self._history.entry(self._undo, self._redo, self.session)
+        if history is None:
+            self.session.extra.pop(UNDO_HISTORY_KEY, None)
+        else:
+            self.session.extra[UNDO_HISTORY_KEY] = history
         if self._autosave is not None:
             self._autosave(self.session)
             self._emit("saved")

@@ -37,6 +37,18 @@ class OffsetChanged:
 
 
 @dataclass(frozen=True)
+class EarlierOffsetChange:
+    """An offset edit away from ``sync`` made before the session was last opened, as the
+    session file keeps it (``undo_history``): the sync and the claps heard then
+    (``claps``, None when the sync evidence had none), not the sets' frames and figures
+    (megabytes per edit with a dozen cameras). Taken back, the sets take the frames
+    nearest their time under ``sync`` and are re-scored."""
+
+    sync: SyncModel
+    claps: tuple[dict[str, Any], ...] | None
+
+
+@dataclass(frozen=True)
 class Added:
     """Set ``set_id`` added."""
 
@@ -70,13 +82,14 @@ class RemovedMany:
     settings: SettingsSwap | None = None
 
 
-UndoStep = Decided | OffsetChanged | Added | Removed | AddedMany | RemovedMany
+UndoStep = (Decided | OffsetChanged | EarlierOffsetChange | Added | Removed | AddedMany
+            | RemovedMany)
 
 
 def step_label(step: UndoStep, redo: bool = False) -> str:
     """A step in words: on the undo stack the step it takes back ("adding set 3"), on
     the redo stack (``redo``) the step it does again."""
-    if isinstance(step, OffsetChanged):
+    if isinstance(step, OffsetChanged | EarlierOffsetChange):
         return "audio offset change"
     if isinstance(step, Decided):
         return f"decision on set {step.set_id}"

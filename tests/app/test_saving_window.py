@@ -364,3 +364,39 @@ def test_autosave_is_written_off_the_ui_thread_and_closing_waits_for_it(
     assert [s.decision for s in load_session(session_in_folder).sets[:3]] == [
         "accepted", "rejected", "accepted"]
     assert not window.saver.busy() and window.saver.error is None
+
+
+def test_ctrl_z_takes_back_a_decision_after_the_window_is_closed_and_opened_again(
+    qtbot, open_window, session_in_folder: Path
+) -> None:
+    window = open_window(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    decided = window.model.last_decided
+    window.close()
+
+    again = open_window(session_in_folder)
+    assert again.model.session.set_by_id(decided).decision == "accepted"
+    assert again.undo_action.text() == f"&Undo decision on set {decided}"
+    assert again.undo_action.isEnabled()
+    qtbot.keyClick(again, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert again.model.session.set_by_id(decided).decision == "undecided"
+    assert again.status_text.text() == f"undone: decision on set {decided}"
+    again.saver.flush()
+    assert load_session(session_in_folder).set_by_id(decided).decision == "undecided"
+
+
+def test_undo_steps_that_no_longer_fit_the_file_are_dropped_and_the_window_says_so(
+    qtbot, open_window, session_in_folder: Path
+) -> None:
+    window = open_window(session_in_folder)
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    window.close()
+    session = load_session(session_in_folder)  # a hand edit of another set
+    session.sets = [*session.sets[:-1], session.sets[-1].with_decision("rejected")]
+    save_session(session, session_in_folder)
+
+    again = open_window(session_in_folder)
+    assert "the last review's undo steps were dropped: the frame sets or the audio " \
+        "offset changed since they were saved" in again.status_text.text()
+    assert not again.undo_action.isEnabled()
+    assert again.model.session.sets[-1].decision == "rejected"

@@ -9,6 +9,7 @@ from speechcal_core.review.undo_steps import (
     Added,
     AddedMany,
     Decided,
+    EarlierOffsetChange,
     OffsetChanged,
     Removed,
     RemovedMany,
@@ -24,6 +25,8 @@ SET_7 = FrameSet(7, 1_000_000_000, Trigger("capture", 1.0, 1.4), ())
 @pytest.mark.parametrize(("step", "undo", "redo"), [
     (Decided(3, "undecided"), "decision on set 3", "decision on set 3"),
     (OffsetChanged(SyncModel(0, 0.0), (), {}, None), "audio offset change",
+     "audio offset change"),
+    (EarlierOffsetChange(SyncModel(0, 0.0), None), "audio offset change",
      "audio offset change"),
     # on the redo stack an Added step is there because a removal was undone: redo
     # removes the set again
