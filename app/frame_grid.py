@@ -495,6 +495,10 @@ class WordBand(QWidget):
         font.setPixelSize(max(self.LEAST_PX, int(font.pixelSize() * room / wide)))
         return font, QFontMetrics(font).elidedText(text, Qt.TextElideMode.ElideRight, room)
 
+    def text(self) -> str:
+        """What the band says now."""
+        return band_text(self.word, self.state, self.source, self.decides)
+
     def paintEvent(self, event: QPaintEvent) -> None:
         p = QPainter(self)
         p.fillRect(self.rect(), BACKGROUND)
@@ -506,8 +510,7 @@ class WordBand(QWidget):
         else:
             font.setPixelSize(14)
             colour = QColor(150, 150, 150)
-        font, text = self.fitted(font, band_text(self.word, self.state, self.source,
-                                                 self.decides))
+        font, text = self.fitted(font, self.text())
         p.setFont(font)
         p.setPen(colour)
         p.drawText(QRectF(self.rect()), Qt.AlignmentFlag.AlignCenter, text)

@@ -502,7 +502,7 @@ class ReviewWindow(QMainWindow):
                 " · File ▸ Locate audio… shows where it is now" if gone else ""))
         self.waveform.set_claps(inputs.claps_audio_s)
         self.waveform.clap_moved.connect(self._clap_dragged)
-        self.waveform.clap_dragging.connect(model.preview_offset)
+        self.waveform.clap_dragging.connect(self._clap_dragging)
         self.waveform.set_sets(model.session.sets)
         self.waveform.show_all(start_ns, end_ns)
         # Tab in the order the eyes go: frames, sound, the list's box, Cancel (when shown)
@@ -888,6 +888,16 @@ class ReviewWindow(QMainWindow):
                             "selected it (T adds a set away from the others)",
                             outlasts_work=added)  # through the added set's re-scoring
 
+    def _clap_dragging(self, shift_ns: int) -> None:
+        """The clap handle is being dragged ``shift_ns`` from where it was: the grid shows
+        where the release would put the playhead (see ReviewModel.preview_offset). While
+        playing, the playhead follows the sound as it plays on (a preview pulled it away,
+        and the sound with it, at every move)."""
+        model = self.model
+        if model is None or self.transport.playing:
+            return
+        model.preview_offset(shift_ns)
+
     def _clap_dragged(self, shift_ns: int) -> None:
         """The clap handle released ``shift_ns`` from where it was: the audio moves with
         it, and the status line says so as for the keys."""
@@ -1036,6 +1046,9 @@ class ReviewWindow(QMainWindow):
         # lines made once
         self.waveform.set_sync(sync, model.session.claps_audio_s())
         self.waveform.set_sets(model.session.sets)
+        # the playhead moved with the sound under it (see ReviewModel._playhead_after):
+        # seen before the edit, it stays in view (C may have moved it seconds away)
+        self.waveform.set_playhead(model.playhead_ns, keep_in_view=True)
         self.table.set_sets(model.session.sets, model.time_range_ns()[0], self._rescore_marks())
         self._apply_filter()
         self._update_sync_line()

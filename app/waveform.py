@@ -487,8 +487,17 @@ class WaveformView(pg.PlotWidget):
         """Show a set's new decision on its mark."""
         self.marks.set_decision(frame_set.id, frame_set.decision)
 
-    def set_playhead(self, t_ns: int) -> None:
-        self.playhead.setValue(self._to_x(t_ns))
+    def set_playhead(self, t_ns: int, keep_in_view: bool = False) -> None:
+        """Put the playhead at ``t_ns``; ``keep_in_view``: a playhead in view that this
+        moves out of it takes the view along, at the same place on screen (an offset edit
+        moved it with its sound)."""
+        x = self._to_x(t_ns)
+        if keep_in_view:
+            x0, x1 = self.getViewBox().viewRange()[0]
+            was = self.playhead.value()
+            if playhead_side(was, x0, x1) == 0 and playhead_side(x, x0, x1) != 0:
+                self.setXRange(x0 + x - was, x1 + x - was, padding=0)
+        self.playhead.setValue(x)
         self._place_playhead_button()
 
     def follow(self, t_ns: int) -> None:

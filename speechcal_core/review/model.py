@@ -208,6 +208,9 @@ class ReviewModel:
         self._nearest_known: dict[str, dict[int, FrameChoice]] = {k: {} for k in self._stamps}
         #: per set id, the set and its time (:func:`set_time_ns`) as last worked out
         self._times: dict[int, tuple[FrameSet, int]] = {}
+        #: a clap drag's preview (see :meth:`preview_offset`): the playhead before it,
+        #: whether that was at the current set, and where the preview put the playhead
+        self._preview: tuple[int, bool, int] | None = None
         self._follow_sync()
         self.current = 0 if session.sets else -1
         #: which sets the list shows and J/K/Home/End step through (one of FILTERS)
@@ -301,14 +304,32 @@ class ReviewModel:
             return ()
 
     def preview_offset(self, delta_ns: int) -> None:
-        """Show (without applying) where the current set would sit with the offset shifted:
-        at its trigger's shifted time, where it takes the nearest frames until re-scored
-        (its chosen still frame may lie a few tenths of a second from the trigger); no
-        shift shows the set as it is."""
+        """Show (without applying) where the playhead goes once the offset is shifted by
+        ``delta_ns`` (see :meth:`_playhead_after`): at the current set, to the set at its
+        trigger's shifted time, where it takes the nearest frames until re-scored (its
+        chosen still frame may lie a few tenths of a second from the trigger); elsewhere
+        it stays on the sound under it, so a playhead on the clap rides with the clap
+        handle. No shift puts the playhead back where it was."""
+        before, at_set = self._preview_anchor()
         current = self.current_set
-        if current is not None:
-            self.set_playhead(current.t_ns + int(delta_ns) if delta_ns
-                              else set_time_ns(current))
+        if not delta_ns:
+            target = before
+        elif at_set and current is not None:
+            target = current.t_ns + int(delta_ns)
+        else:
+            target = before + int(delta_ns)
+        self.set_playhead(target)
+        self._preview = (before, at_set, self.playhead_ns) if delta_ns else None
+
+    def _preview_anchor(self) -> tuple[int, bool]:
+        """The playhead as it was before a clap drag's preview moved it, and whether it was
+        at the current set (its chosen frames shown): the playhead now, unless the preview
+        put it there (playback or a click since moved it on)."""
+        preview = self._preview
+        if preview is not None and preview[2] == self.playhead_ns:
+            return preview[0], preview[1]
+        current = self.current_set
+        return self.playhead_ns, current is not None and self.playhead_ns == set_time_ns(current)
 
     def shown(self) -> list[int]:
         """Indices of the sets the filter shows (the current set may be among the hidden)."""
@@ -351,13 +372,17 @@ class ReviewModel:
     def set_playhead(self, t_ns: int) -> None:
         """Move the playhead to ``t_ns``, within the frames and the audio (the real clap
         may lie before the first frame, see :meth:`clap_at_playhead`)."""
+        self.playhead_ns = self._within_reach(t_ns)
+        self._emit("playhead", self.playhead_ns)
+
+    def _within_reach(self, t_ns: int) -> int:
+        """``t_ns`` kept within the frames and the audio (on the session's sync)."""
         lo, hi = self.time_range_ns()
         if self.audio_duration_s:
             sync = self.session.sync
             lo = min(lo, int(sync.to_session(0.0)))
             hi = max(hi, int(sync.to_session(self.audio_duration_s)))
-        self.playhead_ns = int(min(max(t_ns, lo), hi)) if hi > lo else int(t_ns)
-        self._emit("playhead", self.playhead_ns)
+        return int(min(max(t_ns, lo), hi)) if hi > lo else int(t_ns)
 
     def go_to_set(self, index: int) -> None:
         if not self.session.sets:
@@ -496,7 +521,12 @@ class ReviewModel:
         if seen is None or seen == self.playhead_ns:
             return
         heard_s = self.session.sync.to_audio(self.playhead_ns)
-        self.nudge_offset(seen - self.playhead_ns)  # undo restores the clap heard too
+        # the playhead stays on that sound, now at the cameras' clap: the grid shows the
+        # clap's frames, and a refining C or [ ] starts from there (undo restores the
+        # clap heard too)
+        sync = self.session.sync
+        self.set_sync(sync.with_offset(sync.offset_ns + seen - self.playhead_ns),
+                      playhead_ns=seen)
         # replaced, never changed in place: a save may be encoding the old ones
         evidence = self.session.sync_evidence
         claps = list(evidence["claps"])
@@ -510,16 +540,18 @@ class ReviewModel:
         periods = [p for p in self._periods.values() if p > 0]
         self.nudge_offset(direction * (min(periods) if periods else 33_333_333))
 
-    def set_sync(self, sync: SyncModel) -> None:
+    def set_sync(self, sync: SyncModel, playhead_ns: int | None = None) -> None:
         """Use another sync model: every set's time follows it (one undo step).
 
         Sets that move take the frames nearest their new time, without figures, until
-        re-scored (see :meth:`rescore_request`).
+        re-scored (see :meth:`rescore_request`). The playhead goes to ``playhead_ns``, by
+        default where :meth:`_playhead_after` says.
         """
+        anchor = self._preview_anchor()
         self._undo.append(self._sync_state())
         self._redo.clear()
         self._keep_shown_before_edit()
-        self._change_sync(sync)
+        self._change_sync(sync, anchor, playhead_ns)
 
     def _keep_shown_before_edit(self) -> None:
         """Note the frames each set shows before the sync changes and its sets wait for
@@ -537,14 +569,31 @@ class ReviewModel:
         return OffsetChanged(self.session.sync, tuple(self.session.sets), measured,
                              copy.deepcopy(self.session.sync_evidence))
 
-    def _change_sync(self, sync: SyncModel) -> None:
+    def _change_sync(self, sync: SyncModel, anchor: tuple[int, bool],
+                     playhead_ns: int | None = None) -> None:
+        """Take ``sync``; the playhead goes to ``playhead_ns``, by default where
+        :meth:`_playhead_after` says from ``anchor``."""
+        old = self.session.sync
         self.session.sync = sync
         self._follow_sync()
-        if self.current_set is not None:
-            self.playhead_ns = set_time_ns(self.current_set)
+        self._preview = None
+        self.playhead_ns = self._playhead_after(old, anchor) if playhead_ns is None \
+            else self._within_reach(playhead_ns)
         self._emit("sync", sync)
         self._emit("playhead", self.playhead_ns)
         self._save()
+
+    def _playhead_after(self, old: SyncModel, anchor: tuple[int, bool]) -> int:
+        """Where the playhead goes once the sync changed from ``old``, from ``anchor`` (the
+        playhead before, and whether it was at the current set): with the current set, at
+        its new time, its frames shown as the edit picks them; elsewhere on the same sound,
+        which the edit moved (a playhead put on the clap to refine the offset stays on it,
+        as the sound plays on during playback: it jumped back to the set)."""
+        before, at_set = anchor
+        current = self.current_set
+        if at_set and current is not None:
+            return set_time_ns(current)
+        return self._within_reach(int(self.session.sync.to_session(old.to_audio(before))))
 
     # -- decisions ----------------------------------------------------------------------
     def accept(self) -> None:
@@ -604,6 +653,7 @@ class ReviewModel:
     def _revert(self, step: UndoStep) -> UndoStep:
         """Take one step back; returns the step that takes this back in turn."""
         if isinstance(step, OffsetChanged):
+            anchor = self._preview_anchor()  # before the sets change their frames
             now = self._sync_state()
             self.session.sync_evidence = copy.deepcopy(step.evidence)  # a clap C moved
             # the stack holds no later step, so the same sets are in: only their frames
@@ -619,16 +669,17 @@ class ReviewModel:
             waiting = set(self.rescore_ids())  # the others show scored frames again
             self._shown_before_edit = {i: keys for i, keys in self._shown_before_edit.items()
                                        if i in waiting}
-            self._change_sync(step.sync)
+            self._change_sync(step.sync, anchor)
             return now
         if isinstance(step, EarlierOffsetChange):
+            anchor = self._preview_anchor()
             now = self._sync_state()
             evidence = {k: v for k, v in self.session.sync_evidence.items() if k != "claps"}
             if step.claps is not None:
                 evidence["claps"] = copy.deepcopy(list(step.claps))
             self.session.sync_evidence = evidence
             self._keep_shown_before_edit()  # its frames and figures were not kept
-            self._change_sync(step.sync)
+            self._change_sync(step.sync, anchor)
             return now
         if isinstance(step, Decided):
             now_decided = self.session.set_by_id(step.set_id).decision

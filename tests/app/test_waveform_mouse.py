@@ -101,6 +101,29 @@ def test_the_clap_handle_is_dragged_when_the_playhead_sits_on_it(window, qtbot) 
     assert abs(wave.clap.value() - (clap_x + 0.2)) < 0.01
 
 
+def test_a_playhead_on_the_clap_rides_with_the_handle_and_stays_on_it(window, qtbot) -> None:
+    """Put on the clap to refine the offset, the playhead goes with the sound under it:
+    while the handle is dragged (the grid shows the frames the clap would land on) and
+    once it is released; it jumped to the current set, far from the clap."""
+    wave, model = window.waveform, window.model
+    clap_x = wave.clap.value()
+    wave.setXRange(clap_x - 2, clap_x + 2, padding=0)
+    click(qtbot, wave, clap_x)
+    on_clap = wave.playhead.value() - clap_x  # within a pixel
+    p0, p1 = _point(wave, wave.playhead.value()), _point(wave, clap_x + 0.3)
+    _send(wave, QEvent.Type.MouseMove, p0)
+    _send(wave, QEvent.Type.MouseButtonPress, p0, Qt.MouseButton.LeftButton)
+    for k in range(1, 6):
+        _send(wave, QEvent.Type.MouseMove, p0 + (p1 - p0) * (k / 5), Qt.MouseButton.LeftButton)
+    assert wave.clap.value() == pytest.approx(clap_x + 0.3, abs=0.01)
+    assert wave.playhead.value() - wave.clap.value() == pytest.approx(on_clap, abs=1e-6)
+    assert not any(tile.caption == "chosen frame" for tile in window.grid.tiles.values())
+    _send(wave, QEvent.Type.MouseButtonRelease, p1)
+    qtbot.wait(10)
+    assert wave.playhead.value() - wave.clap.value() == pytest.approx(on_clap, abs=1e-6)
+    assert model.set_at_playhead() is None  # the sets lie seconds away
+
+
 def test_a_clap_handle_drag_says_how_far_the_audio_moved(window, qtbot) -> None:
     """Only the offset line changed: the status line said nothing, as it does for C."""
     wave = window.waveform

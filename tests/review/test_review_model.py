@@ -185,6 +185,27 @@ def test_a_clap_drag_shows_where_its_release_puts_the_current_set(
     assert abs(set_time_ns(model.current_set) - preview) <= 1e9 / 15 / 2 + 1
 
 
+def test_a_clap_drag_away_from_the_sets_moves_the_playhead_with_its_sound(
+        truth_session_file: Path) -> None:
+    """On the clap, the playhead goes with the sound under it: each move of the drag
+    from where it was before the drag (not from the last move's place), back there when
+    the handle returns, and the release leaves it on the sound."""
+    model = open_model(truth_session_file)
+    seen = model.camera_clap_ns()
+    model.set_playhead(seen)
+    model.preview_offset(20_000_000)
+    model.preview_offset(50_000_000)
+    assert model.playhead_ns == seen + 50_000_000
+    model.preview_offset(0)
+    assert model.playhead_ns == seen
+    model.preview_offset(30_000_000)
+    model.set_playhead(seen + 100_000_000)  # playback moved it on meanwhile
+    model.preview_offset(40_000_000)
+    assert model.playhead_ns == seen + 140_000_000
+    model.nudge_offset(40_000_000)  # released
+    assert abs(model.playhead_ns - (seen + 140_000_000)) <= 1
+
+
 def test_every_key_binding_names_an_action() -> None:
     for action in KEY_BINDINGS.values():
         assert callable(getattr(ReviewModel, action))
