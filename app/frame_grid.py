@@ -30,6 +30,7 @@ from PySide6.QtWidgets import (
 
 from app.style import (
     BACKGROUND,
+    CLAP_LABEL_COLOUR,
     DECISION_COLOURS,
     DECISION_SYMBOLS,
     WARNING_COLOUR,
@@ -465,6 +466,13 @@ class FrameGrid(QWidget):
         band.word, band.state, band.source, band.decides = word, state, source, decides
         band.update()
 
+    def set_drag_note(self, text: str) -> None:
+        """Say ``text`` in the band instead of the word while the clap handle is dragged
+        (how far the audio would move); "" gives the word back."""
+        if text != self.word_band.drag_note:
+            self.word_band.drag_note = text
+            self.word_band.update()
+
 
 class WordBand(QWidget):
     """A band under the tiles that writes the heard word in large letters, with the
@@ -480,6 +488,8 @@ class WordBand(QWidget):
         self.state: str | None = None
         self.source = ""
         self.decides: int | None = None
+        #: said instead of the word while the clap handle is dragged ("" otherwise)
+        self.drag_note = ""
         self.setFixedHeight(self.HEIGHT)
         self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
 
@@ -497,13 +507,17 @@ class WordBand(QWidget):
 
     def text(self) -> str:
         """What the band says now."""
-        return band_text(self.word, self.state, self.source, self.decides)
+        return self.drag_note or band_text(self.word, self.state, self.source, self.decides)
 
     def paintEvent(self, event: QPaintEvent) -> None:
         p = QPainter(self)
         p.fillRect(self.rect(), BACKGROUND)
         font = QFont(self.font())
-        if self.word:
+        if self.drag_note:  # in the clap handle's colour, the word's size
+            font.setPixelSize(self.HEIGHT - 16)
+            font.setBold(True)
+            colour = CLAP_LABEL_COLOUR
+        elif self.word:
             font.setPixelSize(self.HEIGHT - 10)
             font.setBold(True)
             colour = DECISION_COLOURS.get(self.state or "", QColor(255, 255, 255)).lighter(130)

@@ -34,7 +34,7 @@ from app.export_action import ExportAction
 from app.frame_grid import DROPPED_CAPTION, NEAREST_CAPTION, FrameGrid
 from app.frame_loader import FrameLoader
 from app.leave_out_action import LeaveOutAction
-from app.offset_text import NO_CAMERA_CLAP, clap_moved_text, offset_moved_text
+from app.offset_text import NO_CAMERA_CLAP, clap_drag_text, clap_moved_text, offset_moved_text
 from app.open_request import OpenRequest, drop_request
 from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver, free_name_beside
@@ -193,6 +193,8 @@ class ReviewWindow(QMainWindow):
         #: prints it in full: the status line cuts a long note short)
         self.on_opened: Callable[[str], None] | None = None
         self._pending_tiles: set[str] = set()
+        #: how far the clap handle is being dragged (None: it is not)
+        self._clap_drag_ns: int | None = None
         self.undo_button: QPushButton | None = None  # on the review page, once built
         #: previously opened sessions, closed once no export, re-scoring or decode reads them
         self._retired: list[ReviewInputs] = []
@@ -403,6 +405,7 @@ class ReviewWindow(QMainWindow):
         left_layout = QVBoxLayout(left)
         left_layout.setContentsMargins(0, 0, 0, 0)
         self.grid = FrameGrid(model.streams)
+        self._clap_drag_ns = None  # a drag on the waveform left with the page
         # the keys act on the window wherever the focus is; it rests on the grid (a click
         # there takes it back from the box or the waveform)
         self.grid.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
@@ -894,9 +897,13 @@ class ReviewWindow(QMainWindow):
         playing, the playhead follows the sound as it plays on (a preview pulled it away,
         and the sound with it, at every move)."""
         model = self.model
-        if model is None or self.transport.playing:
+        if model is None:
             return
-        model.preview_offset(shift_ns)
+        self._clap_drag_ns = shift_ns  # the word band says how far (see _update_word_band)
+        if self.transport.playing:
+            self._update_word_band()
+        else:
+            model.preview_offset(shift_ns)  # the playhead moves: the band follows
 
     def _clap_dragged(self, shift_ns: int) -> None:
         """The clap handle released ``shift_ns`` from where it was: the audio moves with
@@ -904,8 +911,9 @@ class ReviewWindow(QMainWindow):
         model = self.model
         if model is None:
             return
+        self._clap_drag_ns = None
         offset_ns = model.session.sync.offset_ns
-        model.nudge_offset(shift_ns)
+        model.nudge_offset(shift_ns)  # the playhead moves: the band gives the word back
         moved = model.session.sync.offset_ns - offset_ns
         self.status.say(offset_moved_text(moved, "clap handle dragged"),
                         outlasts_work=bool(moved))
@@ -949,12 +957,24 @@ class ReviewWindow(QMainWindow):
             wanted.append((tile.stream, tile.index))
             self._pending_tiles.add(tile.stream)
         self.loader.request(wanted)
+        self._update_word_band()
+        self._update_info_line()
+
+    def _update_word_band(self) -> None:
+        """The band under the grid: the trigger word of the set under the playhead (or
+        which set the keys act on); while the clap handle is dragged, how far the audio
+        would move."""
+        model = self.model
+        if model is None:
+            return
+        current = model.set_at_playhead()
         acting = model.acting_set()
         self.grid.set_word(current.trigger.word if current else "",
                            current.decision if current else None,
                            current.trigger.source if current else "",
                            acting.id if acting is not None else None)
-        self._update_info_line()
+        self.grid.set_drag_note("" if self._clap_drag_ns is None
+                                else clap_drag_text(self._clap_drag_ns))
 
     def _no_frame_text(self, stream: str, in_set: bool, has_frames: bool) -> str:
         """What a tile without a frame says: no frame chosen for the set (and how far the

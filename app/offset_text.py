@@ -31,6 +31,16 @@ def clap_moved_text(shift_ns: int) -> str:
     return f"the clap is at the playhead: audio moved {shift_text(shift_ns)} · {UNDO_HINT}"
 
 
+def clap_drag_text(shift_ns: int) -> str:
+    """What the word band says while the clap handle is dragged ``shift_ns`` from where
+    it was: how far the audio would move, and what releasing it or a right-click does (it
+    said "between frame sets", the playhead being off the sets' times meanwhile)."""
+    if shift_ns == 0:
+        return "◂ clap ▸ where it was · released here, the audio stays"
+    return (f"◂ clap ▸ audio {shift_text(shift_ns)} · release to move it · "
+            "right-click to cancel")
+
+
 def offset_moved_text(shift_ns: int, how: str = "") -> str:
     """The status line after an offset edit ([ ] { }, the clap handle): how far the
     audio moved, after ``how`` ("one frame", "clap handle dragged"), or that it did not

@@ -23,4 +23,8 @@ WARNING_COLOUR = QColor(219, 154, 4)
 #: grey; the bright amber's was 2:1)
 WARNING_TEXT_COLOUR = QColor(135, 90, 0)
 PLAYHEAD_COLOUR = QColor(255, 210, 60)
+#: the clap handle on the waveform, and its label (and what the word band says while it
+#: is dragged)
+CLAP_COLOUR = QColor(255, 120, 40)
+CLAP_LABEL_COLOUR = QColor(255, 160, 90)
 BACKGROUND = QColor(30, 32, 36)

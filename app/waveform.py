@@ -10,7 +10,7 @@ import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import QLabel, QToolButton
 
-from app.style import BACKGROUND, PLAYHEAD_COLOUR
+from app.style import BACKGROUND, CLAP_COLOUR, CLAP_LABEL_COLOUR, PLAYHEAD_COLOUR
 from app.word_marks import Mark, WordMarks
 
 if TYPE_CHECKING:
@@ -96,10 +96,10 @@ class WaveformView(pg.PlotWidget):
         self.addItem(self.playhead)
         # a handle: the label's arrows, a sideways cursor and a bolder line on hover say
         # it can be dragged; its label low, under the sets' labels along the top
-        self.clap = pg.InfiniteLine(0, movable=True, pen=pg.mkPen((255, 120, 40), width=2),
-                                    hoverPen=pg.mkPen((255, 160, 90), width=4),
+        self.clap = pg.InfiniteLine(0, movable=True, pen=pg.mkPen(CLAP_COLOUR, width=2),
+                                    hoverPen=pg.mkPen(CLAP_LABEL_COLOUR, width=4),
                                     label="◂ clap ▸", labelOpts={"position": 0.12,
-                                                                 "color": (255, 160, 90)})
+                                                                 "color": CLAP_LABEL_COLOUR})
         self.clap.setCursor(Qt.CursorShape.SizeHorCursor)
         self.clap.setToolTip("the clap: drag it to set the audio offset")
         # above the playhead: a click on the clap puts the playhead on it, and the drag
@@ -220,10 +220,10 @@ class WaveformView(pg.PlotWidget):
         self.clap.show()
         for n, x in enumerate(later, start=2):
             line = pg.InfiniteLine(x, movable=False,
-                                   pen=pg.mkPen((255, 120, 40), width=1,
+                                   pen=pg.mkPen(CLAP_COLOUR, width=1,
                                                 style=Qt.PenStyle.DashLine),
                                    label=f"clap {n}", labelOpts={"position": 0.12,
-                                                                 "color": (255, 160, 90)})
+                                                                 "color": CLAP_LABEL_COLOUR})
             line.setZValue(15)
             self.addItem(line)
             self.later_claps.append(line)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from app.offset_text import clap_moved_text, shift_text
+from app.offset_text import clap_drag_text, clap_moved_text, shift_text
 
 
 @pytest.mark.parametrize(("shift_ns", "said"), [
@@ -30,3 +30,9 @@ def test_c_that_moved_nothing_says_there_is_nothing_to_undo() -> None:
         "the clap is at the playhead: audio moved +400 µs · Ctrl+Z takes it back"
     text = clap_moved_text(0)
     assert "nothing to undo" in text and "Ctrl+Z" not in text and "moved" not in text
+
+
+def test_a_clap_drag_says_how_far_the_audio_would_move_and_how_to_cancel() -> None:
+    assert clap_drag_text(-250_000_000) == \
+        "◂ clap ▸ audio -250 ms · release to move it · right-click to cancel"
+    assert clap_drag_text(0) == "◂ clap ▸ where it was · released here, the audio stays"

@@ -12,7 +12,7 @@ from PySide6.QtGui import QMouseEvent, QWheelEvent
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication
 
-from app.offset_text import shift_text
+from app.offset_text import clap_drag_text, shift_text
 from app.waveform import MIN_SPAN_S, WaveformView
 from speechcal_core.session.store import load_session, save_session
 
@@ -122,6 +122,44 @@ def test_a_playhead_on_the_clap_rides_with_the_handle_and_stays_on_it(window, qt
     qtbot.wait(10)
     assert wave.playhead.value() - wave.clap.value() == pytest.approx(on_clap, abs=1e-6)
     assert model.set_at_playhead() is None  # the sets lie seconds away
+
+
+def _right_click(wave: WaveformView, pos: QPointF) -> None:
+    """The right button pressed and released at ``pos`` with the left one held."""
+    viewport = wave.viewport()
+    for kind, held in ((QEvent.Type.MouseButtonPress,
+                        Qt.MouseButton.LeftButton | Qt.MouseButton.RightButton),
+                       (QEvent.Type.MouseButtonRelease, Qt.MouseButton.LeftButton)):
+        QApplication.sendEvent(viewport, QMouseEvent(
+            kind, pos, QPointF(viewport.mapToGlobal(pos.toPoint())),
+            Qt.MouseButton.RightButton, held, Qt.KeyboardModifier.NoModifier))
+
+
+def test_while_the_clap_handle_is_dragged_the_word_band_says_how_far_the_audio_moves(
+        window, qtbot) -> None:
+    """It said "between frame sets": the preview puts the playhead off the sets' times.
+    A right-click cancels the drag, as the band says, and gives the word back."""
+    wave, model = window.waveform, window.model
+    band = window.grid.word_band
+    word = band.text()
+    assert "CAPTURE" in word
+    clap_x = wave.clap.value()
+    wave.setXRange(clap_x - 2, clap_x + 2, padding=0)
+    offset, playhead = model.session.sync.offset_ns, model.playhead_ns
+    p0, p1 = _point(wave, clap_x), _point(wave, clap_x + 0.3)
+    _send(wave, QEvent.Type.MouseMove, p0)
+    _send(wave, QEvent.Type.MouseButtonPress, p0, Qt.MouseButton.LeftButton)
+    for k in range(1, 6):
+        _send(wave, QEvent.Type.MouseMove, p0 + (p1 - p0) * (k / 5), Qt.MouseButton.LeftButton)
+        assert band.text() == clap_drag_text(wave.clap_shift_ns())
+    assert band.text().startswith("◂ clap ▸ audio +3") and "between" not in band.text()
+    _right_click(wave, p1)
+    qtbot.wait(10)
+    assert band.text() == word and wave.clap.value() == clap_x
+    assert (model.session.sync.offset_ns, model.playhead_ns) == (offset, playhead)
+    _send(wave, QEvent.Type.MouseButtonRelease, p1)
+    drag(qtbot, wave, clap_x, clap_x + 0.3)  # released: the word of the set, moved
+    assert model.session.sync.offset_ns != offset and band.text() == word
 
 
 def test_a_clap_handle_drag_says_how_far_the_audio_moved(window, qtbot) -> None:
