@@ -28,6 +28,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.focus_ring import FOCUS_RING_PX, FocusRing
 from app.style import (
     BACKGROUND,
     CLAP_LABEL_COLOUR,
@@ -62,6 +63,9 @@ OUTLINE_BELOW_PX = 6.0
 TILE_HEADER_PX, TILE_MARGIN_PX = 22, 3
 #: the space between tiles, pixels
 TILE_SPACING_PX = 4
+#: the grid's margin around its tiles and band, pixels: room for the focus frame, which
+#: then hides no decision border
+GRID_MARGIN_PX = FOCUS_RING_PX + 1
 #: how much larger (as a share) another column count must show the frames than the
 #: near-square grid's before the grid takes it
 BETTER_BY = 0.05
@@ -358,7 +362,7 @@ class FrameGrid(QWidget):
         super().__init__(parent)
         self.tiles: dict[str, CameraTile] = {}
         outer = QVBoxLayout(self)
-        outer.setContentsMargins(0, 0, 0, 0)
+        outer.setContentsMargins(*(GRID_MARGIN_PX,) * 4)
         outer.setSpacing(4)
         self._tile_area = QWidget(self)
         self._layout = QGridLayout(self._tile_area)
@@ -372,6 +376,7 @@ class FrameGrid(QWidget):
         self._enlarged: str | None = None
         self._columns = 0  # the columns the tiles are laid out in now
         self.set_streams(streams)
+        self.focus_ring = FocusRing(self)
 
     @property
     def word(self) -> str:

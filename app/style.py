@@ -28,3 +28,7 @@ PLAYHEAD_COLOUR = QColor(255, 210, 60)
 CLAP_COLOUR = QColor(255, 120, 40)
 CLAP_LABEL_COLOUR = QColor(255, 160, 90)
 BACKGROUND = QColor(30, 32, 36)
+#: the frame around the grid or the waveform while it has the keyboard focus: the Fusion
+#: style's highlight (the list's selection), 3:1 against the light window and 4:1
+#: against the dark views
+FOCUS_COLOUR = QColor(48, 140, 198)

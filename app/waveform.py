@@ -10,6 +10,7 @@ import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import QLabel, QToolButton
 
+from app.focus_ring import FOCUS_RING_PX, FocusRing
 from app.style import BACKGROUND, CLAP_COLOUR, CLAP_LABEL_COLOUR, PLAYHEAD_COLOUR
 from app.word_marks import Mark, WordMarks
 
@@ -36,7 +37,8 @@ MIN_SPAN_S = 0.02
 #: an offset edit moves the envelope as drawn; it is drawn anew this long after the last
 REDRAW_AFTER_SHIFT_MS = 150
 #: the "whole session" and playhead buttons' distance from the view's bottom edge, pixels
-BUTTON_MARGIN_PX = 1
+#: (clear of the focus frame: it crossed their lower edge)
+BUTTON_MARGIN_PX = FOCUS_RING_PX
 
 
 class WaveformView(pg.PlotWidget):
@@ -149,6 +151,8 @@ class WaveformView(pg.PlotWidget):
         self._redraw_timer.setInterval(REDRAW_AFTER_SHIFT_MS)
         self._redraw_timer.timeout.connect(self.redraw)
         self.scene().sigMouseClicked.connect(self._clicked)
+        #: shown while the waveform has the keyboard focus (Tab from the grid)
+        self.focus_ring = FocusRing(self)
 
     def _to_ns(self, x: float) -> int:
         return self.origin_ns + round(x * 1e9)

@@ -9,6 +9,8 @@ from pathlib import Path
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QApplication
 
+from app.style import FOCUS_COLOUR
+
 
 def _tab_stops(qtbot, window, count: int) -> list:
     """The widgets Tab gives the focus to, ``count`` presses from where it is."""
@@ -36,3 +38,33 @@ def test_a_session_opens_with_the_focus_on_the_grid_not_the_hidden_cancel(
     qtbot.waitUntil(lambda: window.grid is not old_grid and not window.status.running(),
                     timeout=30_000)
     assert window.focusWidget() is window.grid and window.grid.isVisible()
+
+
+def _edge(widget) -> tuple[int, int, int]:
+    """The colour of the widget's left edge, halfway down, as drawn."""
+    colour = widget.grab().toImage().pixelColor(0, widget.height() // 2)
+    return colour.red(), colour.green(), colour.blue()
+
+
+def test_the_grid_and_the_waveform_show_which_of_them_has_the_focus(qtbot, window) -> None:
+    """Neither drew a focus frame: a keyboard user could not tell which one Tab had
+    reached. The one with the focus has a frame of the focus colour round it."""
+    window.activateWindow()
+    qtbot.waitUntil(window.isActiveWindow, timeout=5_000)
+    grid, wave = window.grid, window.waveform
+    ring = FOCUS_COLOUR.red(), FOCUS_COLOUR.green(), FOCUS_COLOUR.blue()
+    assert grid.focus_ring.isVisible() and not wave.focus_ring.isVisible()
+    assert _edge(grid) == ring and _edge(wave) != ring
+    assert grid.focus_ring.geometry() == grid.rect()
+    # the frame hides no tile: the decision borders lie inside it
+    for tile in grid.tiles.values():
+        assert grid.focus_ring.geometry().adjusted(2, 2, -2, -2).contains(
+            tile.geometry().translated(tile.parentWidget().pos()))
+    assert _tab_stops(qtbot, window, 1) == [wave]
+    assert wave.focus_ring.isVisible() and not grid.focus_ring.isVisible()
+    assert _edge(wave) == ring and _edge(grid) != ring
+    assert wave.focus_ring.geometry() == wave.rect()
+    assert _tab_stops(qtbot, window, 1) == [window.advance_box]  # it draws its own
+    assert not wave.focus_ring.isVisible() and not grid.focus_ring.isVisible()
+    assert _tab_stops(qtbot, window, 1) == [grid]
+    assert grid.focus_ring.isVisible()

@@ -175,13 +175,14 @@ def test_many_cameras_shrink_the_tiles_least_size(qtbot, cameras: int,
                                                   least_width: int) -> None:
     """12 cameras made a window at least 1148 px wide (4 columns of 160 px tiles); more
     than three columns now share GRID_MIN_WIDTH_PX, while a tile keeps 100 px at least."""
-    from app.frame_grid import FrameGrid
+    from app.frame_grid import GRID_MARGIN_PX, FrameGrid
 
     grid = FrameGrid([f"/cam{k}/image_raw" for k in range(cameras)])
     qtbot.addWidget(grid)
     assert {t.minimumWidth() for t in grid.tiles.values()} == {least_width}
     cols = math.ceil(math.sqrt(cameras))
-    assert grid.minimumSizeHint().width() <= cols * least_width + (cols - 1) * 4
+    assert grid.minimumSizeHint().width() <= \
+        cols * least_width + (cols - 1) * 4 + 2 * GRID_MARGIN_PX  # the focus frame's room
     grid.toggle_enlarged("/cam0/image_raw")  # one camera alone keeps the full least size
     assert grid.tiles["/cam0/image_raw"].minimumWidth() == 160
 
