@@ -587,8 +587,8 @@ class ReviewModel:
         """Where the playhead goes once the sync changed from ``old``, from ``anchor`` (the
         playhead before, and whether it was at the current set): with the current set, at
         its new time, its frames shown as the edit picks them; elsewhere on the same sound,
-        which the edit moved (a playhead put on the clap to refine the offset stays on it,
-        as the sound plays on during playback: it jumped back to the set)."""
+        which the edit moved: a playhead put on the clap to refine the offset stays on it
+        (it jumped back to the set), and one following playback stays with the sound."""
         before, at_set = anchor
         current = self.current_set
         if at_set and current is not None:
