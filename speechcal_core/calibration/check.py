@@ -10,7 +10,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from speechcal_core.calibration.double_sphere import calibrate_double_sphere
+from speechcal_core.calibration.double_sphere import calibrate_double_sphere, project_double_sphere
 from speechcal_core.calibration.fisheye import calibrate_fisheye
 from speechcal_core.calibration.pinhole import calibrate_pinhole
 from speechcal_core.calibration.views import CalibrationResult, View
@@ -18,12 +18,17 @@ from speechcal_core.processes import usable_cores
 
 MODELS = ("pinhole", "fisheye", "double-sphere")
 #: with ``wide_only`` the fisheye and double-sphere fits run only for lenses whose pinhole
-#: fit shows more than this horizontal field of view (degrees)
+#: fit shows more than this horizontal field of view (degrees), or cannot reach the image's
+#: corners (its fx alone says 90 degrees for an equidistant lens of 115-120)
 WIDE_FOV_DEG = 80.0
 MIN_VIEWS = 4
 MIN_POINTS = 12
 #: the simplest model wins unless another one's RMS is lower by more than this factor
 SIMPLER_SLACK = 1.15
+#: a lens wider than this across the diagonal (degrees, by its fisheye fit) gets a fisheye
+#: model, as OpenCV (cv2.fisheye) and Kalibr (pinhole-equi) fit such lenses; the synthetic
+#: fisheyes are about 125-155, their pinholes 57-72
+FISHEYE_DIAG_DEG = 120.0
 
 
 def fit_models(
@@ -47,7 +52,7 @@ def fit_models(
             out["pinhole"] = calibrate_pinhole(views, size)
     if wide_only and "pinhole" in out:
         fov = 2 * np.degrees(np.arctan2(size[0] / 2, out["pinhole"].intrinsics[0]))
-        if fov <= WIDE_FOV_DEG:
+        if fov <= WIDE_FOV_DEG and reaches_corners(out["pinhole"], size):
             models = tuple(m for m in models if m == "pinhole")
     if "fisheye" in models or "double-sphere" in models:
         guess = None
@@ -70,24 +75,108 @@ def fit_models(
     return {m: out[m] for m in MODELS if m in out and m in models}
 
 
-def best_model(results: Mapping[str, CalibrationResult]) -> CalibrationResult | None:
-    """The simplest model whose RMS is within ``SIMPLER_SLACK`` of the lowest."""
+def corner_angles(fit: CalibrationResult, size: tuple[int, int]) -> np.ndarray | None:
+    """Angles (degrees off the axis) of the rays the fitted model gives the image's four
+    corners (top left, top right, bottom left, bottom right); None when it gives one none.
+
+    Rays ever further off the axis, towards each corner, must land ever further out until
+    they pass that corner: a model that turns back before leaves the image's rim without
+    rays however well it fits the board near the middle (a radial-tangential pinhole
+    fitted to a synthetic 150-degree fisheye turned back 56 degrees off the axis, 300 px
+    from the centre of a 640 x 480 image).
+    """
+    fx, fy, cx, cy = (float(v) for v in fit.intrinsics[:4])
+    w, h = size
+    last = 89.5 if fit.model == "pinhole" else 179.5  # a pinhole sees less than 180 degrees
+    theta = np.linspace(0.0, last, 720)
+    out = []
+    for u, v in ((0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1)):
+        phi = np.arctan2((v - cy) / fy, (u - cx) / fx)
+        t = np.radians(theta)
+        rays = np.column_stack([np.sin(t) * np.cos(phi), np.sin(t) * np.sin(phi), np.cos(t)])
+        radius = np.hypot(*(_project(fit, rays) - (cx, cy)).T)
+        corner = np.hypot(u - cx, v - cy)
+        beyond = np.flatnonzero(~(radius < corner))  # NaN counts too
+        if beyond.size == 0 or beyond[0] == 0:
+            return None
+        j = int(beyond[0])
+        if not np.all(np.diff(radius[: j + 1]) > 0):
+            return None
+        out.append(np.interp(corner, radius[j - 1 : j + 1], theta[j - 1 : j + 1]))
+    return np.asarray(out)
+
+
+def reaches_corners(fit: CalibrationResult, size: tuple[int, int]) -> bool:
+    """Whether the fitted lens model gives every pixel of the image a ray (see
+    :func:`corner_angles`)."""
+    return corner_angles(fit, size) is not None
+
+
+def diagonal_fov(fit: CalibrationResult, size: tuple[int, int]) -> float | None:
+    """The field of view (degrees) across the image's wider diagonal by the fitted model;
+    None when the model does not reach the corners."""
+    a = corner_angles(fit, size)
+    return None if a is None else float(max(a[0] + a[3], a[1] + a[2]))
+
+
+def _project(fit: CalibrationResult, rays: np.ndarray) -> np.ndarray:
+    """Pixels of camera-frame ``rays`` (N x 3) through a fitted model."""
+    fx, fy, cx, cy = fit.intrinsics[:4]
+    if fit.model == "double-sphere":
+        return project_double_sphere(np.asarray(fit.intrinsics, np.float64), rays)
+    k = np.array([[fx, 0, cx], [0, fy, cy], [0, 0, 1]], np.float64)
+    d = np.asarray(fit.distortion, np.float64)
+    with np.errstate(all="ignore"):
+        if fit.model == "fisheye":
+            px, _ = cv2.fisheye.projectPoints(rays.reshape(-1, 1, 3), np.zeros(3), np.zeros(3),
+                                              k, d)
+        else:
+            px, _ = cv2.projectPoints(rays, np.zeros(3), np.zeros(3), k, d)
+    return px.reshape(-1, 2)
+
+
+def best_model(results: Mapping[str, CalibrationResult],
+               size: tuple[int, int] | None = None) -> CalibrationResult | None:
+    """The simplest model whose RMS is within ``SIMPLER_SLACK`` of the lowest.
+
+    With the image ``size`` given, that is among the models that give every pixel a ray
+    (:func:`reaches_corners`; others only when none does), and a lens wider than
+    ``FISHEYE_DIAG_DEG`` by its fisheye or double-sphere fit gets one of those: seen near
+    the middle, as a board held for a rig's pinholes shows it, a fisheye fits a pinhole's
+    five coefficients as closely as its own model, yet that pinhole says nothing true of
+    the rim (it folds back inside the image, or stops short of 90 degrees).
+    """
     if not results:
         return None
     lowest = min(r.rms_px for r in results.values())
-    for name in MODELS:
-        if name in results and results[name].rms_px <= lowest * SIMPLER_SLACK:
-            return results[name]
+    pools: list[Mapping[str, CalibrationResult]] = [results]
+    if size is not None:
+        whole = {m: r for m, r in results.items() if reaches_corners(r, size)}
+        wide = next((diagonal_fov(whole[m], size) for m in ("fisheye", "double-sphere")
+                     if m in whole), None)
+        if wide is not None and wide > FISHEYE_DIAG_DEG:
+            whole.pop("pinhole", None)
+        pools.insert(0, whole)
+    for pool in pools:
+        for name in MODELS:
+            if name in pool and pool[name].rms_px <= lowest * SIMPLER_SLACK:
+                return pool[name]
     return min(results.values(), key=lambda r: r.rms_px)
 
 
-def calibration_entry(results: Mapping[str, CalibrationResult]) -> dict[str, Any] | None:
+def calibration_entry(results: Mapping[str, CalibrationResult],
+                      size: tuple[int, int] | None = None) -> dict[str, Any] | None:
     """The session's ``"calibration"`` entry of one stream: the best model on top, all fits
-    under ``"models"`` so a bad set stands out in every one of them."""
-    best = best_model(results)
+    under ``"models"`` so a bad set stands out in every one of them. With the image
+    ``size``, each fit also says whether it gives every pixel a ray (``"whole_image"``)."""
+    best = best_model(results, size)
     if best is None:
         return None
-    return {**best.to_dict(), "models": {m: r.to_dict() for m, r in results.items()}}
+    models = {m: r.to_dict() for m, r in results.items()}
+    if size is not None:
+        for m, r in results.items():
+            models[m]["whole_image"] = reaches_corners(r, size)
+    return {**best.to_dict(), "models": models}
 
 
 def check_cameras(
@@ -111,7 +200,8 @@ def check_cameras(
     def one(stream: str) -> dict[str, Any] | None:
         if progress:
             progress("calibration", done[0] / max(1, len(names)))
-        entry = calibration_entry(fit_models(views[stream], sizes[stream], models, wide_only))
+        entry = calibration_entry(fit_models(views[stream], sizes[stream], models, wide_only),
+                                  sizes[stream])
         done[0] += 1
         if progress:
             progress("calibration", done[0] / max(1, len(names)))

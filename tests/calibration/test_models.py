@@ -10,9 +10,15 @@ import pytest
 from calib_views import synthetic_views
 
 from speechcal_core.calibration import fisheye
-from speechcal_core.calibration.check import best_model, calibration_entry, fit_models
+from speechcal_core.calibration.check import (
+    SIMPLER_SLACK,
+    best_model,
+    calibration_entry,
+    corner_angles,
+    fit_models,
+)
 from speechcal_core.calibration.double_sphere import project_double_sphere
-from speechcal_core.calibration.views import View
+from speechcal_core.calibration.views import CalibrationResult, View
 from speechcal_core.synth.camera_model import project_points
 from speechcal_core.target import TargetSpec
 
@@ -77,12 +83,57 @@ def test_double_sphere_projection_matches_the_paper_on_axis_and_off() -> None:
 
 def test_calibration_entry_has_design_keys_and_all_models() -> None:
     cam, views = synthetic_views(fisheye=False, holds=8)
-    fits = fit_models(views, (cam.width, cam.height), ("pinhole", "fisheye"))
-    entry = calibration_entry(fits)
+    size = (cam.width, cam.height)
+    fits = fit_models(views, size, ("pinhole", "fisheye"))
+    entry = calibration_entry(fits, size)
     assert entry is not None
     assert {"model", "intrinsics", "distortion", "rms_px", "views", "models"} <= set(entry)
-    assert entry["model"] == best_model(fits).model == "pinhole"
+    assert entry["model"] == best_model(fits, size).model == best_model(fits).model == "pinhole"
+    assert entry["models"]["pinhole"]["whole_image"] is True
     assert [v["set"] for v in entry["views"]] == [v.set_id for v in views]
+
+
+def test_a_fisheye_seen_near_the_middle_gets_the_fisheye_model() -> None:
+    """The board held for a rig's pinholes stays within about 35 degrees of a 130-degree
+    lens's axis: a pinhole fits it as closely (it was chosen, the simpler model), but folds
+    back inside the image, and the fisheye fit's k3, k4 were free to put the image's
+    corners hundreds of pixels off. The check gives the fisheye model, k1 and k2 only, whose
+    rays reach the corners where the lens shows them."""
+    cam, views = synthetic_views(fisheye=True, seed=2)
+    size = (cam.width, cam.height)
+    fits = fit_models(views, size, wide_only=True)
+    assert fits["pinhole"].rms_px <= fits["fisheye"].rms_px * SIMPLER_SLACK
+    entry = calibration_entry(fits, size)
+    assert entry["model"] == "fisheye"
+    assert entry["models"]["pinhole"]["whole_image"] is False
+    assert _relative_error(entry["intrinsics"], cam.intrinsics).max() < 0.01
+    assert entry["distortion"][2:] == [0.0, 0.0]
+    # the rays the true lens gives the image's corners (69 degrees off the axis) land on
+    # them, give or take 15 px
+    corners = np.array([[0, 0], [cam.width - 1, 0], [0, cam.height - 1],
+                        [cam.width - 1, cam.height - 1]], np.float64)
+    xy = cv2.fisheye.undistortPoints(corners.reshape(-1, 1, 2), cam.camera_matrix,
+                                     np.asarray(cam.distortion)).reshape(-1, 2)
+    rays = np.column_stack([xy, np.ones(4)])
+    assert project_points(cam, rays) == pytest.approx(corners, abs=0.01)
+    fit = fits["fisheye"]
+    found = project_points(replace(cam, intrinsics=tuple(fit.intrinsics),
+                                   distortion=tuple(fit.distortion)), rays)
+    assert np.hypot(*(found - corners).T).max() < 15
+
+
+def test_corner_angles_follow_the_lens_model_and_stop_at_a_fold() -> None:
+    size = (640, 480)
+    equidistant = CalibrationResult("fisheye", [320.0, 320.0, 320.0, 240.0],
+                                    [0.0] * 4, 0.1, [], [])
+    # equidistant: angle = radius / f, 400 px from the centre
+    assert np.allclose(corner_angles(equidistant, size), np.degrees(400 / 320), atol=0.3)
+    # a strong barrel turns back at r = 1, 213 px out: the corners 400 px out get no ray
+    barrel = CalibrationResult("pinhole", [320.0, 320.0, 320.0, 240.0],
+                               [-1 / 3, 0.0, 0.0, 0.0, 0.0], 0.1, [], [])
+    assert corner_angles(barrel, size) is None
+    plain = CalibrationResult("pinhole", [320.0, 320.0, 320.0, 240.0], [0.0] * 5, 0.1, [], [])
+    assert np.allclose(corner_angles(plain, size), np.degrees(np.arctan(400 / 320)), atol=0.3)
 
 
 def test_too_few_views_give_no_fit() -> None:
