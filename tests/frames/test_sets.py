@@ -119,3 +119,33 @@ def test_a_frame_without_the_target_is_not_judged_blurred_against_frames_with_it
     assert empty.sharpness is None
     for f in (seen, again):
         assert f.flags == () and f.sharpness is not None and f.sharpness > 0.5
+
+
+def test_a_still_frame_without_the_board_gives_way_to_a_neighbour_showing_it(
+        tiny_synth, monkeypatch) -> None:
+    """The tiny session's 256x192 fisheye reads one tag of its board (the rest grown from
+    it) in 26 of the 36 frames of its last hold, noise deciding; the still search chose one
+    of the other ten. A still neighbour that shows the board takes its place, inside the
+    hold and a frame or two from it."""
+    from speechcal_core.frames import sets
+    from speechcal_core.sources import open_recording
+
+    folder, truth = tiny_synth
+    sync = SyncModel(truth["sync"]["offset_ns"], truth["sync"]["drift"], "auto")
+    trig = truth["triggers"][-1]
+    word = [Trigger(trig["word"], trig["start_s"], trig["end_s"])]
+    fisheye = next(c["name"] for c in truth["cameras"] if c["model"] == "fisheye")
+    found = {}
+    for retries in (0, sets.STILL_RETRIES):
+        monkeypatch.setattr(sets, "STILL_RETRIES", retries)
+        with open_recording([str(folder / truth["recording"])]) as source:
+            result = build_frame_sets(source, sync, word, TargetSpec(),
+                                      FrameSetOptions(workers=2))
+            period = source.stamps(fisheye)[1] - source.stamps(fisheye)[0]
+        found[retries] = next(f for f in result.sets[0].frames if f.stream == fisheye)
+    alone, retried = found[0], found[sets.STILL_RETRIES]
+    assert alone.corners == 0 and "no-target" in alone.flags
+    assert retried.corners >= 60 and "no-target" not in retried.flags
+    assert 0 < abs(retried.stamp_ns - alone.stamp_ns) <= 2 * period
+    start, end = trig["hold"]
+    assert start <= retried.stamp_ns <= end
