@@ -230,10 +230,13 @@ def _make_camera(i: int, options: SynthOptions, rng: np.random.Generator) -> Cam
     w, h = options.width, options.height
     if fisheye:
         # equidistant, about 145 degrees across the diagonal and 115 across the width: a
-        # full-frame fisheye (every pixel sees), not a circular one. The board, placed for the
-        # pinholes, looks about half as wide here as there, its tags mostly 17-27 px, which
-        # detection needs. (w / 3.2 was 230 degrees across the diagonal, wider than any
-        # full-frame fisheye: the board about 110 px wide, tags of 9-17 px, mostly missed.)
+        # full-frame fisheye (every pixel sees), not a circular one (at 16:9, 125-140 across
+        # the diagonal; a pinhole fit's focal length alone calls it 90 wide). The board,
+        # placed for the pinholes, reaches only 30-35 degrees off its axis (a fit learns the
+        # lens no further out) and looks about half as wide here as there, its tags mostly
+        # 17-27 px, which detection needs. (w / 3.2 was 230 degrees across the diagonal,
+        # wider than any full-frame fisheye: the board about 110 px wide, tags of 9-17 px,
+        # mostly missed.)
         f = w / 2.0 * rng.uniform(0.95, 1.05)
         dist: tuple[float, ...] = tuple(float(x) for x in (
             rng.uniform(-0.05, 0.05), rng.uniform(-0.02, 0.02),
