@@ -37,6 +37,7 @@ from app.style import (
     WARNING_COLOUR,
     WARNING_SYMBOL,
 )
+from speechcal_core.review.summary import FLAG_SHORT_WORDS
 from speechcal_core.text import counted
 
 if TYPE_CHECKING:
@@ -49,6 +50,9 @@ DROPPED_CAPTION = "dropped frame"
 DIM_ALPHA = 110  # the dark veil over a frame held over a dropped one
 #: the least room between a tile's title and the caption or warning at its right, pixels
 HEADER_GAP = 12
+#: the longest warning in a word or two: a tile's header keeps the whole stream name only
+#: where it leaves room for this beside it
+LONGEST_SHORT_WARNING = f"{WARNING_SYMBOL} " + max(FLAG_SHORT_WORDS.values(), key=len)
 #: a tile's least width, pixels: TILE_MIN_WIDTH_PX[1], or less in a grid of more than
 #: three columns, so that all of them need no more than GRID_MIN_WIDTH_PX (a 12-camera
 #: window fits a 1024 px screen), but never less than TILE_MIN_WIDTH_PX[0]
@@ -110,17 +114,48 @@ def best_columns(cameras: int, width: float, height: float, aspect: float = 4 / 
     return best
 
 
+def compact_names(streams: Sequence[str]) -> dict[str, str]:
+    """Each stream's name without the path parts that end every stream's name, where the
+    rest still tells them apart ("/cam10/image_raw" -> "/cam10" beside "/cam0/image_raw"):
+    what a narrow tile's header shows of it before cutting its end. One stream, or names
+    that share no ending, keep their names."""
+    parts = [s.rstrip("/").split("/") for s in streams]
+    if len(parts) < 2:
+        return {s: s for s in streams}
+    common = 0
+    while all(len(p) > common + 1 and p[-1 - common] == parts[0][-1 - common]
+              for p in parts):
+        common += 1
+    while common:
+        short = ["/".join(p[:-common]) for p in parts]
+        if len(set(short)) == len(short) and all(short):
+            return dict(zip(streams, short, strict=True))
+        common -= 1
+    return {s: s for s in streams}
+
+
 def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: str,
-                 decision: str | None, note: str, warning: bool) -> tuple[str, str]:
+                 decision: str | None, note: str, warning: bool, short_note: str = "",
+                 short_stream: str = "") -> tuple[str, str]:
     """The title (stream and decision, in ``bold``) and the note at the right (``plain``:
     the warning, else the caption) a tile's header of ``width`` pixels shows, shortened so
-    they never overlap. What a reviewer needs least goes first: the caption, then the
-    decision's word (its symbol, the border's colour and the set list still say it), then
-    the warning's words (down to its symbol: they are what only this tile tells), and
-    only then the end of the stream's name."""
+    they never overlap.
+
+    The stream's name is its ``short_stream`` (the part that tells the grid's cameras
+    apart) wherever the whole name would leave no room for a warning in a word or two: by
+    the width alone, so that a name does not change from set to set with the warnings,
+    nor between tiles of a grid. Then what a reviewer needs least goes first: the
+    caption, then the decision's word (its symbol, the border's colour and the set list
+    still say it), then the warning's words give way to their ``short_note`` ("▲ no
+    board"), which is cut only then (down to its symbol: it is what only this tile
+    tells), and at last the end of the stream's name."""
     symbol = f"  {DECISION_SYMBOLS[decision]}" if decision else ""
+    if short_stream and bold.horizontalAdvance(f"{stream}  ?") + HEADER_GAP + \
+            plain.horizontalAdvance(LONGEST_SHORT_WARNING) > width:
+        stream = short_stream
     full, short = (f"{stream}{symbol} {decision}", f"{stream}{symbol}") if decision \
         else (stream, stream)
+    short_note = short_note or note
 
     def room(title: str) -> int:
         return width - bold.horizontalAdvance(title) - HEADER_GAP
@@ -129,9 +164,10 @@ def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: st
         return full, note
     least = ""
     if warning:
-        if plain.horizontalAdvance(note) <= room(short):
-            return short, note
-        text = plain.elidedText(note, Qt.TextElideMode.ElideRight, room(short))
+        for text in (note, short_note):
+            if plain.horizontalAdvance(text) <= room(short):
+                return short, text
+        text = plain.elidedText(short_note, Qt.TextElideMode.ElideRight, room(short))
         if len(text) >= len(WARNING_SYMBOL) + 3:  # the symbol and a letter at least
             return short, text
         least = WARNING_SYMBOL
@@ -209,6 +245,10 @@ class CameraTile(QWidget):
         self.caption = ""
         self.decision: str | None = None
         self.warning = ""
+        self.short_warning = ""  # the warning in a word or two, for a narrow header
+        #: the stream's name as a narrow header shows it (set by the grid: the part that
+        #: tells its cameras apart)
+        self.short_name = stream
         self.footnote = ""  # drawn at the tile's foot (an enlarged camera: how to return)
         self.dimmed = False  # the image is an earlier frame held over a dropped one
         self.key = ""  # the number key that shows this camera alone (1-9, grid order)
@@ -252,8 +292,12 @@ class CameraTile(QWidget):
         self.caption, self.dimmed = caption, True
         self.update()
 
-    def set_state(self, decision: str | None, warning: str = "") -> None:
+    def set_state(self, decision: str | None, warning: str = "",
+                  short_warning: str = "") -> None:
+        """The set's ``decision`` and this camera's ``warning`` in words ("" for none),
+        and in a word or two (``short_warning``; default: the same words)."""
         self.decision, self.warning = decision, warning
+        self.short_warning = short_warning or warning
         self.update()
 
     def mouseDoubleClickEvent(self, event: QMouseEvent) -> None:
@@ -322,10 +366,11 @@ class CameraTile(QWidget):
         bold = QFont(self.font())
         bold.setBold(True)
         note = f"{WARNING_SYMBOL} {self.warning}" if self.warning else self.caption
+        short_note = f"{WARNING_SYMBOL} {self.short_warning}" if self.warning else ""
         line = QRectF(6, 2, self.width() - 12, header - 4)
         title, note = header_texts(QFontMetrics(bold), QFontMetrics(self.font()),
                                    int(line.width()), self.stream, self.decision, note,
-                                   bool(self.warning))
+                                   bool(self.warning), short_note, self.short_name)
         p.setPen(QColor(235, 235, 235))
         p.setFont(bold)
         p.drawText(line, Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter, title)
@@ -386,6 +431,8 @@ class FrameGrid(QWidget):
         for tile in self.tiles.values():
             tile.setParent(None)
         self.tiles = {s: CameraTile(s, self._tile_area) for s in streams}
+        for name, short in compact_names(streams).items():
+            self.tiles[name].short_name = short
         for number, tile in enumerate(self.tiles.values(), start=1):
             tile.double_clicked.connect(self.toggle_enlarged)
             tile.shape_changed.connect(self._fit_columns)

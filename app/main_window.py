@@ -60,6 +60,7 @@ from speechcal_core.review.summary import (
     FILTERS,
     FIND_WORDS,
     FIND_WORDS_KEY,
+    flag_short_words,
     flag_words,
     list_place,
     no_sets_hint,
@@ -951,7 +952,7 @@ class ReviewWindow(QMainWindow):
                                                         bool(tile.stamp_ns)))
                 widget.set_state(decision, "no frame")
                 continue
-            widget.set_state(decision, flag_words(tile.flags))
+            widget.set_state(decision, flag_words(tile.flags), flag_short_words(tile.flags))
             widget.corners = tile.corners
             widget.caption = chosen if tile.chosen else f"{tile.offset_ns / 1e6:+.1f} ms"
             wanted.append((tile.stream, tile.index))

@@ -34,9 +34,20 @@ FLAG_WORDS = {"no-target": "target not found", "bad-frame": "unreadable frame",
               "no-frame": "no frame"}
 
 
+#: the same in a word or two, for a camera tile too narrow for the words above (a
+#: 12-camera grid on a 1366 px screen cut "target not found" to "targ…")
+FLAG_SHORT_WORDS = {"no-target": "no board", "bad-frame": "bad frame", "blurred": "blur",
+                    "no-frame": "no frame"}
+
+
 def flag_words(flags: Sequence[str]) -> str:
     """Quality flags in the window's words: "blurred, target not found"."""
     return ", ".join(FLAG_WORDS.get(flag, flag) for flag in flags)
+
+
+def flag_short_words(flags: Sequence[str]) -> str:
+    """Quality flags in the fewest words that still say each: "blur, no board"."""
+    return ", ".join(FLAG_SHORT_WORDS.get(flag, flag) for flag in flags)
 
 
 #: how the list marks a trigger the detector did not report, by ``Trigger.source``: added

@@ -232,3 +232,84 @@ def test_a_boards_spacing_is_computed_once_and_its_outline_only_where_drawn(
     tile.resize(200, 175)
     tile.grab()
     assert computed[-1] == "corner_outline"
+
+
+@pytest.fixture(scope="module")
+def twelve_camera_synth(tmp_path_factory: pytest.TempPathFactory):
+    """A 8 s, 12-camera synthetic session with one trigger: (folder, truth)."""
+    import json
+
+    from speechcal_core.synth.options import SynthOptions
+    from speechcal_core.synth.session import generate_session
+
+    out = tmp_path_factory.mktemp("twelve") / "session"
+    generate_session(out, SynthOptions(cameras=12, fisheye=0, duration=8.0, width=160,
+                                       height=120, seed=21, claps=1, triggers=1))
+    return out, json.loads((out / "truth.json").read_text())
+
+
+#: the flags the 12-camera set's first cameras get (the rest none)
+TWELVE_FLAGS = [("no-target",), ("blurred",), ("skew",), ("blurred", "no-target"),
+                ("moving",)]
+
+
+def test_twelve_cameras_on_a_laptop_say_each_warning_in_words(
+        qtbot, monkeypatch: pytest.MonkeyPatch, open_window, twelve_camera_synth,
+        tmp_path) -> None:
+    """Twelve cameras in a window on a 1366 x 768 screen: the tiles' headers cut "▲ target
+    not found" to "▲ targ…" (the words only in the tooltip). Each warning now says its
+    word in full or short ("▲ no board"), the cameras' names drop the "/image_raw" they
+    all share, and every tile names its camera the same way."""
+    from dataclasses import replace
+
+    from truth_sessions import truth_session
+
+    from app.main_window import SCREEN_MARGIN_PX
+    from speechcal_core.review.summary import FLAG_SHORT_WORDS, FLAG_WORDS
+    from speechcal_core.session.store import save_session
+
+    session = truth_session(*twelve_camera_synth)
+    first = session.sets[0]
+    frames = [replace(f, flags=TWELVE_FLAGS[k]) if k < len(TWELVE_FLAGS) else f
+              for k, f in enumerate(first.frames)]
+    session.sets[0] = replace(first, frames=tuple(frames))
+    path = tmp_path / "twelve.json"
+    save_session(session, path)
+    window = open_window(path)
+    window.resize(1366 - SCREEN_MARGIN_PX[0], 768 - SCREEN_MARGIN_PX[1])
+    qtbot.waitUntil(lambda: window.grid.columns == 4)
+    tiles = list(window.grid.tiles.values())
+    assert all(t.width() < 230 for t in tiles)  # as narrow as they were
+
+    monkeypatch.setattr(app.frame_grid, "QPainter", RecordingPainter)
+    titles = []
+    for k, tile in enumerate(tiles):
+        RecordingPainter.texts = []
+        tile.grab()
+        texts = [(text, rect) for text, rect in RecordingPainter.texts
+                 if rect.top() < HEADER_BOTTOM and text]
+        assert texts[0][0] == f"/cam{k}  ? undecided" or texts[0][0] == f"/cam{k}  ?"
+        titles.append(texts[0][0])
+        notes = [text for text, _ in texts[1:]]
+        flags = TWELVE_FLAGS[k] if k < len(TWELVE_FLAGS) else ()
+        if not flags:
+            continue
+        assert len(notes) == 1 and "…" not in notes[0], notes
+        words = [FLAG_WORDS.get(f, f) for f in flags], [FLAG_SHORT_WORDS.get(f, f) for f in flags]
+        assert notes[0] in {f"{WARNING_SYMBOL} {', '.join(w)}" for w in words}, notes
+        for a, b in ((texts[0][1], r) for _, r in texts[1:]):
+            assert not a.intersects(b) and b.right() <= tile.width()
+
+
+def test_compact_names_keep_what_tells_the_cameras_apart() -> None:
+    from app.frame_grid import compact_names
+
+    assert compact_names(["/cam0/image_raw", "/cam10/image_raw"]) == \
+        {"/cam0/image_raw": "/cam0", "/cam10/image_raw": "/cam10"}
+    assert compact_names(["/l/image_raw/compressed", "/r/image_raw/compressed"]) == \
+        {"/l/image_raw/compressed": "/l", "/r/image_raw/compressed": "/r"}
+    assert compact_names(["/left/image", "/right/image_raw"]) == \
+        {"/left/image": "/left/image", "/right/image_raw": "/right/image_raw"}
+    assert compact_names(["/cam0/image_raw"]) == {"/cam0/image_raw": "/cam0/image_raw"}
+    assert compact_names(["/image_raw", "/a/image_raw"]) == \
+        {"/image_raw": "/image_raw", "/a/image_raw": "/a/image_raw"}  # nothing left of one
