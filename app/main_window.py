@@ -68,7 +68,7 @@ from speechcal_core.review.summary import (
 from speechcal_core.session.store import SessionChangedError, SessionFileError
 from speechcal_core.sync.errors import SyncError
 from speechcal_core.sync.estimate import clap_misread, clap_off
-from speechcal_core.text import counted, shown_name
+from speechcal_core.text import counted, shown_name, unbroken_figures
 
 if TYPE_CHECKING:
     from PySide6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent, QImage
@@ -1143,6 +1143,7 @@ class ReviewWindow(QMainWindow):
         if self.checker.last_error and summary.line.endswith("updating…"):
             text = f"calibration check failed: {self.checker.last_error}"
         warn = summary.warning
+        text = unbroken_figures(text)  # "RMS ≤ 0.22 px" wrapped "px" onto a line alone
         self.check_label.setText(f"{WARNING_SYMBOL} {text}" if warn else text)
         self.check_label.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if warn else "")
         self.check_label.setToolTip("\n".join(summary.cameras))

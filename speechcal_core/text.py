@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 #: what marks a warning in words (the window gives it a warning colour wherever it shows)
 WARNING_SYMBOL = "▲"
 
@@ -30,3 +32,16 @@ def shown_name(name: str) -> str:
     """A file name as a window can show it: bytes that are not UTF-8 (held as lone
     surrogates) become "�" instead of vanishing."""
     return name.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+
+
+#: units a figure is given in; a wrapping line keeps each with its figure
+_UNITS = "px|ms|s|ppm|%"
+_FIGURE_AND_UNIT = re.compile(rf"(\d) ({_UNITS})(?![\w])")
+_SIGN_AND_FIGURE = re.compile(r"([≤≥<>=±~]) ([-+−]?\d)")
+
+
+def unbroken_figures(text: str) -> str:
+    """``text`` with no-break spaces between a figure and its unit or sign ("RMS ≤ 0.22
+    px"), so that a wrapping label does not leave "px" alone on the next line."""
+    text = _FIGURE_AND_UNIT.sub("\\1\u00a0\\2", text)
+    return _SIGN_AND_FIGURE.sub("\\1\u00a0\\2", text)

@@ -89,3 +89,18 @@ def test_a_hand_edited_coverage_of_the_wrong_kind_is_named_on_opening(
         qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
     assert raised == []
     assert "calibration check over" in window.check_label.text()
+
+
+def test_the_check_line_wraps_no_unit_away_from_its_figure(qtbot, new_window,
+                                                           searched_session_file) -> None:
+    """On a 1366 x 768 screen the line wrapped as "RMS ≤ 0.22" / "px; 2 cameras…"."""
+    import re
+
+    window = new_window()
+    window.resize(1350, 720)
+    window.open(session_path=str(searched_session_file))
+    qtbot.waitUntil(lambda: window.model is not None, timeout=30_000)
+    qtbot.waitUntil(lambda: "RMS" in window.check_label.text(), timeout=30_000)
+    text = window.check_label.text()
+    assert window.check_label.wordWrap()
+    assert "\u00a0px" in text and not re.search(r"\d (px|ms|s)\b|[≤≥] \d", text), text
