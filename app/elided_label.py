@@ -13,10 +13,14 @@ if TYPE_CHECKING:
 
 
 class ElidedLabel(QLabel):
-    """Never wraps and never widens the window: too long a text ends in "…"."""
+    """Never wraps and never widens the window: too long a text ends in "…". A text of
+    items joined by ``separator`` loses whole items from its end ("… · enlarge · …",
+    not "… · whole ses…"), where one at least still fits."""
 
-    def __init__(self, text: str, tooltip: str = "", parent: QWidget | None = None) -> None:
+    def __init__(self, text: str, tooltip: str = "", parent: QWidget | None = None,
+                 separator: str = "") -> None:
         super().__init__(parent)
+        self.separator = separator
         self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.set_full_text(text)
         if tooltip:
@@ -34,8 +38,15 @@ class ElidedLabel(QLabel):
 
     def _elide(self) -> None:
         width = self.contentsRect().width()
-        self.setText(self.fontMetrics().elidedText(self.full_text,
-                                                   Qt.TextElideMode.ElideRight, width))
+        metrics = self.fontMetrics()
+        if self.separator and metrics.horizontalAdvance(self.full_text) > width:
+            items = self.full_text.split(self.separator)
+            for n in range(len(items) - 1, 0, -1):
+                text = self.separator.join([*items[:n], "…"])
+                if metrics.horizontalAdvance(text) <= width:
+                    self.setText(text)
+                    return
+        self.setText(metrics.elidedText(self.full_text, Qt.TextElideMode.ElideRight, width))
 
 
 class EllipsisLabel(QLabel):

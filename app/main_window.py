@@ -485,7 +485,7 @@ class ReviewWindow(QMainWindow):
             ("+1 frame", "offset_plus_frame", "audio one frame later  (})"),
         ):
             sync_row.addWidget(self._action_button(label, action, tip))
-        self.help_line = ElidedLabel(HINTS, HINTS_TIP)
+        self.help_line = ElidedLabel(HINTS, HINTS_TIP, separator=" · ")
         self.help_line.setStyleSheet("color: gray")
         bottom_layout.addLayout(sync_row)
         bottom_layout.addWidget(self.help_line)

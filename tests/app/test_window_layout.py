@@ -208,3 +208,20 @@ def test_the_heard_word_fits_a_narrow_grid_instead_of_losing_both_ends(qtbot) ->
     font, shown = band.fitted(big, text)
     assert font.pixelSize() == band.LEAST_PX and shown.startswith("? CAP")
     assert shown.endswith("…") and QFontMetrics(font).horizontalAdvance(shown) <= 108
+
+
+def test_key_hints_on_a_laptop_drop_whole_hints_not_half_a_word(qtbot, window) -> None:
+    """At 1366 x 768 the line ended "waveform: wheel zoom, click seek, double-click:
+    whole ses…"; it now ends with the last hint that fits whole, then "· …"."""
+    from app.main_window import HINTS, SCREEN_MARGIN_PX
+
+    window.resize(1366 - SCREEN_MARGIN_PX[0], 768 - SCREEN_MARGIN_PX[1])
+    qtbot.waitUntil(lambda: window.width() == 1366 - SCREEN_MARGIN_PX[0])
+    hints = window.help_line
+    shown = hints.text()
+    assert shown != HINTS and shown.endswith(" · …"), shown
+    kept = shown.removesuffix(" · …")
+    assert HINTS.startswith(kept + " · ")  # whole hints, from the first
+    assert hints.fontMetrics().horizontalAdvance(shown) <= hints.contentsRect().width()
+    assert "double-click a camera: enlarge" in shown
+    assert hints.toolTip().startswith("Space play / pause")  # the whole list is there
