@@ -47,6 +47,9 @@ class Audio:
     rate_in_file: int = 0
     channel: int | None = None  # the channel picked, None when mixed
     header_s: float | None = None  # the length the file's header gives, None if unknown
+    #: seconds inside the file read as silence: a chained Ogg file's link that decodes to
+    #: less than its pages say (the links after it keep their place in time)
+    silent_s: float = 0.0
 
     @property
     def duration_s(self) -> float:
@@ -62,7 +65,8 @@ class Audio:
         if rate == self.rate:
             return self
         return Audio(resample(self.samples, self.rate, rate), int(rate), self.path,
-                     self.channels_in_file, self.rate_in_file, self.channel, self.header_s)
+                     self.channels_in_file, self.rate_in_file, self.channel, self.header_s,
+                     self.silent_s)
 
 
 def load_audio(path: str | Path, *, rate: int | None = None,
@@ -80,11 +84,12 @@ def load_audio(path: str | Path, *, rate: int | None = None,
         channels, rate_in = int(f.channels), int(f.samplerate)
         header_s = _header_seconds(f)
         mono = _read_mono(f, p, channel)
+        silent_s = _silent_s(f)
     if mono.size == 0:
         raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
     if not np.all(np.isfinite(mono)):
         mono = np.nan_to_num(mono, nan=0.0, posinf=1.0, neginf=-1.0)
-    audio = Audio(mono, rate_in, p, channels, rate_in, channel, header_s)
+    audio = Audio(mono, rate_in, p, channels, rate_in, channel, header_s, silent_s)
     return audio.resampled(int(rate)) if rate is not None else audio
 
 
@@ -102,9 +107,11 @@ def load_resampled(path: str | Path, rate: int, *,
         header_s = _header_seconds(f)
         samples, size_in = resample_blocks(_finite(mono_blocks(f, p, channel)), rate_in,
                                            int(rate), size_hint=expected)
+        silent_s = _silent_s(f)
     if size_in == 0:
         raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
-    return Audio(samples, int(rate), p, channels, rate_in, channel, header_s), size_in
+    return (Audio(samples, int(rate), p, channels, rate_in, channel, header_s, silent_s),
+            size_in)
 
 
 def _finite(blocks: Iterator[np.ndarray]) -> Iterator[np.ndarray]:
@@ -113,6 +120,12 @@ def _finite(blocks: Iterator[np.ndarray]) -> Iterator[np.ndarray]:
         if not np.all(np.isfinite(block)):
             block = np.nan_to_num(block, nan=0.0, posinf=1.0, neginf=-1.0)
         yield block
+
+
+def _silent_s(f: SoundFileLike) -> float:
+    """Seconds of ``f`` read as silence (read to its end) where parts did not decode."""
+    frames = int(getattr(f, "silent_frames", 0))
+    return frames / f.samplerate if frames > 0 and f.samplerate > 0 else 0.0
 
 
 def header_frames(f: SoundFileLike) -> int | None:
@@ -132,7 +145,13 @@ def cut_short_note(audio: Audio) -> str:
     (a copy that stopped early, a recorder that lost power, a damaged file), else "".
 
     libsndfile keeps what decodes; without this the rest of the take would be missing
-    without a word."""
+    without a word. A chained Ogg file's link that stops decoding part way reads as
+    silence to its end (:attr:`Audio.silent_s`), said the same way."""
+    if audio.silent_s >= CUT_SHORT_S:
+        return (f"{audio.path}: {audio.silent_s:.1f} s of its {audio.duration_s:.1f} s do "
+                "not decode (one of the Ogg streams joined in it is damaged or cut short) "
+                "and are silence, the rest kept in its place: copy the take again if you "
+                "have it whole")
     if audio.header_s is None or audio.header_s - audio.duration_s < CUT_SHORT_S:
         return ""
     return (f"{audio.path}: only the first {audio.duration_s:.1f} s of the "

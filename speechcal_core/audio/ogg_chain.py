@@ -40,31 +40,71 @@ def ogg_links(path: str | Path) -> tuple[tuple[int, int], ...]:
     libsndfile reads it). Remembered while the file's size and time stay the same: the
     page walk takes about 0.1 s for an hour of audio, and playback opens the file often.
     """
+    return tuple((start, end) for start, end, _ in _walk(path))
+
+
+def ogg_link_lengths(path: str | Path) -> tuple[int | None, ...]:
+    """Per link of :func:`ogg_links`, its length in samples as its last page's granule
+    position gives it (at the rate libsndfile decodes it), None where the codec or the
+    pages do not tell. A link damaged or cut part way decodes to less: its pages still
+    say how long it was, so the links after it keep their place in time."""
+    return tuple(length for _, _, length in _walk(path))
+
+
+def _walk(path: str | Path) -> tuple[tuple[int, int, int | None], ...]:
     st = os.stat(path)
     return _links(str(path), st.st_size, st.st_mtime_ns)
 
 
 @functools.lru_cache(maxsize=32)
-def _links(path: str, size: int, _mtime_ns: int) -> tuple[tuple[int, int], ...]:
+def _links(path: str, size: int, _mtime_ns: int) -> tuple[tuple[int, int, int | None], ...]:
     with open(path, "rb") as f:
         if f.read(4) != CAPTURE:
-            return ((0, size),)
+            return ((0, size, None),)
         starts = [0]
+        # per link: the serial of its first stream, what its first packet says of how
+        # granule positions count, and the last granule position of that stream
+        heads: list[tuple[int, bytes]] = []
+        granules: list[int | None] = []
         pos, previous_began = 0, False
         while pos + PAGE_HEADER.size <= size:
             f.seek(pos)
             header = f.read(PAGE_HEADER.size)
-            capture, _version, flags, *_rest, segments = PAGE_HEADER.unpack(header)
+            capture, _version, flags, granule, serial, *_rest, segments = \
+                PAGE_HEADER.unpack(header)
             table = f.read(segments)
             if capture != CAPTURE or len(table) != segments:
-                return ((0, size),)
+                return ((0, size, None),)
             begins = bool(flags & BEGINNING_OF_STREAM)
-            if begins and pos > 0 and not previous_began:
-                starts.append(pos)
+            if pos == 0 or (begins and not previous_began):
+                if pos > 0:
+                    starts.append(pos)
+                heads.append((serial, f.read(min(sum(table), 32))))
+                granules.append(None)
+            elif heads and serial == heads[-1][0] and granule >= 0:
+                granules[-1] = granule
             previous_began = begins
             pos += PAGE_HEADER.size + segments + sum(table)
+    if not heads:
+        return ((0, size, None),)
     ends = [*starts[1:], size]
-    return tuple(zip(starts, ends, strict=True))
+    return tuple((start, end, _samples(head, granule)) for start, end, (_serial, head), granule
+                 in zip(starts, ends, heads, granules, strict=True))
+
+
+def _samples(head: bytes, granule: int | None) -> int | None:
+    """A stream's length in samples from its last granule position and its first packet
+    (``head``): Vorbis and FLAC count samples, Opus counts 48 kHz samples from before its
+    pre-skip and decodes at the rate its header names."""
+    if granule is None:
+        return None
+    if head.startswith((b"\x01vorbis", b"\x7fFLAC")):
+        return granule
+    if head.startswith(b"OpusHead") and len(head) >= 16:
+        pre_skip, rate = struct.unpack_from("<HI", head, 10)
+        rate = rate if rate in (8000, 12000, 16000, 24000, 48000) else 48000
+        return max(0, granule - pre_skip) * rate // 48000
+    return None
 
 
 class _ByteRange(io.RawIOBase):
@@ -101,18 +141,32 @@ class _ByteRange(io.RawIOBase):
 class OggChain:
     """The links of a chained Ogg file read as one sound file: the part of
     :class:`soundfile.SoundFile`'s reading interface this package uses (``samplerate``,
-    ``channels``, ``frames``, ``seek``, ``read``, ``close``, ``with``)."""
+    ``channels``, ``frames``, ``seek``, ``read``, ``close``, ``with``).
 
-    def __init__(self, path: Path, links: Sequence[sf.SoundFile], raw: io.BufferedReader
-                 ) -> None:
+    A link that decodes to less than its pages say it holds (damaged or cut part way)
+    reads as silence for the rest (:attr:`silent_frames`), so the links after it keep
+    their place in time: a trigger said after it maps to the frames it was said at."""
+
+    def __init__(self, path: Path, links: Sequence[sf.SoundFile], raw: io.BufferedReader,
+                 lengths: Sequence[int | None] | None = None) -> None:
         self.name = str(path)
         self._links = list(links)
         self._raw = raw
         self.samplerate = int(links[0].samplerate)
         self.channels = int(links[0].channels)
-        self._lengths = [_frames(link) for link in self._links]
+        #: frames each link decodes to (lowered where reading stops before)
+        self._decodes = [_frames(link) for link in self._links]
+        paged = list(lengths) if lengths is not None else [None] * len(self._links)
+        self._lengths = [max(d, n or 0) for d, n in zip(self._decodes, paged, strict=True)]
         self.frames = int(sum(self._lengths))
         self._link = 0
+        self._in_link = 0  # frames into the current link
+
+    @property
+    def silent_frames(self) -> int:
+        """Frames read as silence because their link does not decode that far (as far as
+        known: reading finds where a link stops decoding)."""
+        return int(sum(n - d for n, d in zip(self._lengths, self._decodes, strict=True)))
 
     def seek(self, frame: int) -> int:
         """Go to ``frame`` of the whole chain (clipped to it); returns where it went."""
@@ -121,7 +175,8 @@ class OggChain:
         for k, length in enumerate(self._lengths):
             if frame < first + length or k == len(self._lengths) - 1:
                 self._link = k
-                self._links[k].seek(min(frame - first, length))
+                self._in_link = min(frame - first, length)
+                self._links[k].seek(min(self._in_link, self._decodes[k]))
                 return frame
             first += length
         return frame
@@ -138,20 +193,30 @@ class OggChain:
         target = out if out.ndim == 2 else out.reshape(-1, 1)
         n = 0
         while n < want and self._link < len(self._links):
-            got = self._links[self._link].read(want - n, dtype=str(target.dtype),
-                                               always_2d=True, out=target[n:want])
-            n += got.shape[0]
-            if n < want:  # this link is done: the next one from its start
+            k = self._link
+            take = min(want - n, self._lengths[k] - self._in_link)
+            if take <= 0:  # this link is done: the next one from its start
                 self._link += 1
+                self._in_link = 0
                 if self._link < len(self._links):
                     self._links[self._link].seek(0)
+                continue
+            if self._in_link < self._decodes[k]:
+                got = self._links[k].read(min(take, self._decodes[k] - self._in_link),
+                                          dtype=str(target.dtype), always_2d=True,
+                                          out=target[n:n + take]).shape[0]
+                if got == 0:  # it decodes no further than this
+                    self._decodes[k] = self._in_link
+            else:
+                target[n:n + take] = 0
+                got = take
+            n += got
+            self._in_link += got
         result = target[:n]
         return result if always_2d or self.channels > 1 else result[:, 0]
 
     def _remaining(self) -> int:
-        done = sum(self._lengths[:self._link])
-        if self._link < len(self._links):
-            done += self._links[self._link].tell()
+        done = sum(self._lengths[:self._link]) + self._in_link
         return max(0, self.frames - done)
 
     def close(self) -> None:
@@ -187,7 +252,7 @@ def open_ogg_chain(path: str | Path) -> OggChain | None:
                 f"{p}: holds {len(links)} Ogg streams one after another in different "
                 f"formats ({described}); convert each to WAV or FLAC on its own and "
                 "join them at one rate, e.g. with sox")
-        return OggChain(p, files, raw)
+        return OggChain(p, files, raw, ogg_link_lengths(p))
     except BaseException:
         for f in files:
             f.close()

@@ -18,7 +18,7 @@ from audio_files import write_chained_ogg, write_spliced_ogg
 from speechcal_core.audio import AudioError, load_audio
 from speechcal_core.audio.file_samples import FileSamples
 from speechcal_core.audio.identity import audio_identity
-from speechcal_core.audio.loader import load_resampled
+from speechcal_core.audio.loader import cut_short_note, load_resampled
 from speechcal_core.audio.ogg_chain import ogg_links
 from speechcal_core.audio.playback import PlaybackAudio
 
@@ -114,3 +114,43 @@ def test_other_and_cut_files_are_one_range(tmp_path: Path, content: bytes) -> No
     path = tmp_path / "x.ogg"
     path.write_bytes(content)
     assert ogg_links(path) == ((0, len(content)),)
+
+
+
+def test_a_link_damaged_part_way_keeps_the_next_link_in_its_place(tmp_path: Path) -> None:
+    """libsndfile stops a read at a damaged page and goes on at the next read: the link
+    is read to its end before the next link begins, not left part way."""
+    parts = [_noise(s, 16000, seed) for seed, s in enumerate((3.0, 5.0, 2.0))]
+    path = write_chained_ogg(tmp_path / "mic.ogg", [(x, 16000) for x in parts])
+    start, end = ogg_links(path)[1]
+    data = bytearray(path.read_bytes())
+    middle = (start + end) // 2
+    data[middle:middle + 300] = b"\x55" * 300
+    path.write_bytes(bytes(data))
+
+    audio = load_audio(path)
+    assert audio.samples.size == 10 * 16000
+    np.testing.assert_array_equal(audio.samples[-2 * 16000:], _decoded(parts[2], 16000))
+    assert cut_short_note(audio) == ""
+
+
+def test_a_link_cut_short_reads_as_silence_to_the_length_its_pages_give(
+        tmp_path: Path) -> None:
+    """The last link cut part way (a copy that stopped): what libsndfile does not decode
+    of it is silence, as long as its whole pages say, with a note naming the file."""
+    parts = [_noise(s, 16000, seed) for seed, s in enumerate((3.0, 5.0))]
+    path = write_chained_ogg(tmp_path / "mic.ogg", [(x, 16000) for x in parts])
+    start, end = ogg_links(path)[1]
+    path.write_bytes(path.read_bytes()[:(start + end) // 2])
+
+    audio = load_audio(path)
+    assert 4.5 * 16000 < audio.samples.size < 6.0 * 16000
+    np.testing.assert_array_equal(audio.samples[:3 * 16000], _decoded(parts[0], 16000))
+    lost = round(audio.silent_s * 16000)
+    assert lost > 0.1 * 16000 and not audio.samples[-lost:].any()
+    note = cut_short_note(audio)
+    assert note.startswith(f"{path}: ") and "do not decode" in note
+    reader = FileSamples(path, 16000, rate_in=16000, size_in=audio.samples.size)
+    np.testing.assert_array_equal(reader.read(audio.samples.size - lost - 100,
+                                              audio.samples.size),
+                                  audio.samples[-lost - 100:])
