@@ -35,10 +35,11 @@ def ogg_links(path: str | Path) -> tuple[tuple[int, int], ...]:
     """Byte ranges ``(start, end)`` of the chain links of the Ogg file ``path``.
 
     A link starts where a stream begins (a beginning-of-stream page) after pages of an
-    earlier one. One range covering the whole file for anything else: no Ogg file, a
-    single link, or pages that stop making sense part way (a damaged file reads as
-    libsndfile reads it). Remembered while the file's size and time stay the same: the
-    page walk takes about 0.1 s for an hour of audio, and playback opens the file often.
+    earlier one. One range covering the whole file for anything else: no Ogg file or a
+    single link. Bytes that are no page (damaged, or a gap where a copy lost some) are
+    skipped to the next page, so the links after them are still found. Remembered while
+    the file's size and time stay the same: the page walk takes about 0.1 s for an hour
+    of audio, and playback opens the file often.
     """
     return tuple((start, end) for start, end, _ in _walk(path))
 
@@ -70,11 +71,17 @@ def _links(path: str, size: int, _mtime_ns: int) -> tuple[tuple[int, int, int | 
         while pos + PAGE_HEADER.size <= size:
             f.seek(pos)
             header = f.read(PAGE_HEADER.size)
-            capture, _version, flags, granule, serial, *_rest, segments = \
+            capture, version, flags, granule, serial, *_rest, segments = \
                 PAGE_HEADER.unpack(header)
+            if capture != CAPTURE or version != 0:  # damaged: on at the next page
+                found = _next_capture(f, pos + 1)
+                if found < 0:
+                    break
+                pos = found
+                continue
             table = f.read(segments)
-            if capture != CAPTURE or len(table) != segments:
-                return ((0, size, None),)
+            if len(table) != segments:
+                break
             begins = bool(flags & BEGINNING_OF_STREAM)
             if pos == 0 or (begins and not previous_began):
                 if pos > 0:
@@ -90,6 +97,21 @@ def _links(path: str, size: int, _mtime_ns: int) -> tuple[tuple[int, int, int | 
     ends = [*starts[1:], size]
     return tuple((start, end, _samples(head, granule)) for start, end, (_serial, head), granule
                  in zip(starts, ends, heads, granules, strict=True))
+
+
+def _next_capture(f: io.BufferedReader, start: int) -> int:
+    """Where the next page's capture pattern lies from ``start`` on, -1 when none does (as
+    libogg finds its way back into a damaged stream)."""
+    block = 1 << 16
+    while True:
+        f.seek(start)
+        chunk = f.read(block + len(CAPTURE) - 1)
+        found = chunk.find(CAPTURE)
+        if found >= 0:
+            return start + found
+        if len(chunk) < block + len(CAPTURE) - 1:
+            return -1
+        start += block
 
 
 def _samples(head: bytes, granule: int | None) -> int | None:

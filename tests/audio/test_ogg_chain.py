@@ -117,17 +117,24 @@ def test_other_and_cut_files_are_one_range(tmp_path: Path, content: bytes) -> No
 
 
 
-def test_a_link_damaged_part_way_keeps_the_next_link_in_its_place(tmp_path: Path) -> None:
+@pytest.mark.parametrize("gap", [False, True])
+def test_a_link_damaged_part_way_keeps_the_next_link_in_its_place(
+        tmp_path: Path, gap: bool) -> None:
     """libsndfile stops a read at a damaged page and goes on at the next read: the link
-    is read to its end before the next link begins, not left part way."""
+    is read to its end before the next link begins, not left part way. Bytes lost from
+    it (``gap``: the pages stop making sense there) do not hide the links after it."""
     parts = [_noise(s, 16000, seed) for seed, s in enumerate((3.0, 5.0, 2.0))]
     path = write_chained_ogg(tmp_path / "mic.ogg", [(x, 16000) for x in parts])
     start, end = ogg_links(path)[1]
     data = bytearray(path.read_bytes())
     middle = (start + end) // 2
-    data[middle:middle + 300] = b"\x55" * 300
+    if gap:
+        del data[middle:middle + 2000]
+    else:
+        data[middle:middle + 300] = b"\x55" * 300
     path.write_bytes(bytes(data))
 
+    assert len(ogg_links(path)) == 3
     audio = load_audio(path)
     assert audio.samples.size == 10 * 16000
     np.testing.assert_array_equal(audio.samples[-2 * 16000:], _decoded(parts[2], 16000))
