@@ -29,6 +29,12 @@ SIMPLER_SLACK = 1.15
 #: model, as OpenCV (cv2.fisheye) and Kalibr (pinhole-equi) fit such lenses; the synthetic
 #: fisheyes are about 125-155, their pinholes 57-72
 FISHEYE_DIAG_DEG = 120.0
+#: a pinhole fit whose k3 folds it back inside the image is fitted again with k3 at zero,
+#: kept when its RMS is within this factor of the free fit's: a board seen near the middle
+#: of a plain lens pins k1 and k2, while k3 (its sixth power of the radius) fitted freely
+#: came out large enough to turn a 90-degree pinhole back before its corners, and the
+#: check then gave it a fisheye model
+PLAIN_K3_SLACK = 1.02
 
 
 def fit_models(
@@ -50,6 +56,11 @@ def fit_models(
     if "pinhole" in models or "double-sphere" in models:
         with contextlib.suppress(cv2.error):
             out["pinhole"] = calibrate_pinhole(views, size)
+        if "pinhole" in out and not reaches_corners(out["pinhole"], size):
+            with contextlib.suppress(cv2.error):
+                plain = calibrate_pinhole(views, size, fix_k3=True)
+                if plain.rms_px <= out["pinhole"].rms_px * PLAIN_K3_SLACK:
+                    out["pinhole"] = plain
     if wide_only and "pinhole" in out:
         fov = 2 * np.degrees(np.arctan2(size[0] / 2, out["pinhole"].intrinsics[0]))
         if fov <= WIDE_FOV_DEG and reaches_corners(out["pinhole"], size):
