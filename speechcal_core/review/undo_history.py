@@ -12,8 +12,10 @@ autosave, in the same atomic write as the sets they belong to::
 ``matches`` is a fingerprint of what the steps act on: the sync and, per set, its id,
 time, decision, trigger and cameras (:func:`history_fingerprint`). A file whose sets or
 offset changed since the steps were saved (edited by hand, processed again, cameras left
-out, or saved by a SpeechCal that kept the key without knowing it) no longer matches:
-its steps are dropped with a note (:func:`read_history`), never applied to other sets.
+out by an older SpeechCal, or saved by a SpeechCal that kept the key without knowing it)
+no longer matches: its steps are dropped with a note (:func:`read_history`), never
+applied to other sets. Cameras left out here carry the steps along
+(:func:`speechcal_core.session.streams.leave_out_streams`).
 A set re-scored meanwhile (``speechcal export``) still matches: no step refers to a
 set's frames, it only puts back frames it holds itself.
 

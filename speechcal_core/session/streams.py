@@ -20,10 +20,14 @@ def leave_out_streams(session: Session, names: Sequence[str], kept: Sequence[str
     calibration, coverage and frame records; the session then uses ``kept``. Decisions and
     the choice of each set's moment stay as they are."""
     from speechcal_core.frames.analysis import checks_basis
+    from speechcal_core.review.undo_history import UNDO_HISTORY_KEY, history_fingerprint
 
     gone = set(names)
     extra = session.extra
     checks_current = extra.get("checks_basis") == checks_basis(session.sets)
+    history = extra.get(UNDO_HISTORY_KEY)
+    history_current = isinstance(history, dict) \
+        and history.get("matches") == history_fingerprint(session)
     session.sets = [replace(s, frames=tuple(f for f in s.frames if f.stream not in gone))
                     for s in session.sets]
     for name in gone:
@@ -41,5 +45,44 @@ def leave_out_streams(session: Session, names: Sequence[str], kept: Sequence[str
                 detail[key] = {s: x for s, x in detail[key].items() if s not in gone}
     if checks_current:  # the other cameras' checks stand as they were
         extra["checks_basis"] = checks_basis(session.sets)
+    if history_current:  # the review's undo steps go on with the cameras kept
+        extra[UNDO_HISTORY_KEY] = {**_history_without(history, gone),
+                                   "matches": history_fingerprint(session)}
     # checks made before a decision they wait for (still due) stay due
     extra[STREAMS_KEY] = list(kept)
+
+
+def _history_without(history: dict, gone: set[str]) -> dict:
+    """The ``undo_history`` entry with the streams ``gone`` taken out of the sets its
+    steps put back (their frames and frame details), as out of the session's sets: taking
+    a removal back then gives a set of the cameras kept. Anything not shaped as written
+    is left as it is (reading it back drops it as damaged)."""
+
+    def removed_set(data: object) -> object:
+        if not isinstance(data, dict) or not isinstance(data.get("frames"), list):
+            return data
+        return {**data, "frames": [f for f in data["frames"]
+                                   if not (isinstance(f, dict) and f.get("stream") in gone)]}
+
+    def details(data: object) -> object:
+        if not isinstance(data, dict):
+            return data
+        return {k: ({s: x for s, x in v.items() if s not in gone}
+                    if k in DETAIL_PER_STREAM_KEYS and isinstance(v, dict) else v)
+                for k, v in data.items()}
+
+    def step(data: object) -> object:
+        if not isinstance(data, dict):
+            return data
+        if data.get("step") == "removed":
+            return {**data, "set": removed_set(data.get("set")),
+                    "details": details(data.get("details"))}
+        if data.get("step") == "removed_many" and isinstance(data.get("items"), list):
+            return {**data, "items": [
+                [removed_set(item[0]), item[1], details(item[2])]
+                if isinstance(item, list) and len(item) == 3 else item
+                for item in data["items"]]}
+        return data
+
+    return {k: ([step(d) for d in v] if k in ("undo", "redo") and isinstance(v, list) else v)
+            for k, v in history.items()}

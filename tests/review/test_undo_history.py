@@ -226,3 +226,32 @@ def test_the_history_kept_is_bounded_newest_steps_first(
     monkeypatch.undo()
     read = read_history(HistoryWriter().entry([removed], [], session), session)
     assert read.note == "" and read.undo == [removed]
+
+
+def test_a_camera_left_out_keeps_the_history_with_the_cameras_kept(
+        searched_session_file: Path) -> None:
+    """Edit ▸ Leave a camera out opens the session again without it: the review's steps
+    go on (a removed set comes back with the cameras kept), not dropped with a note."""
+    from speechcal_core.review.loading import load_for_review
+    from speechcal_core.sources import StreamChoice
+
+    model = open_model(searched_session_file)
+    model.accept()
+    model.go_to_set(1)
+    removed = model.current_set
+    model.remove_set()
+    left = removed.frames[-1].stream
+
+    inputs = load_for_review(session_path=searched_session_file,
+                             streams=StreamChoice(skip=(left,)))
+    inputs.close()
+    again = open_model(searched_session_file)
+    assert again.history_note == ""
+    assert again.undo_label == f"removing set {removed.id}"
+    again.undo()
+    back = again.session.set_by_id(removed.id)
+    assert [f.stream for f in back.frames] == [f.stream for f in removed.frames[:-1]]
+    assert left not in again.session.extra["frame_details"][str(removed.id)]["frames"]
+    again.undo()
+    assert again.session.sets[0].decision == "undecided"
+    assert open_model(searched_session_file).history_note == ""
