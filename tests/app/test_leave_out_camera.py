@@ -23,6 +23,12 @@ def test_a_camera_left_out_from_the_window_goes_and_the_decisions_stay(
     session = load_session(truth_session_file)
     assert session.extra["streams"] == cameras[:-1]
     assert {s.id: s.decision for s in session.sets} == decided
+    # the decision made before is still taken back by Ctrl+Z
+    assert "undo steps were dropped" not in window.status_text.text()
+    rejected = next(i for i, d in decided.items() if d == "rejected")
+    assert window.model.undo_label == f"decision on set {rejected}"
+    window.model.undo()
+    assert window.model.session.set_by_id(rejected).decision == "undecided"
     # asked and answered with nothing: nothing happens
     window.leave_out_action.ask = lambda streams: None
     window.leave_out_action.trigger()
