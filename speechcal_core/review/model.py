@@ -864,6 +864,8 @@ class ReviewModel:
         """
         if frame_set.t_ns != int(self.session.sync.to_session(frame_set.trigger.t_s)):
             frame_set, details = self._nearest_set(frame_set), None
+        if not 0 <= index <= len(self.session.sets):  # a place the list has not: by time
+            index = sum(1 for s in self.session.sets if s.t_ns <= frame_set.t_ns)
         self.session.sets.insert(index, frame_set)
         all_details = self.session.extra.get("frame_details")
         if isinstance(all_details, dict):

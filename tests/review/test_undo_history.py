@@ -255,3 +255,19 @@ def test_a_camera_left_out_keeps_the_history_with_the_cameras_kept(
     again.undo()
     assert again.session.sets[0].decision == "undecided"
     assert open_model(searched_session_file).history_note == ""
+
+
+def test_a_removed_set_whose_place_was_edited_beyond_the_list_comes_back_in_time_order(
+        truth_session_file: Path) -> None:
+    model = open_model(truth_session_file)
+    ids = [s.id for s in model.session.sets]
+    model.go_to_set(1)
+    model.remove_set()
+    data = json.loads(truth_session_file.read_text())
+    data[UNDO_HISTORY_KEY]["undo"][-1]["index"] = 1000
+    truth_session_file.write_text(json.dumps(data))
+
+    again = open_model(truth_session_file)
+    again.undo()
+    assert [s.id for s in again.session.sets] == ids
+    assert again.current_set.id == ids[1]
