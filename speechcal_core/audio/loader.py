@@ -12,6 +12,7 @@ import numpy as np
 import soundfile as sf
 
 from speechcal_core.audio.errors import AudioError
+from speechcal_core.audio.mp3_join import joined_mp3_note, open_mp3_chain
 from speechcal_core.audio.ogg_chain import OggChain, open_ogg_chain
 from speechcal_core.audio.resampling import resample, resample_blocks
 from speechcal_core.fsutil import shell_quoted
@@ -153,7 +154,7 @@ def cut_short_note(audio: Audio) -> str:
                 "and are silence, the rest kept in its place: copy the take again if you "
                 "have it whole")
     if audio.header_s is None or audio.header_s - audio.duration_s < CUT_SHORT_S:
-        return ""
+        return joined_mp3_note(audio.path, audio.duration_s)
     return (f"{audio.path}: only the first {audio.duration_s:.1f} s of the "
             f"{audio.header_s:.1f} s its header gives decode; the file is cut short or "
             "damaged (a copy that stopped early, a recorder that lost power), and the "
@@ -168,9 +169,10 @@ def decoded_frames(f: SoundFileLike, path: str | Path) -> int:
 def sound_file(path: str | Path) -> SoundFileLike:
     """``path`` opened for reading by soundfile, also where its name is not UTF-8 (a
     Latin-1 name from a FAT card: libsndfile takes names as text, so such a file is
-    opened by descriptor). A chained Ogg file (streams one after another) reads through
-    all its links; libsndfile alone stops after the first."""
-    chain = open_ogg_chain(path)
+    opened by descriptor). A chained Ogg file (streams one after another) or MP3 files
+    joined byte by byte read through all their parts; libsndfile alone stops after the
+    first."""
+    chain = open_ogg_chain(path) or open_mp3_chain(path)
     if chain is not None:
         return chain
     name = str(path)
