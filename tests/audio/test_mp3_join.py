@@ -141,3 +141,14 @@ def test_not_an_mp3_file(tmp_path: Path) -> None:
     sf.write(path, np.zeros(RATE, dtype=np.float32), RATE)
     assert mp3_layout(path) is None
     assert joined_mp3_note(path, 1.0) == ""
+
+
+def test_joined_constant_rate_takes_decode_whole(tmp_path: Path) -> None:
+    parts = [_mp3(2, 7, bitrate_mode="CONSTANT", compression_level=0.5),
+             _mp3(3, 8, bitrate_mode="CONSTANT", compression_level=0.5)]
+    joined = tmp_path / "mic.mp3"
+    joined.write_bytes(b"".join(parts))
+    audio = load_audio(joined)
+    assert audio.duration_s == pytest.approx(5.0)
+    np.testing.assert_allclose(audio.samples,
+                               np.concatenate([_decoded(p) for p in parts]), atol=1e-6)
