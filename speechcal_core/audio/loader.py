@@ -13,7 +13,7 @@ import soundfile as sf
 
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.mp3_join import joined_mp3_note, open_mp3_chain
-from speechcal_core.audio.ogg_chain import OggChain, open_ogg_chain
+from speechcal_core.audio.ogg_chain import SoundFileChain, open_ogg_chain
 from speechcal_core.audio.resampling import resample, resample_blocks
 from speechcal_core.fsutil import shell_quoted
 
@@ -34,7 +34,7 @@ UNKNOWN_FRAMES = 1 << 62
 #: and a Vorbis file's last granule lie well within it)
 CUT_SHORT_S = 0.1
 #: what :func:`sound_file` opens: libsndfile's file, or a chained Ogg file's links as one
-SoundFileLike = sf.SoundFile | OggChain
+SoundFileLike = sf.SoundFile | SoundFileChain
 
 
 @dataclass(frozen=True, eq=False)

@@ -23,7 +23,7 @@ from typing import BinaryIO
 
 import soundfile as sf
 
-from speechcal_core.audio.ogg_chain import OggChain, _ByteRange
+from speechcal_core.audio.ogg_chain import ByteRange, SoundFileChain
 
 #: kbit/s by bitrate index: MPEG-1 layer III, and MPEG-2/2.5 layer III
 _BITRATES = {
@@ -187,7 +187,7 @@ def _layout(path: str, size: int, _mtime_ns: int) -> Mp3Layout | None:
     return Mp3Layout(tuple(takes), first_s, first_bytes, audio_end)
 
 
-def open_mp3_chain(path: str | Path) -> OggChain | None:
+def open_mp3_chain(path: str | Path) -> SoundFileChain | None:
     """``path`` read across all the MP3 takes joined in it, or None when it holds one
     (open it as usual) or the takes differ in sample rate or channels (then only the
     first decodes: :func:`joined_mp3_note` says so)."""
@@ -199,13 +199,13 @@ def open_mp3_chain(path: str | Path) -> OggChain | None:
     files: list[sf.SoundFile] = []
     try:
         for start, end in layout.takes:
-            files.append(sf.SoundFile(_ByteRange(raw, start, end)))
+            files.append(sf.SoundFile(ByteRange(raw, start, end)))
         if len({(int(f.samplerate), int(f.channels)) for f in files}) > 1:
             for f in files:
                 f.close()
             raw.close()
             return None
-        return OggChain(p, files, raw)
+        return SoundFileChain(p, files, raw)
     except (sf.LibsndfileError, RuntimeError, TypeError):
         for f in files:
             f.close()

@@ -129,7 +129,7 @@ def _samples(head: bytes, granule: int | None) -> int | None:
     return None
 
 
-class _ByteRange(io.RawIOBase):
+class ByteRange(io.RawIOBase):
     """Bytes ``start`` .. ``end`` of an open binary file, as a seekable file of its own."""
 
     def __init__(self, file: io.BufferedReader, start: int, end: int) -> None:
@@ -160,10 +160,11 @@ class _ByteRange(io.RawIOBase):
         return got
 
 
-class OggChain:
-    """The links of a chained Ogg file read as one sound file: the part of
-    :class:`soundfile.SoundFile`'s reading interface this package uses (``samplerate``,
-    ``channels``, ``frames``, ``seek``, ``read``, ``close``, ``with``).
+class SoundFileChain:
+    """The links of a chained Ogg file (or the takes of joined MP3 files,
+    :mod:`~speechcal_core.audio.mp3_join`), each a sound file of its own, read as one: the
+    part of :class:`soundfile.SoundFile`'s reading interface this package uses
+    (``samplerate``, ``channels``, ``frames``, ``seek``, ``read``, ``close``, ``with``).
 
     A link that decodes to less than its pages say it holds (damaged or cut part way)
     reads as silence for the rest (:attr:`silent_frames`), so the links after it keep
@@ -246,14 +247,14 @@ class OggChain:
             link.close()
         self._raw.close()
 
-    def __enter__(self) -> OggChain:
+    def __enter__(self) -> SoundFileChain:
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
 
 
-def open_ogg_chain(path: str | Path) -> OggChain | None:
+def open_ogg_chain(path: str | Path) -> SoundFileChain | None:
     """``path`` read across all its chain links, or None when it has only one (open it as
     usual). Raises :class:`AudioError` when the links differ in sample rate or channels
     (recordings of different devices joined: convert each apart)."""
@@ -265,7 +266,7 @@ def open_ogg_chain(path: str | Path) -> OggChain | None:
     files: list[sf.SoundFile] = []
     try:
         for start, end in links:
-            files.append(sf.SoundFile(_ByteRange(raw, start, end)))
+            files.append(sf.SoundFile(ByteRange(raw, start, end)))
         formats = {(int(f.samplerate), int(f.channels)) for f in files}
         if len(formats) > 1:
             described = ", ".join(f"{rate} Hz with {ch} channel(s)"
@@ -274,7 +275,7 @@ def open_ogg_chain(path: str | Path) -> OggChain | None:
                 f"{p}: holds {len(links)} Ogg streams one after another in different "
                 f"formats ({described}); convert each to WAV or FLAC on its own and "
                 "join them at one rate, e.g. with sox")
-        return OggChain(p, files, raw, ogg_link_lengths(p))
+        return SoundFileChain(p, files, raw, ogg_link_lengths(p))
     except BaseException:
         for f in files:
             f.close()
