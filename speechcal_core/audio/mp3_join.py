@@ -18,12 +18,18 @@ from __future__ import annotations
 import functools
 import os
 import struct
+from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
 import soundfile as sf
 
-from speechcal_core.audio.ogg_chain import ByteRange, SoundFileChain
+from speechcal_core.audio.ogg_chain import (
+    SoundFileChain,
+    close_parts,
+    open_parts,
+    part_formats,
+)
 
 #: kbit/s by bitrate index: MPEG-1 layer III, and MPEG-2/2.5 layer III
 _BITRATES = {
@@ -128,14 +134,15 @@ def _take_start(f: BinaryIO, at: int, end: int) -> bool:
     return first is not None and (at + first[0] >= end or _frame(data, first[0]) is not None)
 
 
+@dataclass(frozen=True)
 class Mp3Layout:
     """What :func:`mp3_layout` finds: the takes' byte ranges, the seconds the first
     take's header gives, its stream's bytes, and the audio bytes of the whole file."""
 
-    def __init__(self, takes: tuple[tuple[int, int], ...], first_s: float,
-                 first_bytes: int, audio_bytes: int) -> None:
-        self.takes, self.first_s = takes, first_s
-        self.first_bytes, self.audio_bytes = first_bytes, audio_bytes
+    takes: tuple[tuple[int, int], ...]
+    first_s: float
+    first_bytes: int
+    audio_bytes: int
 
     @property
     def joined(self) -> bool:
@@ -195,27 +202,20 @@ def open_mp3_chain(path: str | Path) -> SoundFileChain | None:
     layout = mp3_layout(p)
     if layout is None or len(layout.takes) < 2 or not layout.joined:
         return None
-    raw = open(p, "rb")  # noqa: SIM115 - closed by the chain, or below
-    files: list[sf.SoundFile] = []
     try:
-        for start, end in layout.takes:
-            files.append(sf.SoundFile(ByteRange(raw, start, end)))
-        if len({(int(f.samplerate), int(f.channels)) for f in files}) > 1:
-            for f in files:
-                f.close()
-            raw.close()
-            return None
-        return SoundFileChain(p, files, raw)
+        raw, files = open_parts(p, layout.takes)
     except (sf.LibsndfileError, RuntimeError, TypeError):
-        for f in files:
-            f.close()
-        raw.close()
         return None
+    try:
+        if len(part_formats(files)) == 1:
+            return SoundFileChain(p, files, raw)
+    except (sf.LibsndfileError, RuntimeError, TypeError):
+        pass
     except BaseException:
-        for f in files:
-            f.close()
-        raw.close()
+        close_parts(raw, files)
         raise
+    close_parts(raw, files)
+    return None
 
 
 def joined_mp3_note(path: str | Path | None, decoded_s: float) -> str:

@@ -262,12 +262,9 @@ def open_ogg_chain(path: str | Path) -> SoundFileChain | None:
     links = ogg_links(p)
     if len(links) < 2:
         return None
-    raw = open(p, "rb")  # noqa: SIM115 - closed by the chain, or below
-    files: list[sf.SoundFile] = []
+    raw, files = open_parts(p, links)
     try:
-        for start, end in links:
-            files.append(sf.SoundFile(ByteRange(raw, start, end)))
-        formats = {(int(f.samplerate), int(f.channels)) for f in files}
+        formats = part_formats(files)
         if len(formats) > 1:
             described = ", ".join(f"{rate} Hz with {ch} channel(s)"
                                   for rate, ch in sorted(formats))
@@ -277,10 +274,35 @@ def open_ogg_chain(path: str | Path) -> SoundFileChain | None:
                 "join them at one rate, e.g. with sox")
         return SoundFileChain(p, files, raw, ogg_link_lengths(p))
     except BaseException:
-        for f in files:
-            f.close()
-        raw.close()
+        close_parts(raw, files)
         raise
+
+
+def open_parts(path: Path, ranges: Sequence[tuple[int, int]]
+               ) -> tuple[io.BufferedReader, list[sf.SoundFile]]:
+    """``path`` opened once, and each byte range of it opened as a sound file of its own
+    (a :class:`ByteRange` view); nothing is left open when one of them fails."""
+    raw = open(path, "rb")  # noqa: SIM115 - closed by close_parts (or the chain)
+    files: list[sf.SoundFile] = []
+    try:
+        for start, end in ranges:
+            files.append(sf.SoundFile(ByteRange(raw, start, end)))
+    except BaseException:
+        close_parts(raw, files)
+        raise
+    return raw, files
+
+
+def close_parts(raw: io.BufferedReader, files: Sequence[sf.SoundFile]) -> None:
+    """Close what :func:`open_parts` opened."""
+    for f in files:
+        f.close()
+    raw.close()
+
+
+def part_formats(files: Sequence[sf.SoundFile]) -> set[tuple[int, int]]:
+    """The (sample rate, channels) pairs the parts decode to."""
+    return {(int(f.samplerate), int(f.channels)) for f in files}
 
 
 def _frames(link: sf.SoundFile) -> int:
