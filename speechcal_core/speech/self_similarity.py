@@ -129,20 +129,16 @@ FOUND_THROUGH_INFLECTION = 2
 # triggers for +65 false). Normalising each voice's frames on their own (MFCC mean and
 # variance per voice, from the true labels: the best any speaker clustering could do)
 # left her triggers as far from the seeds (1.21-1.52 times the limit, none found).
-# The DTW warps time freely, so how long the word's parts last goes unmeasured: "rapture"
-# is voiced from its start, "capture" only after the /k/'s burst, and "picture"'s first
-# vowel is short. A find's low-band (80-1000 Hz) energy over the floor, scaled to its peak
-# and read at 40 points from 50 ms before to 50 ms after it (linear time), was compared
-# with the closest seed's (mean absolute difference). Finds further than 0.16 from every
-# seed dropped, 5 dB: seeds 101-124 found / false alarms 937 / 51 -> 921 / 26 (run
-# through the backend), untouched 125-148 930 / 63 -> 917 / 42, the benchmark's sessions
-# 201 / 6 -> 199 / 4. Precision for recall, and a missed trigger costs the operator a
-# view while a false one costs a click in review: left out. At 0.2: 5 / 9 and 3 / 11
-# fewer. Searching 1.2 times wider before that check took more "capsule" and "captain"
-# (their contours are the trigger's): 943 / 64. Spans 1.0-1.3 times over the limit that
-# match each other (her missed triggers: 27 of 42 lie there, at 1.01-1.15) also hold
-# near-homophones that do: two or more such within 1.4 times the mutual cost, 3 triggers
-# for 1 false alarm; within 1.6, 9 for 8.
+# The backend drops finds whose shape in time (``word_shape``) is unlike every seed's, but
+# not at 5 dB, where the search compares posteriorgrams: there, at a limit of 0.16, seeds
+# 101-124 found / false alarms 937 / 51 -> 921 / 26, the benchmark's sessions 201 / 6 ->
+# 199 / 4, and untouched 125-148 930 / 63 -> 917 / 42 (counted on the finds). Precision
+# for recall, and a missed trigger costs the operator a view while a false one costs a
+# click in review. At 0.2: 5 / 9 and 3 / 11 fewer. Searching 1.2 times wider before that
+# check took more "capsule" and "captain" (their shapes are the trigger's): 943 / 64.
+# Spans 1.0-1.3 times over the limit that match each other (her missed triggers: 27 of
+# 42 lie there, at 1.01-1.15) also hold near-homophones that do: two or more such within
+# 1.4 times the mutual cost, 3 triggers for 1 false alarm; within 1.6, 9 for 8.
 
 
 def expand_by_similarity(samples: np.ndarray, rate: int, seeds: list[Word],
