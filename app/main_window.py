@@ -12,7 +12,6 @@ from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QIcon, QKeySequence, QShortcut
 from PySide6.QtWidgets import (
     QButtonGroup,
-    QCheckBox,
     QFileDialog,
     QHBoxLayout,
     QLabel,
@@ -40,6 +39,7 @@ from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver, free_name_beside
 from app.set_table import MISSING, SetTable, clock_text
 from app.similar_action import SimilarAction
+from app.space_check_box import SpaceCheckBox
 from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from app.tasks import BackgroundTask, start
@@ -430,7 +430,7 @@ class ReviewWindow(QMainWindow):
             buttons.addWidget(self._action_button(label, action))
         self.undo_button = self._action_button("[U] undo", "undo")
         buttons.addWidget(self.undo_button)
-        self.advance_box = QCheckBox("then next set")
+        self.advance_box = SpaceCheckBox("then next set")
         self.advance_box.setToolTip(
             "after A or R, go on to the next set in the list (as the filter shows it); "
             "off: stay on the decided set")

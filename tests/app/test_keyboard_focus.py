@@ -70,3 +70,26 @@ def test_the_grid_and_the_waveform_show_which_of_them_has_the_focus(qtbot, windo
     assert not wave.focus_ring.isVisible() and not grid.focus_ring.isVisible()
     assert _tab_stops(qtbot, window, 1) == [grid]
     assert grid.focus_ring.isVisible()
+
+
+def test_space_ticks_the_then_next_set_box_when_tab_has_reached_it(qtbot, window) -> None:
+    """The box is the one Tab stop besides the grid and the waveform, yet Space on it
+    played the sound (the window's key) and nothing else ticked it: the box could not be
+    changed from the keyboard. With the focus on it Space ticks it, as on any check box;
+    back on the grid, Space plays again."""
+    window.activateWindow()
+    qtbot.waitUntil(window.isActiveWindow, timeout=5_000)
+    assert _tab_stops(qtbot, window, 2)[-1] is window.advance_box
+    assert window.advance_box.isChecked()
+    qtbot.keyClick(window.advance_box, Qt.Key.Key_Space)
+    assert not window.advance_box.isChecked()
+    assert not window.advance_after_decision
+    assert not window.transport.playing
+    qtbot.keyClick(window.advance_box, Qt.Key.Key_Space)
+    assert window.advance_box.isChecked() and not window.transport.playing
+
+    window.grid.setFocus()
+    qtbot.keyClick(window.grid, Qt.Key.Key_Space)
+    assert window.transport.playing
+    qtbot.keyClick(window.grid, Qt.Key.Key_Space)
+    assert not window.transport.playing
