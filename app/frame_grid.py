@@ -53,11 +53,13 @@ HEADER_GAP = 12
 #: the longest warning in a word or two: a tile's header keeps the whole stream name only
 #: where it leaves room for this beside it
 LONGEST_SHORT_WARNING = f"{WARNING_SYMBOL} " + max(FLAG_SHORT_WORDS.values(), key=len)
-#: a tile's least width, pixels: TILE_MIN_WIDTH_PX[1], or less in a grid of more than
-#: three columns, so that all of them need no more than GRID_MIN_WIDTH_PX (a 12-camera
-#: window fits a 1024 px screen), but never less than TILE_MIN_WIDTH_PX[0]
+#: a tile's least width, pixels: TILE_MIN_WIDTH_PX[1], or less in a grid of three
+#: columns or more, so that all of them with the space between them need no more than
+#: GRID_MIN_WIDTH_PX, but never less than TILE_MIN_WIDTH_PX[0]; a window of up to 12
+#: cameras then fits half a 1920 px screen (at 480 px, three columns of 160 px held it
+#: 990 px wide, four of 120 px 994 px)
 TILE_MIN_WIDTH_PX = (100, 160)
-GRID_MIN_WIDTH_PX = 480
+GRID_MIN_WIDTH_PX = 456
 #: corner markers' radius on screen, pixels: at least, at most
 MARKER_RADIUS_PX = (1.5, 4.5)
 #: corners closer than this on screen (pixels) are drawn as the board's outline: their
@@ -83,7 +85,7 @@ def square_columns(cameras: int) -> int:
 def least_tile_width(columns: int) -> int:
     """A tile's least width in a grid of ``columns`` (see TILE_MIN_WIDTH_PX)."""
     lo, hi = TILE_MIN_WIDTH_PX
-    return max(lo, min(hi, GRID_MIN_WIDTH_PX // columns))
+    return max(lo, min(hi, (GRID_MIN_WIDTH_PX - (columns - 1) * TILE_SPACING_PX) // columns))
 
 
 def frame_scale(cameras: int, columns: int, width: float, height: float,
