@@ -11,7 +11,10 @@ from typing import TYPE_CHECKING
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QAction, QIcon, QKeySequence, QShortcut
 from PySide6.QtWidgets import (
+    QAbstractButton,
+    QApplication,
     QButtonGroup,
+    QCheckBox,
     QFileDialog,
     QHBoxLayout,
     QLabel,
@@ -39,7 +42,6 @@ from app.rescore_action import RescoreAction
 from app.session_saver import SessionSaver, free_name_beside
 from app.set_table import MISSING, SetTable, clock_text
 from app.similar_action import SimilarAction
-from app.space_check_box import SpaceCheckBox
 from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from app.tasks import BackgroundTask, start
@@ -335,7 +337,7 @@ class ReviewWindow(QMainWindow):
                 continue  # the Edit menu's actions carry these
             shortcut = QShortcut(QKeySequence(key), self)
             shortcut.activated.connect(lambda a=action: self.run_action(a))
-        QShortcut(QKeySequence("Space"), self).activated.connect(self.transport.toggle)
+        QShortcut(QKeySequence("Space"), self).activated.connect(self._space)
         QShortcut(QKeySequence("W"), self).activated.connect(self.transport.hear_word)
         QShortcut(QKeySequence("Escape"), self).activated.connect(self._leave_enlarged)
         for number in range(1, 10):  # a camera alone, as a double-click on it
@@ -344,6 +346,17 @@ class ReviewWindow(QMainWindow):
         for key, factor in (("=", 0.5), ("+", 0.5), ("-", 2.0)):  # the waveform, as the wheel
             QShortcut(QKeySequence(key), self).activated.connect(
                 lambda f=factor: self.model is not None and self.waveform.zoom_at_playhead(f))
+
+    def _space(self) -> None:
+        """Space: play / pause; on a button Tab has reached (the "then next set" box, the
+        status line's Cancel, the first page's buttons), press it, as Space does on any
+        button: the shortcut took the key from them, and nothing else pressed them."""
+        focus = QApplication.focusWidget()
+        if isinstance(focus, QAbstractButton) and focus.window() is self and \
+                focus.isVisible() and focus.isEnabled():
+            focus.click()
+            return
+        self.transport.toggle()
 
     def _build_edit_menu(self) -> None:
         """Edit ▸ Undo / Redo, named after the step they revert (U undoes too)."""
@@ -430,7 +443,7 @@ class ReviewWindow(QMainWindow):
             buttons.addWidget(self._action_button(label, action))
         self.undo_button = self._action_button("[U] undo", "undo")
         buttons.addWidget(self.undo_button)
-        self.advance_box = SpaceCheckBox("then next set")
+        self.advance_box = QCheckBox("then next set")
         self.advance_box.setToolTip(
             "after A or R, go on to the next set in the list (as the filter shows it); "
             "off: stay on the decided set")

@@ -93,3 +93,26 @@ def test_space_ticks_the_then_next_set_box_when_tab_has_reached_it(qtbot, window
     assert window.transport.playing
     qtbot.keyClick(window.grid, Qt.Key.Key_Space)
     assert not window.transport.playing
+
+
+def test_space_presses_the_status_lines_cancel_while_a_recording_is_processed(
+        qtbot, new_window, tiny_synth, tmp_path: Path) -> None:
+    """While a recording is processed (a minute or two) the focus rests on the status
+    line's Cancel, the one control shown; Space, the key that presses a button, was
+    the window's play key and did nothing there: the opening could not be cancelled
+    from the keyboard."""
+    import shutil
+
+    source, _truth = tiny_synth
+    folder = tmp_path / "rec"
+    shutil.copytree(source, folder)
+    window = new_window()
+    window.activateWindow()
+    qtbot.waitUntil(window.isActiveWindow, timeout=5_000)
+    window.open(recording=[str(folder / "recording.bag")], audio=str(folder / "audio.ogg"))
+    qtbot.waitUntil(window.cancel_button.isVisible, timeout=5_000)
+    window.cancel_button.setFocus()  # where Tab, or the opening, puts it
+    qtbot.keyClick(window.cancel_button, Qt.Key.Key_Space)
+    qtbot.waitUntil(lambda: window.task is None, timeout=60_000)
+    assert window.model is None
+    assert "opening cancelled" in window.status_text.text()
