@@ -45,7 +45,7 @@ from app.similar_action import SimilarAction
 from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
 from app.tasks import BackgroundTask, start
-from app.transport import Transport
+from app.transport import NO_SET_TO_HEAR, Transport
 from app.waveform import WaveformView
 from speechcal_core.errors import SpeechCalError
 from speechcal_core.resources import resource
@@ -947,6 +947,8 @@ class ReviewWindow(QMainWindow):
         if self.transport.playing:
             self.waveform.follow(model.playhead_ns)
         current = model.set_at_playhead()
+        if current is not None:  # W's "no frame set at the playhead" no longer holds
+            self.status.withdraw(NO_SET_TO_HEAR, job="audio")
         chosen = "chosen frame"
         if model.current_set is not None and model.needs_rescore(model.current_set):
             chosen = NEAREST_CAPTION if self.rescorer.held else f"{NEAREST_CAPTION}, re-scoring…"

@@ -122,12 +122,12 @@ class StatusLine:
             self._notes[""] = _Note(revised)
             self._show()
 
-    def withdraw(self, message: str) -> None:
-        """Take back the plain ``message`` if it is still shown (it no longer holds: "no
-        set listed after set #4" once J went to another set)."""
-        note = self._notes.get("")
+    def withdraw(self, message: str, job: str = "") -> None:
+        """Take back the plain ``message`` (or ``job``'s) if it is still shown (it no
+        longer holds: "no set listed after set #4" once J went to another set)."""
+        note = self._notes.get(job)
         if message and note is not None and note.text == message:
-            del self._notes[""]
+            del self._notes[job]
             self._show()
 
     def _start_afresh_if_quiet(self) -> None:

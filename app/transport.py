@@ -19,6 +19,8 @@ if TYPE_CHECKING:
 #: the play button's text and tooltip, stopped and playing
 PLAY_STATES = {False: ("▶ play", "play from the playhead, with the sound  (Space)"),
                True: ("❚❚ pause", "pause  (Space)")}
+#: what W says with no frame set at the playhead (taken back once one is there)
+NO_SET_TO_HEAR = "no frame set at the playhead: J / K go to one"
 #: play from a playhead this close to the session's end starts again from its start
 END_SLACK_NS = 100_000_000
 STEP_MS = 40  # how often the playhead follows the sound
@@ -91,7 +93,7 @@ class Transport(QObject):
             return
         frame_set = model.set_at_playhead()
         if frame_set is None:
-            self.say("no frame set at the playhead: J / K go to one")
+            self.say(NO_SET_TO_HEAR)
             return
         self.stop()
         span = word_span(frame_set.trigger)

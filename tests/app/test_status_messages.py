@@ -230,3 +230,28 @@ def test_undoing_the_offset_edit_takes_back_its_look_again_warning(qtbot, window
     text = window.status_text.text()
     assert "undone: " in text
     assert "look again" not in text  # set 1 shows the frames it was accepted with again
+
+
+def test_w_between_sets_stops_saying_so_once_the_playhead_is_on_a_set(
+        qtbot, window) -> None:
+    """W with the playhead between sets says "no frame set at the playhead: J / K go to
+    one"; after K went to a set (which says nothing) the line went on saying it, set after
+    set, quiet seconds or not. Once the playhead is on a set it is taken back; a W
+    between sets again says it again."""
+    from app.transport import NO_SET_TO_HEAR
+
+    model = window.model
+    sets = model.session.sets
+    model.set_playhead((set_time_ns(sets[0]) + set_time_ns(sets[1])) // 2)
+    assert model.set_at_playhead() is None
+    qtbot.keyClick(window, Qt.Key.Key_W)
+    assert NO_SET_TO_HEAR in window.status_text.text()
+    qtbot.keyClick(window, Qt.Key.Key_K)
+    assert model.set_at_playhead() is not None
+    assert NO_SET_TO_HEAR not in window.status_text.text()
+
+    model.set_playhead((set_time_ns(sets[1]) + set_time_ns(sets[2])) // 2)
+    qtbot.keyClick(window, Qt.Key.Key_W)
+    assert NO_SET_TO_HEAR in window.status_text.text()
+    model.go_to_set(2)  # a row of the list chosen
+    assert NO_SET_TO_HEAR not in window.status_text.text()
