@@ -888,6 +888,8 @@ class ReviewWindow(QMainWindow):
             # "then next set" found none: the end of the list (of the undecided ones)
             end = f" · {model.step_refused}" if model.step_refused else ""
             self.status.say(f"set #{decided.id} {decided.decision}{end}")
+        elif action in ("accept", "reject", "remove_set") and model.step_refused:
+            self.status.say(model.step_refused)  # no set left to act on
         elif action in STEP_ACTIONS:  # why it went nowhere (counted); gone once it went on
             if model.step_refused:
                 self.status.say(model.step_refused)

@@ -97,6 +97,8 @@ OPERATOR_SOURCE = "manual"
 #: adding a set is refused (the existing one is selected) this close to another set
 ADD_MIN_GAP_NS = 200_000_000
 
+#: why A, R or Del did nothing (``verb``: "decide on", "remove"): no set is left
+NO_SETS_LEFT = "no frame sets to {verb}: T adds one at the playhead"
 #: key name -> action method name (the window only maps key presses to these)
 KEY_BINDINGS: dict[str, str] = {
     "A": "accept",
@@ -228,8 +230,9 @@ class ReviewModel:
         self.audio_duration_s = 0.0
         #: the id of the set the last accept or reject was on (it may have moved on since)
         self.last_decided: int | None = None
-        #: why the last J / K / Home / End went nowhere ("" when it went to a set), for
-        #: the window to say: a key that seems to do nothing leaves the operator guessing
+        #: why the last J / K / Home / End went nowhere ("" when it went to a set), or
+        #: A / R / Del with no set left, for the window to say: a key that seems to do
+        #: nothing leaves the operator guessing
         self.step_refused = ""
         self._resume_place(session.extra.get(REVIEW_PLACE_KEY))
         #: where the review was at the last save (a close saves only a move since)
@@ -613,7 +616,8 @@ class ReviewModel:
         decided set stays current.
         """
         current = self.acting_set()
-        if current is None:
+        if current is None:  # none left: the key says why it did nothing
+            self.step_refused = NO_SETS_LEFT.format(verb="decide on")
             return
         if self.playhead_ns != set_time_ns(current) or current is not self.current_set:
             self.go_to_set(self._index_of(current.id))
@@ -847,6 +851,7 @@ class ReviewModel:
         brings it back."""
         current = self.acting_set()
         if current is None:
+            self.step_refused = NO_SETS_LEFT.format(verb="remove")
             return
         index = self._index_of(current.id)
         details = self._drop_set(index)

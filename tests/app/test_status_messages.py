@@ -255,3 +255,16 @@ def test_w_between_sets_stops_saying_so_once_the_playhead_is_on_a_set(
     assert NO_SET_TO_HEAR in window.status_text.text()
     model.go_to_set(2)  # a row of the list chosen
     assert NO_SET_TO_HEAR not in window.status_text.text()
+
+
+def test_a_r_and_del_with_no_set_left_say_why_they_did_nothing(qtbot, window) -> None:
+    """With every set removed, A, R and Del (and their buttons) left the status line as it
+    was, still saying the last set was removed, as if the key had not been pressed."""
+    while window.model.session.sets:
+        qtbot.keyClick(window, Qt.Key.Key_Delete)
+    for key, verb in ((Qt.Key.Key_A, "decide on"), (Qt.Key.Key_R, "decide on"),
+                      (Qt.Key.Key_Delete, "remove")):
+        window.status.say("")
+        qtbot.keyClick(window, key)
+        assert window.status_text.text() == \
+            f"no frame sets to {verb}: T adds one at the playhead"

@@ -191,3 +191,19 @@ def test_undo_and_redo_labels_name_the_step_each_would_take(truth_session_file: 
     assert model.redo_label == f"adding set {added_id}"
     model.nudge_offset(1_000_000)
     assert (model.undo_label, model.redo_label) == ("audio offset change", "")
+
+
+def test_a_decision_or_removal_with_no_sets_left_says_why_it_did_nothing(
+    truth_session_file: Path,
+) -> None:
+    """With every set removed, A, R and Del did nothing and gave no reason (J and K said
+    "no frame sets to go to: T adds one at the playhead")."""
+    model = _model(truth_session_file)
+    while model.session.sets:
+        model.remove_set()
+    for act in (model.accept, model.reject, model.remove_set):
+        model.step_refused = ""
+        act()
+        assert model.step_refused.startswith("no frame sets to ")
+        assert "T adds one at the playhead" in model.step_refused
+        assert model.last_decided is None and not model.session.sets
