@@ -448,6 +448,9 @@ class ReviewWindow(QMainWindow):
             "after A or R, go on to the next set in the list (as the filter shows it); "
             "off: stay on the decided set")
         self.advance_box.setChecked(model.advance_after_decision)
+        # Tab reaches it (and Space then ticks it); a click leaves the focus where it
+        # was, so the next Space plays as before instead of unticking it
+        self.advance_box.setFocusPolicy(Qt.FocusPolicy.TabFocus)
         self.advance_box.toggled.connect(self._set_advance)
         buttons.addWidget(self.advance_box)
         right_layout.addLayout(buttons)

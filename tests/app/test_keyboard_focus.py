@@ -116,3 +116,19 @@ def test_space_presses_the_status_lines_cancel_while_a_recording_is_processed(
     qtbot.waitUntil(lambda: window.task is None, timeout=60_000)
     assert window.model is None
     assert "opening cancelled" in window.status_text.text()
+
+
+def test_a_click_on_the_box_leaves_the_focus_where_it_was_so_space_still_plays(
+        qtbot, window) -> None:
+    """Space presses the button Tab has reached; the box clicked with the mouse took the
+    focus too, and the operator's next Space, meant to play, unticked it instead."""
+    window.activateWindow()
+    qtbot.waitUntil(window.isActiveWindow, timeout=5_000)
+    assert QApplication.focusWidget() is window.grid
+    qtbot.mouseClick(window.advance_box, Qt.MouseButton.LeftButton)
+    assert not window.advance_box.isChecked()
+    assert QApplication.focusWidget() is window.grid
+    qtbot.keyClick(QApplication.focusWidget(), Qt.Key.Key_Space)
+    assert window.transport.playing and not window.advance_box.isChecked()
+    qtbot.keyClick(QApplication.focusWidget(), Qt.Key.Key_Space)
+    assert not window.transport.playing
