@@ -103,6 +103,10 @@ class Ros1Bag(IndexedFile):
             raise SourceError(f"{self.path}: ROS1 bag header is damaged")
         fields, dpos, dlen = rec
         self.index_pos = _U64.unpack(fields["index_pos"][:8])[0]
+        # a bag closed without any message (no camera published) has none of either, and
+        # its (empty) index section starts at the file's end
+        self.empty = all(len(fields.get(k, b"")) >= 4 and _u32(fields, k) == 0
+                         for k in ("conn_count", "chunk_count"))
         self.first_record = dpos + dlen
         self.conns: dict[int, dict[str, str]] = {}
         self.chunk_infos: list[tuple[int, set[int], int]] = []  # position, conns, messages
@@ -137,6 +141,8 @@ class Ros1Bag(IndexedFile):
 
     def _read_index_section(self) -> bool:
         """Connections and chunk infos from the index at the end; False if unusable."""
+        if self.empty and self.index_pos == self.f.size >= self.first_record:
+            return True  # whole, and nothing in it
         if self.index_pos < self.first_record or self.index_pos >= self.f.size:
             return False
         reader = _Reader(Window(self.f, 65536).get)

@@ -360,3 +360,19 @@ def test_a_sqlite_bag_too_deep_for_sqlite_says_to_move_it(make_bag, tmp_path: Pa
     message = str(err.value)
     assert message.startswith(f"{db3}: its path is {len(os.fsencode(db3))} bytes long")
     assert "shorter path" in message and "cut short" not in message
+
+
+@pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4", "ros2-sqlite3", "ros2-mcap"])
+def test_a_closed_bag_without_any_message_says_so_not_interrupted(make_bag, fmt: str) -> None:
+    """``rosbag record`` stopped cleanly while no camera published: a whole bag without
+    connections, whose index section is empty (it starts at the file's end). It is not an
+    interrupted recording (reindexing or --scan would not help): the error says no image
+    topic was recorded, with or without --scan."""
+    path = make_bag(fmt, [])
+    for scan in (False, True):
+        with pytest.raises(SourceError) as err:
+            open_recording([path], scan=scan)
+        msg = str(err.value)
+        assert "no sensor_msgs/Image or CompressedImage topics" in msg
+        assert "record the camera image topics" in msg
+        assert "reindex" not in msg and "truncated" not in msg
