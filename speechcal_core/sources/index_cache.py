@@ -14,7 +14,8 @@ import numpy as np
 from speechcal_core.sources.scan import FileScan, TopicScan
 
 #: 2: image topics without any message are kept (``FileScan.empty_topics``)
-VERSION = 2
+#: 3: a ROS1 bag closed without any message is whole (--scan cached it as truncated)
+VERSION = 3
 _ARRAYS = ("stamps", "log_times", "offsets", "chunks", "sizes")
 
 
