@@ -18,6 +18,10 @@ class TargetError(SpeechCalError):
 
 #: a tag or square larger than this (metres) is a unit slip (millimetres given)
 MAX_SIZE_M = 1.0
+#: an AprilGrid's tags are the 36h11 codes 0, 1, ...: the family has no more
+MAX_APRILGRID_TAGS = 587
+#: inner corners of a checkerboard beyond any printed one (a slip of the keyboard)
+MAX_CHECKERBOARD_CORNERS = 10_000
 
 
 @dataclass(frozen=True)
@@ -40,6 +44,15 @@ class TargetSpec:
             raise TargetError(f"unknown target type {self.kind!r}; use aprilgrid or checkerboard")
         if self.rows < 2 or self.cols < 2 or not 0 < self.size < math.inf:  # nan too
             raise TargetError("a target needs at least 2x2 tags or corners and a positive size")
+        # before laying out its corners, which would run out of memory
+        n = self.rows * self.cols
+        if self.kind == "aprilgrid" and n > MAX_APRILGRID_TAGS:
+            raise TargetError(f"a {self.cols}x{self.rows} AprilGrid has {n} tags, more than "
+                              f"the {MAX_APRILGRID_TAGS} codes of the 36h11 family; check "
+                              "tagRows and tagCols")
+        if self.kind == "checkerboard" and n > MAX_CHECKERBOARD_CORNERS:
+            raise TargetError(f"a {self.cols}x{self.rows} checkerboard has {n} inner corners, "
+                              "more than any printed board; check targetRows and targetCols")
         if not 0 <= self.spacing < math.inf:
             raise TargetError(f"a tag spacing of {self.spacing} makes no board; Kalibr's "
                               "tagSpacing is the gap as a share of the tag size, e.g. 0.3")

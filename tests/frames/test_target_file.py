@@ -76,6 +76,16 @@ def test_a_target_file_that_is_not_there_says_what_to_give(tmp_path: Path) -> No
     (CHECKERBOARD.replace("colSpacingMeters: 0.045", "colSpacingMeters: 45"),
      "colSpacingMeters 45 m is larger than any board"),
     (APRILGRID.replace("tagRows: 7", "tagRows: 1"), "at least 2x2 tags"),
+    # a slip of the keyboard: no board has the tags (36h11 has 587 codes), and laying out
+    # its corners ran out of memory with a traceback
+    (APRILGRID.replace("tagRows: 7", "tagRows: 100000").replace("tagCols: 6", "tagCols: 100000"),
+     "a 100000x100000 AprilGrid has 10000000000 tags, more than the 587 codes of the 36h11 "
+     "family; check tagRows and tagCols"),
+    (APRILGRID.replace("tagRows: 7", "tagRows: 25").replace("tagCols: 6", "tagCols: 24"),
+     "more than the 587 codes"),
+    (CHECKERBOARD.replace("targetRows: 6", "targetRows: 600000"),
+     "a 8x600000 checkerboard has 4800000 inner corners, more than any printed board; "
+     "check targetRows and targetCols"),
     ("# Gitter für die Kalibrierung\n".encode("latin-1") + APRILGRID.encode(),
      "not a text file in UTF-8"),
 ])
