@@ -79,7 +79,7 @@ def heard_claps(audio: Audio) -> tuple[list[ClapCandidate], list[str]]:
             raise SyncError(f"{name}: its {n} channels mixed are silent ({level}); channels "
                             f"of opposite polarity cancel: pick one with --channel (0..{n - 1})"
                             f", or check the microphone, or {BY_HAND}")
-        raise SyncError(f"{name}: the audio is silent ({level}); "
+        raise SyncError(f"{name}: the audio is silent ({level}){_cut_short(audio, name)}; "
                         f"check the microphone and the channel, or {BY_HAND}")
     if levels.clipped:
         notes.append(f"{name}: {levels.clipped_fraction * 100:.3f}% of samples clip at full "
@@ -89,9 +89,22 @@ def heard_claps(audio: Audio) -> tuple[list[ClapCandidate], list[str]]:
     if not claps:
         best = (f"; the sharpest sound, at {cands[0].time_s:.3f} s, does not look like a "
                 "clap") if cands else ""
+        cut = _cut_short(audio, name)
+        if cut:  # the clap may lie in the part that does not decode
+            raise SyncError(f"{name}: no clap found in the audio{best}{cut}; else {BY_HAND}")
         raise SyncError(f"{name}: no clap found in the audio{best}; clap once, sharply, "
                         f"where camera and microphone both catch it, or {BY_HAND}")
     return claps, notes
+
+
+def _cut_short(audio: Audio, name: str) -> str:
+    """"; only the first 1.4 s of the 32.4 s its header gives decode; ..." when the file
+    decoded to well short of its length (``cut_short_note``), else "": what was looked
+    for may lie in the rest. ``detect`` says it as a note, but sync fails before that."""
+    from speechcal_core.audio.loader import cut_short_note
+
+    note = cut_short_note(audio)
+    return "; " + note.removeprefix(f"{name}: ") if note else ""
 
 
 def audio_claps(audio: Audio) -> tuple[ClapCandidate, ClapCandidate | None, list[str]]:

@@ -63,3 +63,19 @@ def test_playing_past_what_decodes_is_silence(cut_flac: Path) -> None:
     stretch = player.samples.read(start, 8 * RATE)
     np.testing.assert_array_equal(stretch[:loaded.size - start], loaded[start:])
     assert not np.any(player.samples.read(7 * RATE, 8 * RATE))
+
+
+def test_no_clap_in_a_cut_file_blames_the_file_not_the_clap(cut_flac: Path) -> None:
+    """The clap lay in the part that does not decode: ``sync`` and ``process`` (which
+    syncs before it detects, so the detector's note never showed) said only "no clap
+    found ... clap once, sharply", sending the operator to record again."""
+    from speechcal_core.sync.errors import SyncError
+    from speechcal_core.sync.pipeline import heard_claps
+
+    with pytest.raises(SyncError) as err:
+        heard_claps(load_audio(cut_flac))
+    msg = str(err.value)
+    assert msg.startswith(f"{cut_flac}: no clap found in the audio")
+    assert "header gives decode; the file is cut short or damaged" in msg
+    assert "copy the take again if you have it whole" in msg and "\n" not in msg
+    assert msg.count(str(cut_flac)) == 1
