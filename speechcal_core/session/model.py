@@ -36,6 +36,19 @@ class Trigger:
                    float(data.get("score", 1.0)), str(data.get("source", "detected")))
 
 
+#: session times are int64 nanoseconds (DESIGN.md §1): beyond, a hand edit gone wrong
+#: (1.5e300 read as a whole number named a file of 300 digits in an export)
+INT64 = range(-(2**63), 2**63)
+
+
+def _ns(value: object, what: str) -> int:
+    """``value`` as int64 nanoseconds; ValueError naming ``what`` when it is none."""
+    ns = int(value)  # type: ignore[call-overload]
+    if isinstance(value, bool) or ns not in INT64:
+        raise ValueError(f"{what} {value!r} is no camera-clock time in nanoseconds")
+    return ns
+
+
 #: a frame's index in its stream; more is a hand edit gone wrong (the window's frame
 #: loader passes indexes as 32-bit numbers, and 10**12 raised in its thread)
 MAX_FRAME_INDEX = 2**31 - 1
@@ -65,7 +78,7 @@ class FrameChoice:
         index = int(data.get("index", -1))
         if not -1 <= index <= MAX_FRAME_INDEX:
             raise ValueError(f"{stream}'s frame index is {index}, beyond any recording")
-        return cls(stream, index, int(data["stamp_ns"]),
+        return cls(stream, index, _ns(data["stamp_ns"], f"{stream}'s stamp_ns"),
                    _figure(data, "sharpness", float), _figure(data, "corners", int),
                    tuple(flags))
 
@@ -118,7 +131,8 @@ class FrameSet:
         if decision not in DECISIONS:  # a hand edit: say so rather than lose the decision
             raise ValueError(f"decision {data.get('decision')!r} is none of "
                              f"{', '.join(DECISIONS)}")
-        return cls(int(data["id"]), int(data["t_ns"]), Trigger.from_dict(data["trigger"]),
+        return cls(int(data["id"]), _ns(data["t_ns"], "its time t_ns"),
+                   Trigger.from_dict(data["trigger"]),
                    tuple(FrameChoice.from_dict(f) for f in data.get("frames", ())), decision)
 
 

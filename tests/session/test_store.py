@@ -338,6 +338,12 @@ def _edited(tmp_path: Path, edit) -> Path:
      "set 1: /cam1/image_raw's flags is 'blurred', not a list of flags"),
     (lambda d: d["sets"][0]["frames"][0].update(index=10**12),
      "set 1: /cam0/image_raw's frame index is 1000000000000, beyond any recording"),
+    # session time is int64 nanoseconds: 1.5e300 read as a whole number became a 300-digit
+    # file name, which export failed to write ("File name too long; check free disk space")
+    (lambda d: d["sets"][0].update(t_ns=1.5e300),
+     "set 1: its time t_ns 1.5e+300 is no camera-clock time in nanoseconds"),
+    (lambda d: d["sets"][0]["frames"][0].update(stamp_ns=-(2**70)),
+     "set 1: /cam0/image_raw's stamp_ns -1180591620717411303424 is no camera-clock time"),
     # the window's calibration line formatted these as numbers and raised
     (lambda d: d.update(coverage="full"), "'coverage' is 'full', not the cameras' coverage"),
     (lambda d: d.update(coverage={"/cam0/image_raw": 5}),
