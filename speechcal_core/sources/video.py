@@ -53,7 +53,14 @@ class VideoSource(StreamTable):
         self._lock = threading.Lock()
         self._cap = cv2.VideoCapture(str(self.path))
         if not self._cap.isOpened():
-            raise SourceError(f"{self.path}: cannot open the video (unknown or damaged file)")
+            from speechcal_core.sources.sniff import looks_like
+
+            seen = looks_like(self.path)
+            raise SourceError(
+                f"{self.path}: cannot open the video ("
+                + (f"the file is {seen}" if seen else "unknown or damaged file")
+                + "); copy it again where it is whole, or give the cameras' recording in "
+                "another form (a bag, or a folder of <stamp_ns>.png images)")
         self._next = 0
         scan = index_cache.load(self.path) if use_cache else None
         if scan is None:

@@ -76,7 +76,27 @@ def test_damaged_video_is_refused_with_its_name(tmp_path: Path) -> None:
                             capture_output=True, text=True, timeout=60)
     assert result.returncode == 1
     assert result.stderr.strip().splitlines() == [
-        f"speechcal index: error: {path}: cannot open the video (unknown or damaged file)"]
+        f"speechcal index: error: {path}: cannot open the video (unknown or damaged file); "
+        "copy it again where it is whole, or give the cameras' recording in another form "
+        "(a bag, or a folder of <stamp_ns>.png images)"]
+
+
+@pytest.mark.parametrize(("content", "says"), [
+    (b"", "the file is empty (0 bytes)"),
+    (b"OggS" + bytes(60), "the file is an Ogg audio file (give audio with --audio)"),
+    (b"#ROSBAG V2.0\n" + bytes(60), "the file is a ROS1 bag (name it .bag)"),
+])
+def test_a_file_named_as_a_video_says_what_it_is_and_what_to_do(
+        tmp_path: Path, content: bytes, says: str) -> None:
+    """An empty .mp4 (a camera that never started) or audio named .mp4: the error said
+    only "unknown or damaged file", with no way on."""
+    path = tmp_path / "cam0.mp4"
+    path.write_bytes(content)
+    with pytest.raises(SourceError) as err:
+        open_recording([path])
+    assert str(err.value) == (f"{path}: cannot open the video ({says}); copy it again where "
+                              "it is whole, or give the cameras' recording in another form "
+                              "(a bag, or a folder of <stamp_ns>.png images)")
 
 
 def make_kalibr_folder(root: Path, cams: int = 2, n: int = 6) -> Path:
