@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import re
 
 from speechcal_core.cli._inputs import add_stream_options, recording_and_audio, stream_choice
 from speechcal_core.cli._paths import AUDIO, SCREENSHOT, SESSION, TARGET, path_arg
@@ -44,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     session_path = None
     recording = None
     triggers = None
-    if len(args.inputs) == 1 and args.inputs[0].endswith(".json"):
+    if len(args.inputs) == 1 and is_session_name(args.inputs[0]):
         session_path = args.inputs[0]
         if args.audio or args.session:
             raise UsageError("--audio and --session go with a recording, not with a session "
@@ -78,6 +79,16 @@ def run(args: argparse.Namespace) -> int:
                       new_session_path=args.session, screenshot=args.screenshot,
                       triggers=triggers, channel=args.channel, target=target,
                       streams=stream_choice(args))
+
+
+#: a session file's name: SESSION.json (any case), or a previous version of one that
+#: saving kept (SESSION.json.bak, SESSION.json.bak.1), which a damaged file's error names
+_SESSION_NAME = re.compile(r"\.json(\.bak(\.\d+)?)?$", re.IGNORECASE)
+
+
+def is_session_name(path: str) -> bool:
+    """Whether ``path`` is named as a session file (or a kept previous version of one)."""
+    return _SESSION_NAME.search(path) is not None
 
 
 def _recording_and_audio(inputs: list[str], audio: str | None, session: str | None

@@ -79,3 +79,16 @@ def test_audio_alone_asks_for_the_recording(capsys: pytest.CaptureFixture[str],
     folder.mkdir()
     assert main(["review", str(folder)]) == 2
     assert f"{folder} is a folder, not an audio file" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", ["review.json.bak", "review.json.bak.1", "REVIEW.JSON"])
+def test_a_previous_version_or_a_capitalised_session_file_opens_as_a_session(
+        truth_session_file: Path, tmp_path: Path, name: str,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """A damaged session's error says "the previous version is in review.json.bak";
+    ``review review.json.bak`` (or a name from a FAT card in capitals) then said "a
+    recording needs its audio: add --audio AUDIO", taking the session for a recording."""
+    path = tmp_path / name
+    shutil.copy(truth_session_file, path)
+    assert main(["review", str(path), "--screenshot", str(tmp_path / "x.png")]) == 0
+    assert "needs its audio" not in capsys.readouterr().err
