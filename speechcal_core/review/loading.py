@@ -14,6 +14,7 @@ from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY, review_wor
 from speechcal_core.session.backups import set_aside_backup_work
 from speechcal_core.session.model import SENSITIVITY_KEY, Session
 from speechcal_core.session.store import (
+    SessionFileError,
     check_recording_present,
     file_stamp,
     load_session,
@@ -184,6 +185,16 @@ def load_for_review(
         check_recording_present(session, path)
         report("indexing recording", 0.6)
         source = open_recording(session.recording, streams=session.stream_choice())
+        # another take put in place of the recording (every take is recording.bag): the
+        # window would show its frames under the session's sets, as export refuses to
+        problem = frames_missing(session, source)
+        if problem:
+            source.close()
+            raise SessionFileError(
+                f"{path}: its recording {', '.join(session.recording)} is not the one this "
+                f"session was made from ({problem}); put the session's own recording back "
+                "there, or process this one into a new session file (speechcal process "
+                "RECORDING --audio AUDIO -o NEW.json)")
     if not made_new:
         try:
             said, source, stamp = _leave_out(session, source, streams, path, stamp)

@@ -373,3 +373,26 @@ def test_review_work_in_the_bak_of_an_undecided_session_is_set_aside_before_savi
     again.close()
     assert "kept as" not in again.note and bak.exists()
     assert not (path.parent / "lab.json.bak.3").exists()
+
+
+def test_another_take_put_in_place_of_the_recording_is_refused_not_reviewed(
+        processed_tiny, tiny_synth, snapshot_synth, tmp_path: Path) -> None:
+    """Every take is recording.bag: a new take copied over the old one, then the old
+    session opened. The window showed the new take's frames under the old sets (by
+    index), for decisions on frames the session does not hold, where ``export`` refuses
+    the session ("has no frame stamped ..."). Opening now says so, as export does, and
+    leaves the session file as it was."""
+    recording, _audio = _with_its_session(processed_tiny, tiny_synth, tmp_path)
+    session_path = default_session_path([recording])
+    folder, truth = snapshot_synth
+    assert Path(recording).name == truth["recording"]
+    shutil.copy(folder / truth["recording"], recording)
+    before = session_path.read_bytes()
+    with pytest.raises(SessionFileError) as refused:
+        load_for_review(session_path=session_path)
+    text = str(refused.value)
+    assert text.startswith(f"{session_path}: its recording {recording} is not the one this "
+                           "session was made from (")
+    assert "has no frame stamped" in text and "\n" not in text
+    assert "put the session's own recording back there" in text
+    assert session_path.read_bytes() == before
