@@ -253,8 +253,9 @@ def sync_recording(source: FrameSource, audio: Audio, *, search_s: float = SEARC
                  for s in infos if s.stamp_problems]
         raise SyncError(f"no clap seen in the first {search_s:g} s of any camera "
                         f"({', '.join(t0)}); {mixed[0] if mixed else ''}make the clap "
-                        "visible to the cameras, search longer (--search-s), or set it by "
-                        "hand (--video-clap-ns)")
+                        "visible to the cameras, search longer (speechcal sync --search-s S), "
+                        "or set it by hand (speechcal sync --video-clap-ns NS prints the "
+                        "offset; process takes it as --offset-ns N)")
     pairing = None
     if audio_clap_s is None:
         pairing = _pair_heard_with_seen(source, audio, heard, cams1, infos, search_s, progress,

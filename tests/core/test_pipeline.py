@@ -280,3 +280,27 @@ def test_audio_that_ends_long_before_the_recording_is_noted(
                  str(folder / truth["audio"]), "--offset-ns", str(truth["sync"]["offset_ns"]),
                  "-o", str(tmp_path / "whole.json")]) == 0
     assert "is the audio file complete?" not in capsys.readouterr().err
+
+
+def test_no_clap_seen_names_the_command_that_takes_its_options(
+        tiny_synth: tuple[Path, dict]) -> None:
+    """``speechcal process`` failing with "search longer (--search-s), or set it by hand
+    (--video-clap-ns)": process takes neither option (sync does), so following the advice
+    ended in "unrecognized arguments". The advice now names the command that takes them
+    and how process then takes the clap (--offset-ns)."""
+    from speechcal_core.audio import load_audio
+    from speechcal_core.sources import open_recording
+    from speechcal_core.sync.errors import SyncError
+    from speechcal_core.sync.pipeline import sync_recording
+
+    folder, truth = tiny_synth
+    audio = load_audio(str(folder / truth["audio"]))
+    with open_recording(str(folder / truth["recording"])) as source, \
+            pytest.raises(SyncError) as error:
+        sync_recording(source, audio, search_s=0.1)
+    message = str(error.value)
+    assert "(--search-s)" not in message and "(--video-clap-ns)" not in message
+    assert message.endswith(
+        "make the clap visible to the cameras, search longer (speechcal sync --search-s S), "
+        "or set it by hand (speechcal sync --video-clap-ns NS prints the offset; process "
+        "takes it as --offset-ns N)")
