@@ -206,6 +206,12 @@ def open_audio(path: str | Path, channel: int | None = None) -> SoundFileLike:
                 f"{p}: {p.suffix[1:].upper()} audio is not read; convert it to WAV or FLAC "
                 f"first, e.g. ffmpeg -i {shell_quoted(p.name)} "
                 f"{shell_quoted(p.stem + '.wav')}") from exc
+        from speechcal_core.sources.sniff import looks_like
+
+        seen = looks_like(p)
+        if seen and "audio" not in seen:  # the recording or the session in its place
+            raise AudioError(f"{p}: this is {seen.split(' (')[0]}, not an audio file; give "
+                             f"the microphone's audio file ({SUPPORTED})") from exc
         raise AudioError(
             f"{p}: not a readable audio file ({_short(exc)}); convert it to {SUPPORTED}"
         ) from exc

@@ -78,6 +78,11 @@ def test_audio_too_coarse_for_speech_is_noted(tmp_path: Path,
     (None, "not found"),
     (b"", "empty"),
     (b"not audio at all", "not a readable audio file"),
+    # the recording or the session given in the audio's place: "convert it to WAV..." was
+    # no help; what the file is, is
+    (b"#ROSBAG V2.0\n" + bytes(60), "audio.wav: this is a ROS1 bag, not an audio file; give "
+                                     "the microphone's audio file"),
+    (b'{"schema": 1, "sets": []}', "audio.wav: this is a JSON file, not an audio file"),
 ])
 def test_bad_audio_exits_1_with_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str],
                                          content: bytes | None, expected: str) -> None:
