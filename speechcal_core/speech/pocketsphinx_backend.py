@@ -346,7 +346,8 @@ class PocketsphinxBackend:
             # Only where the triggers are heard clearly enough for MFCCs: 10 dB, found /
             # false alarms, seeds 101-124 963 / 31 -> 962 / 17, untouched 125-148 957 / 29
             # -> 957 / 17; 20 dB the same. In 5 dB noise the shapes blur: 937 / 51 ->
-            # 921 / 26 on seeds 101-124, a trigger lost for every other false alarm
+            # 921 / 26 on seeds 101-124 (limit 0.16), a trigger lost for every other
+            # false alarm
             if search == "mfcc":
                 extra = shaped_like(x, RATE, kept, extra)
             out += kept + extra
