@@ -134,8 +134,10 @@ FOUND_THROUGH_INFLECTION = 2
 # 101-124 found / false alarms 937 / 51 -> 921 / 26, the benchmark's sessions 201 / 6 ->
 # 199 / 4, and untouched 125-148 930 / 63 -> 917 / 42 (counted on the finds). Precision
 # for recall, and a missed trigger costs the operator a view while a false one costs a
-# click in review. At 0.2: 5 / 9 and 3 / 11 fewer. Searching 1.2 times wider before that
-# check took more "capsule" and "captain" (their shapes are the trigger's): 943 / 64.
+# click in review. At 0.2: 5 / 9 and 3 / 11 fewer; at 0.16 only for finds costing over
+# 1.1 times the session's median find: 9 / 15 and 8 / 15 (counted on the finds).
+# Searching 1.2 times wider before that check took more "capsule" and "captain" (their
+# shapes are the trigger's): 943 / 64.
 # Spans 1.0-1.3 times over the limit that match each other (her missed triggers: 27 of
 # 42 lie there, at 1.01-1.15) also hold near-homophones that do: two or more such within
 # 1.4 times the mutual cost, 3 triggers for 1 false alarm; within 1.6, 9 for 8.
