@@ -158,8 +158,13 @@ class TargetSpec:
                 entries = [line]
             for entry in entries:
                 if ":" in entry:
-                    key, value = entry.split(":", 1)
-                    values[key.strip()] = value.strip().strip("'\"")
+                    key, value = (part.strip() for part in entry.split(":", 1))
+                    value = value.strip("'\"")
+                    if values.get(key, value) != value:  # Kalibr would take the last, silently
+                        raise TargetError(
+                            f"{path}: {key} is given twice ({values[key]} and {value}); keep "
+                            "the one line that matches the printed board")
+                    values[key] = value
         kind = values.get("target_type", "")
         if not kind:
             raise TargetError(

@@ -32,6 +32,12 @@ def test_an_aprilgrid_file_as_kalibr_documents_it(tmp_path: Path, bom: bytes) ->
     assert spec.size == pytest.approx(0.088) and spec.spacing == pytest.approx(0.3)
 
 
+def test_a_line_given_twice_alike_is_read(tmp_path: Path) -> None:
+    path = tmp_path / "target.yaml"
+    path.write_text(APRILGRID + "tagSize: '0.088'\n")
+    assert TargetSpec.from_kalibr_yaml(path).size == 0.088
+
+
 def test_the_one_line_flow_style_of_yaml_is_read_too(tmp_path: Path) -> None:
     path = tmp_path / "flow.yaml"
     path.write_text("{target_type: aprilgrid, tagCols: 6, tagRows: 7, tagSize: 0.088, "
@@ -88,6 +94,9 @@ def test_a_target_file_that_is_not_there_says_what_to_give(tmp_path: Path) -> No
      "check targetRows and targetCols"),
     ("# Gitter für die Kalibrierung\n".encode("latin-1") + APRILGRID.encode(),
      "not a text file in UTF-8"),
+    # an edit that left the old line in: Kalibr would take the last value without a word
+    (APRILGRID + "tagSize: 0.055\n", "tagSize is given twice (0.088 and 0.055); keep the "
+     "one line that matches the printed board"),
 ])
 def test_a_bad_target_file_is_named_with_what_is_wrong(tmp_path: Path, content,
                                                         says: str) -> None:
