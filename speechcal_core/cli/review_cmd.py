@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import re
 
 from speechcal_core.cli._inputs import add_stream_options, recording_and_audio, stream_choice
 from speechcal_core.cli._paths import AUDIO, SCREENSHOT, SESSION, TARGET, path_arg
@@ -15,6 +14,7 @@ from speechcal_core.cli._speech_options import (
     sensitivity,
 )
 from speechcal_core.errors import UsageError
+from speechcal_core.session.backups import named_as_session
 from speechcal_core.speech.matching import DEFAULT_TRIGGERS, TriggerSpec
 
 
@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     session_path = None
     recording = None
     triggers = None
-    if len(args.inputs) == 1 and is_session_name(args.inputs[0]):
+    if len(args.inputs) == 1 and named_as_session(args.inputs[0]):
         session_path = args.inputs[0]
         if args.audio or args.session:
             raise UsageError("--audio and --session go with a recording, not with a session "
@@ -79,16 +79,6 @@ def run(args: argparse.Namespace) -> int:
                       new_session_path=args.session, screenshot=args.screenshot,
                       triggers=triggers, channel=args.channel, target=target,
                       streams=stream_choice(args))
-
-
-#: a session file's name: SESSION.json (any case), or a previous version of one that
-#: saving kept (SESSION.json.bak, SESSION.json.bak.1), which a damaged file's error names
-_SESSION_NAME = re.compile(r"\.json(\.bak(\.\d+)?)?$", re.IGNORECASE)
-
-
-def is_session_name(path: str) -> bool:
-    """Whether ``path`` is named as a session file (or a kept previous version of one)."""
-    return _SESSION_NAME.search(path) is not None
 
 
 def _recording_and_audio(inputs: list[str], audio: str | None, session: str | None

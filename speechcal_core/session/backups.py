@@ -4,7 +4,17 @@ before the last save) and ``SESSION.json.bak.1``, ``.bak.2``, … (review work s
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
+
+#: a session file's name: SESSION.json (any case), or a previous version of one that
+#: saving kept (SESSION.json.bak, SESSION.json.bak.1), which a damaged file's error names
+_SESSION_NAME = re.compile(r"\.json(\.bak(\.\d+)?)?$", re.IGNORECASE)
+
+
+def named_as_session(path: str) -> bool:
+    """Whether ``path`` is named as a session file (or a kept previous version of one)."""
+    return _SESSION_NAME.search(path) is not None
 
 
 def review_work_in(path: Path) -> str:
