@@ -6,6 +6,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, TypedDict
 
 from speechcal_core.audio import AUDIO_SUFFIXES
+from speechcal_core.session.backups import named_as_session
 from speechcal_core.session.store import SessionFileError, load_session
 
 if TYPE_CHECKING:
@@ -36,7 +37,7 @@ def drop_request(paths: list[str]) -> OpenRequest | None:
     whatever other JSON comes with them (``speechcal synth`` writes a truth.json beside
     the two); a JSON that is no session is opened, to say why, only when there is no pair.
     """
-    jsons = [p for p in paths if p.lower().endswith(".json")]
+    jsons = [p for p in paths if named_as_session(p)]
     audio = [p for p in paths if p.lower().endswith(AUDIO_SUFFIXES)]
     recording = [p for p in paths if p not in jsons and p not in audio]
     sessions = [p for p in jsons if is_session_file(p)]

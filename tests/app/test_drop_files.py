@@ -77,6 +77,16 @@ def test_a_session_file_named_in_upper_case_is_opened(opened, tmp_path: Path) ->
     assert calls == [{"session_path": str(session)}]
 
 
+@pytest.mark.parametrize("name", ["review.json.bak", "review.json.bak.2"])
+def test_a_kept_previous_version_of_a_session_is_opened_as_one(opened, tmp_path: Path,
+                                                               name: str) -> None:
+    """The file a damaged session's error points to, as ``speechcal review`` opens it; it
+    was taken for a recording without audio."""
+    win, calls = opened
+    drop(win, [tmp_path / name])
+    assert calls == [{"session_path": str(tmp_path / name)}]
+
+
 def test_a_recording_without_audio_is_not_opened(opened, tmp_path: Path) -> None:
     win, calls = opened
     drop(win, [tmp_path / "recording.bag"])
