@@ -616,6 +616,7 @@ class ReviewModel:
         decided set stays current.
         """
         current = self.acting_set()
+        self.step_refused = ""  # an earlier key's reason; "then next set" may give its own
         if current is None:  # none left: the key says why it did nothing
             self.step_refused = NO_SETS_LEFT.format(verb="decide on")
             return
@@ -850,6 +851,7 @@ class ReviewModel:
         """Remove the set the keys act on (:meth:`acting_set`: a false trigger); undo
         brings it back."""
         current = self.acting_set()
+        self.step_refused = ""  # an earlier key's reason
         if current is None:
             self.step_refused = NO_SETS_LEFT.format(verb="remove")
             return

@@ -207,3 +207,21 @@ def test_a_decision_or_removal_with_no_sets_left_says_why_it_did_nothing(
         assert model.step_refused.startswith("no frame sets to ")
         assert "T adds one at the playhead" in model.step_refused
         assert model.last_decided is None and not model.session.sets
+
+
+def test_a_decision_that_went_through_carries_no_earlier_reason(
+    truth_session_file: Path,
+) -> None:
+    """A with no sets left gave its reason; after T added a set, A on it (without "then
+    next set") still carried that reason, and the window said "set #1 accepted · no frame
+    sets to decide on"."""
+    model = _model(truth_session_file)
+    model.advance_after_decision = False
+    while model.session.sets:
+        model.remove_set()
+    model.accept()
+    assert model.step_refused
+    model.add_set()
+    model.accept()
+    assert model.session.sets[0].decision == "accepted"
+    assert model.step_refused == ""
