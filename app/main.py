@@ -71,7 +71,8 @@ def run_review(
     target: TargetSpec | None = None,
     streams: StreamChoice | None = None,
 ) -> int:
-    """Open the window on the given input; with ``screenshot`` render it to PNG and exit.
+    """Open the window on the given input; with ``screenshot`` render it to PNG and exit
+    (an input that fails to open writes no PNG: the error goes to stderr, exit 1).
     A recording's new session is saved at ``new_session_path`` (default: beside it),
     detects ``triggers`` in the audio's ``channel``, looks for the board ``target`` and
     uses the recording's ``streams`` (defaults: "capture", all channels, Kalibr's 6x6
@@ -102,11 +103,11 @@ def run_review(
     try:
         if screenshot:
             ok = wait_until_settled(window, app, timeout_s=SETTLE_S)
-            save_screenshot(window, screenshot)
-            print(f"wrote {screenshot}", file=sys.stderr)
-            if window.load_error:
+            if window.load_error:  # a picture of "Could not open" is no screenshot of it
                 print(f"speechcal review: error: {window.load_error}", file=sys.stderr)
                 return 1
+            save_screenshot(window, screenshot)
+            print(f"wrote {screenshot}", file=sys.stderr)
             if not ok:
                 print(f"speechcal review: the window was still busy after {SETTLE_S:.0f} s "
                       f"({window.status_text.text() or 'loading'}); the screenshot shows it "

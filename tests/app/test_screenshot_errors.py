@@ -33,3 +33,19 @@ def test_screenshot_that_cannot_be_written_raises_the_cli_error(qtbot, tmp_path:
     good = tmp_path / "sub" / "ok.png"
     save_screenshot(widget, str(good))
     assert good.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_session_that_fails_to_open_writes_no_screenshot(
+    truth_session_file: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A screenshot of the first page saying "Could not open" is no picture of the session:
+    no PNG, the error on stderr, exit 1 (a script must not take the file for success)."""
+    damaged = tmp_path / "damaged.json"
+    damaged.write_text(truth_session_file.read_text()[:-40])  # cut short: not valid JSON
+    shot = tmp_path / "x.png"
+    code = main(["review", str(damaged), "--screenshot", str(shot)])
+    err = capsys.readouterr().err
+    assert code == 1
+    assert not shot.exists()
+    assert f"speechcal review: error: {damaged}: not valid JSON" in err
+    assert "wrote" not in err
