@@ -307,7 +307,7 @@ def load_session(path: str | Path) -> Session:
     _check_session_shape(path, data)
     base = path.absolute().parent
     try:
-        _check_set_ids(data["sets"] if isinstance(data.get("sets"), list) else [])
+        _check_set_ids(data["sets"])
         _check_streams(data.get(STREAMS_KEY))
         _check_coverage(data.get("coverage"))
         _check_calibration(data.get("calibration"))
@@ -322,7 +322,7 @@ def load_session(path: str | Path) -> Session:
                 {k: v for k, v in data["sync"].items()
                  if k not in ("offset_ns", "drift", "source")},
                 lambda a: _absolute(a, base)),
-            sets=[_frame_set(path, k, s) for k, s in enumerate(data.get("sets", []))],
+            sets=[_frame_set(path, k, s) for k, s in enumerate(data["sets"])],
             triggers_word=list(data.get("trigger_words", ["capture"])),
             calibration=dict(data.get("calibration", {})),
             extra={k: v for k, v in data.items() if k not in known},
@@ -465,7 +465,9 @@ def _reason(exc: Exception) -> str:
 
 def _check_session_shape(path: Path, data: dict[str, Any]) -> None:
     """Refuse JSON that is not a session although it has a schema (a synthetic session's
-    ``truth.json``, another tool's file): opening it would autosave a session over it."""
+    ``truth.json``, another tool's file): opening it would autosave a session over it.
+    A session (a recording list and a sync entry) whose ``sets`` is missing or no list
+    is refused as damaged, naming the key."""
     if "sets" not in data and "options" in data and "triggers" in data:
         raise SessionFileError(
             f"{path}: the truth file of a synthetic session, not a review session; open its "
@@ -473,10 +475,19 @@ def _check_session_shape(path: Path, data: dict[str, Any]) -> None:
     recording = data.get("recording")
     if not (isinstance(recording, list) and recording
             and all(isinstance(p, str) for p in recording)
-            and isinstance(data.get("sync"), dict) and isinstance(data.get("sets", []), list)):
+            and isinstance(data.get("sync"), dict)):
         raise SessionFileError(
-            f"{path}: not a SpeechCal session file (it lacks a recording list, a sync entry "
-            f"or a list of sets); a session file is what 'speechcal process' writes")
+            f"{path}: not a SpeechCal session file (it lacks a recording list or a sync "
+            f"entry); a session file is what 'speechcal process' writes")
+    # a session's recording and sync without its list of sets is a damaged session, not
+    # an empty one: opened as empty, the next autosave would write that over the file
+    if "sets" not in data:
+        reason = "the key 'sets' is missing"
+    elif not isinstance(data["sets"], list):
+        reason = f"'sets' is {data['sets']!r:.60}, not a list of frame sets"
+    else:
+        return
+    raise SessionFileError(f"{path}: damaged session file ({reason}){_way_back(path)}")
 
 
 def _migrate(data: dict[str, Any]) -> dict[str, Any]:

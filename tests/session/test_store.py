@@ -324,6 +324,11 @@ def _edited(tmp_path: Path, edit) -> Path:
     (lambda d: d["sync"].update(drift=float("nan")), "the sync's drift is nan"),
     (lambda d: d["sync"].update(offset_ns=float("inf")), "cannot convert float infinity"),
     (lambda d: d["sets"].append(dict(d["sets"][0])), "set id 1 appears twice"),
+    # a session without its list of sets opened as one with no sets, and the next save
+    # wrote that over the file
+    (lambda d: d.pop("sets"), "the key 'sets' is missing"),
+    (lambda d: d.update(sets={}), "'sets' is {}, not a list of frame sets"),
+    (lambda d: d.update(sets=None), "'sets' is None, not a list of frame sets"),
     (lambda d: d["sets"][0].update(decision="yes"),
      "set 1: decision 'yes' is none of accepted, rejected, undecided"),
     (lambda d: d["sets"][0].pop("trigger"), "set 1: the key 'trigger' is missing"),
@@ -474,7 +479,6 @@ def test_a_synthetic_sessions_truth_file_is_refused_and_left_alone(
     {"schema": 1, "recording": 3, "sync": {}},
     {"schema": 1, "recording": [], "sync": {"offset_ns": 0}},
     {"schema": 1, "recording": ["rec.bag"], "sync": [1, 2]},
-    {"schema": 1, "recording": ["rec.bag"], "sync": {"offset_ns": 0}, "sets": {}},
 ])
 def test_json_with_a_schema_but_no_session_shape_is_not_a_session(tmp_path: Path,
                                                                    data: dict) -> None:
