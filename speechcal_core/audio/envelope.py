@@ -53,20 +53,20 @@ class EnvelopePyramid:
         """The pyramid of an audio file's samples (as :func:`load_audio` gives them at the
         file's own rate), built block by block so the whole audio is never in memory."""
         from speechcal_core.audio.file_samples import FileSamples
-        from speechcal_core.audio.loader import mono_blocks, open_audio
+        from speechcal_core.audio.loader import NumberCheck, mono_blocks, open_audio
 
         mins, maxs, n = [], [], 0
+        numbers = NumberCheck(path)
         with open_audio(path, channel) as f:
             rate = int(f.samplerate)
-            for block in mono_blocks(f, path, channel):
-                if not np.all(np.isfinite(block)):
-                    block = np.nan_to_num(block, nan=0.0, posinf=1.0, neginf=-1.0)
+            for block in map(numbers.clean, mono_blocks(f, path, channel)):
                 mn, mx = _buckets(block, KEPT)  # blocks are whole buckets but the last
                 mins.append(mn)
                 maxs.append(mx)
                 n += block.size
         if n == 0:
             raise AudioError(f"{path}: holds no audio samples; record or copy the audio again")
+        numbers.check()
         pyramid = cls.__new__(cls)
         pyramid.rate = float(rate)
         pyramid.size = n

@@ -33,6 +33,9 @@ UNKNOWN_FRAMES = 1 << 62
 #: a file decoding this much short of its header's length is cut short (codecs' blocks
 #: and a Vorbis file's last granule lie well within it)
 CUT_SHORT_S = 0.1
+#: audio with more than this share of its samples not numbers (NaN, infinite) is damaged;
+#: fewer (a glitch in a float file) are read as silence (inf as full scale)
+DAMAGED_SHARE = 0.5
 #: what :func:`sound_file` opens: libsndfile's file, or a chained Ogg file's links as one
 SoundFileLike = sf.SoundFile | SoundFileChain
 
@@ -88,8 +91,9 @@ def load_audio(path: str | Path, *, rate: int | None = None,
         silent_s = _silent_s(f)
     if mono.size == 0:
         raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
-    if not np.all(np.isfinite(mono)):
-        mono = np.nan_to_num(mono, nan=0.0, posinf=1.0, neginf=-1.0)
+    numbers = NumberCheck(p)
+    mono = numbers.clean(mono)
+    numbers.check()
     audio = Audio(mono, rate_in, p, channels, rate_in, channel, header_s, silent_s)
     return audio.resampled(int(rate)) if rate is not None else audio
 
@@ -106,21 +110,45 @@ def load_resampled(path: str | Path, rate: int, *,
         channels, rate_in = int(f.channels), int(f.samplerate)
         expected = header_frames(f) or 0
         header_s = _header_seconds(f)
-        samples, size_in = resample_blocks(_finite(mono_blocks(f, p, channel)), rate_in,
-                                           int(rate), size_hint=expected)
+        numbers = NumberCheck(p)
+        samples, size_in = resample_blocks(map(numbers.clean, mono_blocks(f, p, channel)),
+                                           rate_in, int(rate), size_hint=expected)
         silent_s = _silent_s(f)
     if size_in == 0:
         raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
+    numbers.check()
     return (Audio(samples, int(rate), p, channels, rate_in, channel, header_s, silent_s),
             size_in)
 
 
-def _finite(blocks: Iterator[np.ndarray]) -> Iterator[np.ndarray]:
-    """The blocks with NaN and inf replaced as :func:`load_audio` does."""
-    for block in blocks:
-        if not np.all(np.isfinite(block)):
+class NumberCheck:
+    """Samples that are not numbers (NaN, infinite), as every full read of a file takes
+    them: :meth:`clean` replaces them in each block (NaN by 0, inf by full scale) and
+    counts them; :meth:`check` then refuses the file as damaged when more than
+    :data:`DAMAGED_SHARE` of its samples were such: read as silence, such a file was
+    "no speech" rather than a damaged file."""
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = path
+        self.bad = 0
+        self.total = 0
+
+    def clean(self, block: np.ndarray) -> np.ndarray:
+        """``block`` with its non-numbers replaced (a new array when there are any)."""
+        self.total += block.size
+        finite = np.isfinite(block)
+        if not finite.all():
+            self.bad += block.size - int(np.count_nonzero(finite))
             block = np.nan_to_num(block, nan=0.0, posinf=1.0, neginf=-1.0)
-        yield block
+        return block
+
+    def check(self) -> None:
+        """AudioError naming the file when too many of its samples were no numbers."""
+        if self.total and self.bad > DAMAGED_SHARE * self.total:
+            share = "all" if self.bad == self.total else f"{100 * self.bad / self.total:.0f}%"
+            raise AudioError(
+                f"{self.path}: the audio is damaged: {share} of its samples are not numbers "
+                "(NaN or infinite), not sound; record, copy or export the take again")
 
 
 def _silent_s(f: SoundFileLike) -> float:

@@ -123,3 +123,42 @@ def test_a_file_whose_header_does_not_know_its_length_loads_what_decodes(
     assert size_in == audio.samples.size
     assert resampled.samples.size == -(-size_in // 2)
     assert audio_identity(p) is None  # no length to tell this file from another by
+
+
+def _with_non_numbers(rate: int, share: float, value: float = float("nan")) -> np.ndarray:
+    """A tone whose first ``share`` of samples, spread through it, are ``value``."""
+    x = _tone(rate, 2.0)
+    bad = np.random.default_rng(3).permutation(x.size)[:int(share * x.size)]
+    x[bad] = value
+    return x
+
+
+def test_scattered_nan_and_inf_read_as_silence(tmp_path: Path) -> None:
+    """A few samples that are no numbers (a glitch in a float WAV) become 0 (inf full
+    scale); the rest of the take is used."""
+    x = _with_non_numbers(16000, 0.01)
+    x[5] = float("inf")
+    p = _write(tmp_path / "glitch.wav", x, 16000, subtype="FLOAT")
+    a = load_audio(p)
+    assert np.all(np.isfinite(a.samples))
+    assert a.samples[np.isnan(x)].max() == 0.0 and a.samples[5] == 1.0
+    assert np.array_equal(load_resampled(p, 16000)[0].samples, a.samples)
+
+
+@pytest.mark.parametrize(("share", "value"), [(1.0, float("nan")), (1.0, float("-inf")),
+                                              (0.6, float("nan"))])
+def test_audio_mostly_not_numbers_is_refused_as_damaged(tmp_path: Path, share: float,
+                                                        value: float) -> None:
+    """Audio with no (or few) real samples was read as silence, and detection said "no
+    speech": the file is damaged, and every way of reading it says so, naming it."""
+    from speechcal_core.audio.envelope import EnvelopePyramid
+
+    p = _write(tmp_path / "mic.wav", _with_non_numbers(16000, share, value), 16000,
+               subtype="FLOAT")
+    said = "all" if share == 1.0 else "60%"
+    for read in (lambda: load_audio(p), lambda: load_audio(p, rate=8000),
+                 lambda: load_resampled(p, 8000), lambda: EnvelopePyramid.from_file(p)):
+        with pytest.raises(AudioError) as err:
+            read()
+        assert str(err.value).startswith(f"{p}: the audio is damaged: {said} of its ")
+        assert "NaN or infinite" in str(err.value)

@@ -150,3 +150,17 @@ def test_a_trigger_after_the_recorder_resumed_is_found(
     assert len(found) == 2
     for t, (start, end) in zip(found, scene.spans("capture"), strict=True):
         assert start < t < end
+
+
+def test_audio_of_nan_is_damaged_not_silent(tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    """A float WAV of NaN detected as "no speech": a damaged file, exit 1."""
+    import numpy as np
+    import soundfile as sf
+
+    path = tmp_path / "mic.wav"
+    sf.write(str(path), np.full(16000, np.nan, np.float32), 16000, subtype="FLOAT")
+    assert main(["detect", str(path), "--json"]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert f"{path}: the audio is damaged: all of its" in captured.err
