@@ -763,7 +763,7 @@ class ReviewModel:
         frames = tuple(nearest_choice(name, st, at, self._periods[name])
                        for name, st in self._stamps.items())
         if set_id is None:
-            set_id = max((s.id for s in self.session.sets), default=0) + 1
+            set_id = self.session.new_set_id()  # never a removed set's number
         return FrameSet(id=set_id, t_ns=t_ns, trigger=trigger, frames=frames)
 
     # -- find more like this ------------------------------------------------------------
@@ -827,17 +827,15 @@ class ReviewModel:
 
     def _add_found(self, triggers: list[Trigger]) -> list[int]:
         """New undecided sets for the ``triggers`` no set covers, as one undo step."""
-        next_id = max((s.id for s in self.session.sets), default=0) + 1
         times = [set_time_ns(s) for s in self.session.sets] + \
             [s.t_ns for s in self.session.sets]
         added: list[tuple[FrameSet, int, object]] = []
         for trigger in triggers:
-            new = self._new_set(trigger, set_id=next_id)
+            new = self._new_set(trigger, set_id=0)  # numbered once kept
             if any(abs(new.t_ns - t) < ADD_MIN_GAP_NS for t in times):
                 continue
             times.append(new.t_ns)
-            added.append((new, -1, None))
-            next_id += 1
+            added.append((replace(new, id=self.session.new_set_id()), -1, None))
         if not added:
             return []
         self._frame_details()  # from now on, sets without details are re-scored

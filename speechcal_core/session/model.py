@@ -169,6 +169,16 @@ class Session:
     #: what the sync was found from, as ``speechcal sync`` reports it (claps, cameras)
     sync_evidence: dict[str, Any] = field(default_factory=dict)
     extra: dict[str, Any] = field(default_factory=dict)
+    #: the highest set number the session has given, removed sets' too (file key
+    #: ``last_set_id``): set numbers are what the operator reads and says ("set 7"), so a
+    #: new set is numbered after it (:meth:`new_set_id`), never as a set removed before
+    last_set_id: int = 0
+
+    def new_set_id(self) -> int:
+        """The number of a new set, taken: after every set the session has or has had
+        (a removed set's, an undone added set's), also across saving and opening again."""
+        self.last_set_id = max(self.last_set_id, max((s.id for s in self.sets), default=0)) + 1
+        return self.last_set_id
 
     def claps_audio_s(self) -> tuple[float, ...]:
         """The claps heard in the audio (audio seconds, from ``sync_evidence``): the first

@@ -63,6 +63,7 @@ def _document(session: Session, session_path: Path, sets: list[Any]) -> dict[str
         "sync": {**_with_audio_path(session.sync_evidence, lambda a: _relative(a, base)),
                  **session.sync.to_dict()},
         "sets": sets,
+        "last_set_id": max(session.last_set_id, max((s.id for s in session.sets), default=0)),
         "calibration": session.calibration,
         **session.extra,
     }
@@ -312,7 +313,8 @@ def load_session(path: str | Path) -> Session:
         _check_coverage(data.get("coverage"))
         _check_calibration(data.get("calibration"))
         known = {"schema", "recording", "audio", "audio_channel", "trigger_words", "sync",
-                 "sets", "calibration"}
+                 "sets", "last_set_id", "calibration"}
+        sets = [_frame_set(path, k, s) for k, s in enumerate(data["sets"])]
         return Session(
             recording=[_absolute(p, base) for p in data["recording"]],
             audio=_absolute(data["audio"], base) if data.get("audio") else None,
@@ -322,10 +324,11 @@ def load_session(path: str | Path) -> Session:
                 {k: v for k, v in data["sync"].items()
                  if k not in ("offset_ns", "drift", "source")},
                 lambda a: _absolute(a, base)),
-            sets=[_frame_set(path, k, s) for k, s in enumerate(data["sets"])],
+            sets=sets,
             triggers_word=list(data.get("trigger_words", ["capture"])),
             calibration=dict(data.get("calibration", {})),
             extra={k: v for k, v in data.items() if k not in known},
+            last_set_id=_last_set_id(data.get("last_set_id"), sets),
         )
     except (KeyError, TypeError, ValueError, OverflowError) as exc:
         raise SessionFileError(f"{path}: damaged session file ({_reason(exc)})"
@@ -348,6 +351,16 @@ def _check_set_ids(sets: list[Any]) -> None:
         if set_id is not None and set_id in seen:
             raise ValueError(f"set id {set_id} appears twice")
         seen.add(set_id)
+
+
+def _last_set_id(value: Any, sets: list[FrameSet]) -> int:
+    """The highest set number the session gave (``last_set_id``; a file written before
+    the key: its highest set's); ValueError when it is no set number."""
+    if value is not None and not (isinstance(value, int) and not isinstance(value, bool)
+                                  and value >= 0):
+        raise ValueError(f"'last_set_id' is {value!r:.40}, not a set number; deleting the "
+                         "key is a fix too (new sets are then numbered after the highest)")
+    return max(value or 0, max((s.id for s in sets), default=0))
 
 
 def _check_streams(value: Any) -> None:

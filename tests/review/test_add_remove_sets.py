@@ -158,9 +158,9 @@ def test_removing_a_set_drops_its_corners_until_undone(truth_session_file: Path)
     assert str(last.id) not in session.extra["frame_details"]
     _start, end = model.time_range_ns()
     model.set_playhead(end)
-    model.add_set()  # gets the removed set's id: must not show its corners
-    assert model.current_set.id == last.id
-    assert str(last.id) not in session.extra["frame_details"]
+    model.add_set()  # a new number (never the removed set's), without corners
+    assert model.current_set.id == last.id + 1
+    assert not {str(last.id), str(last.id + 1)} & set(session.extra["frame_details"])
     model.undo()
     model.undo()
     assert session.extra["frame_details"] == {str(last.id): {"frames": {}}}
@@ -225,3 +225,75 @@ def test_a_decision_that_went_through_carries_no_earlier_reason(
     model.accept()
     assert model.session.sets[0].decision == "accepted"
     assert model.step_refused == ""
+
+
+def _add_between_first_two(model: ReviewModel) -> int:
+    """Add a set half way between the first two sets; its id."""
+    model.set_playhead(_between_first_two_sets(model))
+    model.add_set()
+    assert model.current_set is not None
+    return model.current_set.id
+
+
+def _remove_highest(model: ReviewModel) -> int:
+    highest = max(s.id for s in model.session.sets)
+    model.go_to_set(next(i for i, s in enumerate(model.session.sets) if s.id == highest))
+    model.remove_set()
+    return highest
+
+
+def test_a_removed_sets_number_is_never_given_again(truth_session_file: Path) -> None:
+    """Set numbers are what the operator reads and says ("set 7"): after set 7 was
+    removed the next set added was set 7 again, another set under the same name in notes
+    and in exports. Not within the review, nor after the session is opened again."""
+    model = _model(truth_session_file)
+    removed = _remove_highest(model)
+    assert _add_between_first_two(model) == removed + 1
+    assert load_session(truth_session_file).last_set_id == removed + 1
+
+    model = _model(truth_session_file)  # opened again, the highest set removed again
+    removed_too = _remove_highest(model)
+    assert removed_too == removed + 1
+    model = _model(truth_session_file)
+    assert _add_between_first_two(model) == removed + 2
+
+
+def test_an_undone_added_sets_number_is_not_given_again(truth_session_file: Path) -> None:
+    """Added, heard as "set 9" and taken back: the next set added is set 10; redo of a
+    removal brings a set back under its own number, which no other set took meanwhile."""
+    from speechcal_core.review.similar import SimilarResult
+    from speechcal_core.speech.backend import Word
+
+    model = _model(truth_session_file)
+    highest = max(s.id for s in model.session.sets)
+    added = _add_between_first_two(model)
+    assert added == highest + 1
+    model.undo()
+    assert _add_between_first_two(model) == highest + 2
+    model.undo()
+    removed = _remove_highest(model)  # the highest detected set
+    model.undo()  # back under its own number
+    assert model.session.set_by_id(removed).id == highest
+    # found words (S, detect again) take the next numbers too
+    a, b = (set_time_ns(s) for s in model.session.sets[:2])
+    t_s = float(model.session.sync.to_audio((a + b) // 2))
+    found = model.apply_similar(SimilarResult(None, (t_s, t_s + 0.4),  # type: ignore[arg-type]
+                                              (Word("capture", t_s, t_s + 0.4),)))
+    assert found == [highest + 3]
+    ids = [s.id for s in load_session(truth_session_file).sets]
+    assert len(ids) == len(set(ids))
+
+
+def test_a_session_file_without_the_last_set_number_counts_on_from_its_sets(
+        truth_session_file: Path) -> None:
+    """A file written before the session kept its last set number opens; new sets are
+    numbered after its highest set."""
+    import json
+
+    data = json.loads(truth_session_file.read_text())
+    data.pop("last_set_id", None)
+    truth_session_file.write_text(json.dumps(data))
+    session = load_session(truth_session_file)
+    highest = max(s.id for s in session.sets)
+    assert session.last_set_id == highest
+    assert _add_between_first_two(_model(truth_session_file)) == highest + 1

@@ -329,6 +329,7 @@ def _edited(tmp_path: Path, edit) -> Path:
     (lambda d: d.pop("sets"), "the key 'sets' is missing"),
     (lambda d: d.update(sets={}), "'sets' is {}, not a list of frame sets"),
     (lambda d: d.update(sets=None), "'sets' is None, not a list of frame sets"),
+    (lambda d: d.update(last_set_id="7"), "'last_set_id' is '7', not a set number"),
     (lambda d: d["sets"][0].update(decision="yes"),
      "set 1: decision 'yes' is none of accepted, rejected, undecided"),
     (lambda d: d["sets"][0].pop("trigger"), "set 1: the key 'trigger' is missing"),
