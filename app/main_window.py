@@ -795,7 +795,7 @@ class ReviewWindow(QMainWindow):
         if self.inputs is not None:
             self._retired.append(self.inputs)
         self.inputs = inputs
-        self.saver.reset(inputs.session_path, inputs.session_stamp)
+        self.saver.reset(inputs.session_path, inputs.session_stamp, inputs.restores)
         self.status.end("save")
         self._save_warned = False
         self.save_as_action.setEnabled(True)
@@ -1233,6 +1233,9 @@ class ReviewWindow(QMainWindow):
         elif self._save_warned:
             self.status.end("save")
             self._save_warned = False
+        if self.saver.restored:  # a kept previous version restored: where the file went
+            self.status.say(self.saver.restored)
+            self.saver.restored = ""
         self._update_saved_label()
 
     def _update_saved_label(self) -> None:

@@ -24,6 +24,7 @@ from typing import Any
 from PySide6.QtCore import QObject, Signal
 
 from app.tasks import BackgroundTask, lane, start
+from speechcal_core.session.backups import restored_note
 from speechcal_core.session.model import Session
 from speechcal_core.session.store import (
     SessionFileError,
@@ -72,6 +73,11 @@ class SessionSaver(QObject):
         self._pending: tuple[Path, dict[str, Any]] | None = None
         self._writing = False
         self._unreported = False  # saves ended that :attr:`saved` has not told of
+        # the kept previous version opened, which the first save restores at :attr:`path`
+        self._restores: Path | None = None
+        #: what the save that restored it said (where the file it replaced went), until
+        #: the window has told it (and set it to "")
+        self.restored = ""
 
     @property
     def unsaved(self) -> bool:
@@ -85,16 +91,22 @@ class SessionSaver(QObject):
             return self._writing
 
     def reset(self, path: Path | None,
-              stamp: tuple[int, int, int] | None = None) -> None:
+              stamp: tuple[int, int, int] | None = None, restores: Path | None = None
+              ) -> None:
         """A session was opened from (or processed into) ``path``, whose file was as
-        ``stamp`` says when it was read (``file_stamp``; by default, as it is now). The
-        previous session's saves are written first."""
+        ``stamp`` says when it was read (``file_stamp``; by default, as it is now); or
+        ``restores``, a kept previous version of ``path``, was opened: the first save
+        restores it there (``backups`` says the rule). The previous session's saves are
+        written first."""
         self.flush()
         self.path, self.error = path, None
+        self._restores, self.restored = restores, ""
         self._writer = SessionWriter()
         self._on_disk = stamp if stamp is not None or path is None else file_stamp(path)
-        # the stamp's modification time (ns): when the file was last saved
-        self.saved_at = self._on_disk[1] / 1e9 if self._on_disk is not None else None
+        # the stamp's modification time (ns): when the file was last saved (not this
+        # session, when a previous version it restores was opened)
+        self.saved_at = self._on_disk[1] / 1e9 \
+            if self._on_disk is not None and restores is None else None
 
     def save(self, session: Session) -> None:
         """Autosave to :attr:`path`, off the UI thread: :attr:`saved` is emitted when it
@@ -128,10 +140,11 @@ class SessionSaver(QObject):
                     self._writing, self._unreported = False, True
                     self._lock.notify_all()
                     return
-                expect = self._on_disk
+                expect, restores = self._on_disk, self._restores
             path, document = job
             try:
-                save_document(document, path, self._writer, expect=expect)
+                aside = save_document(document, path, self._writer, expect=expect,
+                                      keep_aside=restores is not None)
             except SessionFileError as exc:
                 with self._lock:
                     self.error = exc
@@ -142,6 +155,9 @@ class SessionSaver(QObject):
                 stamp = file_stamp(path)
                 with self._lock:
                     self.saved_at, self.error, self._on_disk = time.time(), None, stamp
+                    if restores is not None:
+                        self._restores = None
+                        self.restored = restored_note(restores, path, aside)
 
     def _written(self, _result: object) -> None:
         """A worker ended (UI thread): say how its saves went."""
@@ -161,6 +177,7 @@ class SessionSaver(QObject):
         path = session_file(path)
         save_session(session, path, self._writer)
         self.path, self.saved_at, self.error = path, time.time(), None
+        self._restores = None  # saved elsewhere: the version opened restores nothing
         self._on_disk = file_stamp(path)
 
     def label(self, now: float) -> tuple[str, str]:

@@ -52,7 +52,7 @@ def atomic_write_text(path: str | Path, text: str, *, keep_backup: bool = False)
             handle.flush()
             os.fsync(handle.fileno())
         if keep_backup and path.exists():
-            _copy_atomically(path, path.with_name(path.name + ".bak"))
+            copy_atomically(path, path.with_name(path.name + ".bak"))
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
@@ -60,7 +60,7 @@ def atomic_write_text(path: str | Path, text: str, *, keep_backup: bool = False)
         raise
 
 
-def _copy_atomically(source: Path, target: Path) -> None:
+def copy_atomically(source: Path, target: Path) -> None:
     """Copy ``source`` to ``target`` through a temp file beside it: a copy failing midway
     (a full disk) leaves ``target`` as it was, not cut off."""
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)

@@ -11,7 +11,12 @@ from speechcal_core.errors import SpeechCalError, UsageError
 from speechcal_core.frames.nearest import stamped_index
 from speechcal_core.fsutil import plain_absolute, same_file
 from speechcal_core.review.summary import FIND_WORDS, FIND_WORDS_KEY, review_work
-from speechcal_core.session.backups import set_aside_backup_work
+from speechcal_core.session.backups import (
+    restored_name,
+    restored_note,
+    restoring_note,
+    set_aside_backup_work,
+)
 from speechcal_core.session.model import SENSITIVITY_KEY, Session
 from speechcal_core.session.store import (
     SessionFileError,
@@ -49,6 +54,9 @@ class ReviewInputs:
     session_stamp: tuple[int, int, int] | None = None
     #: why the session's audio could not be read for the waveform ("" when it was)
     audio_problem: str = ""
+    #: the kept previous version opened (SESSION.json.bak, .bak.N), which the first save
+    #: restores as ``session_path`` (``save_session(..., keep_aside=True)``), else None
+    restores: Path | None = None
 
     @property
     def no_waveform(self) -> str:
@@ -106,12 +114,18 @@ def load_for_review(
     note = ""
     source = sound = None
     made_new = False  # processed now: its streams are as asked
+    restores = None
     if session_path is not None:
         report("reading session", 0.05)
         path = session_file(session_path)  # a link: its target, from now on
         stamp = file_stamp(path)  # before reading: a change while reading shows later
         session = load_session(path)
-        note = set_aside_backup_work(path, review_work(session))
+        restored = restored_name(path)
+        if restored is not None:  # a kept previous version: saving restores it (backups)
+            restores, path = path, session_file(restored)
+            stamp = file_stamp(path)  # the file its first save replaces, as it is now
+            note = restoring_note(restores, path)
+        note = "; ".join(filter(None, [note, set_aside_backup_work(path, review_work(session))]))
     elif recording:
         path = session_file(session_path_for(recording, new_session_path))
         if path.exists():
@@ -197,7 +211,8 @@ def load_for_review(
                 "RECORDING --audio AUDIO -o NEW.json)")
     if not made_new:
         try:
-            said, source, stamp = _leave_out(session, source, streams, path, stamp)
+            said, source, stamp = _leave_out(session, source, streams, path, stamp, restores)
+            restores = None if said else restores  # saved: restored
         except BaseException:
             source.close()
             raise
@@ -219,7 +234,7 @@ def load_for_review(
     except BaseException:
         source.close()
         raise
-    return ReviewInputs(session, source, pyramid, path, claps, note, stamp, problem)
+    return ReviewInputs(session, source, pyramid, path, claps, note, stamp, problem, restores)
 
 
 #: what the window says of a session opened with ``audio_at_start``
@@ -259,12 +274,13 @@ def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,
 
 
 def _leave_out(session: Session, source: FrameSource, choice: StreamChoice | None,
-               path: Path, stamp: tuple[int, int, int] | None
+               path: Path, stamp: tuple[int, int, int] | None, restores: Path | None = None
                ) -> tuple[str, FrameSource, tuple[int, int, int] | None]:
     """Narrow an existing session to the streams ``choice`` keeps of those it uses,
-    keeping its review work and saving it: what was said, the source of the streams left
-    and the file's new stamp. A stream the session does not use cannot be taken in
-    (that needs processing): UsageError."""
+    keeping its review work and saving it (restoring the kept previous version
+    ``restores`` opened, when given): what was said, the source of the streams left and
+    the file's new stamp. A stream the session does not use cannot be taken in (that
+    needs processing): UsageError."""
     from speechcal_core.session.streams import leave_out_streams
     from speechcal_core.sources.selection import (
         StreamChoice,
@@ -290,11 +306,12 @@ def _leave_out(session: Session, source: FrameSource, choice: StreamChoice | Non
     if not left:
         return "", source, stamp
     leave_out_streams(session, left, kept)
-    save_session(session, path, expect=stamp)
+    aside = save_session(session, path, expect=stamp, keep_aside=restores is not None)
     whose = "its" if len(left) == 1 else "their"
+    restored = f"; {restored_note(restores, path, aside)}" if restores is not None else ""
     return (f"left out {', '.join(left)} ({whose} frames, calibration and coverage; the "
-            "review work is kept)", select_streams(source, StreamChoice(only=tuple(kept))),
-            file_stamp(path))
+            f"review work is kept){restored}",
+            select_streams(source, StreamChoice(only=tuple(kept))), file_stamp(path))
 
 
 def _waveform(session: Session, sound: Audio | None, report: Progress

@@ -12,10 +12,12 @@ from typing import Any
 from speechcal_core.errors import SpeechCalError
 from speechcal_core.fsutil import (
     atomic_write_text,
+    copy_atomically,
     folder_write_problem,
     plain_absolute,
     shell_quoted,
 )
+from speechcal_core.session.backups import free_name
 from speechcal_core.session.model import STREAMS_KEY, FrameSet, Session
 from speechcal_core.sync.model import SyncModel
 
@@ -83,20 +85,27 @@ def session_snapshot(session: Session, session_path: Path) -> dict[str, Any]:
 
 def save_session(session: Session, path: str | Path,
                  writer: SessionWriter | None = None,
-                 expect: tuple[int, int, int] | None = None, *, backup: bool = True) -> None:
+                 expect: tuple[int, int, int] | None = None, *, backup: bool = True,
+                 keep_aside: bool = False) -> Path | None:
     """Write atomically; the previous version stays as ``<path>.bak`` (unless ``backup``
     is False: the ``.bak`` there is left as it is). A ``writer`` kept from save to save
     re-uses the text of what did not change (autosave). With ``expect`` (the
     :func:`file_stamp` the file had when it was read or last saved), a file that another
     window or program changed since is not overwritten: SessionFileError. A ``path``
-    that is a symbolic link stays one: its target is written (:func:`session_file`)."""
+    that is a symbolic link stays one: its target is written (:func:`session_file`).
+
+    ``keep_aside`` is the first save of a kept previous version restored as ``path``
+    (``backups`` says the rule): the file it replaces is kept as a free ``.bak.N``, the
+    ``.bak`` left as it is; returns that ``.bak.N`` (None when nothing was replaced)."""
     path = session_file(path)
-    save_document(session_to_dict(session, path), path, writer, expect, backup=backup)
+    return save_document(session_to_dict(session, path), path, writer, expect,
+                         backup=backup, keep_aside=keep_aside)
 
 
 def save_document(document: dict[str, Any], path: str | Path,
                   writer: SessionWriter | None = None,
-                  expect: tuple[int, int, int] | None = None, *, backup: bool = True) -> None:
+                  expect: tuple[int, int, int] | None = None, *, backup: bool = True,
+                  keep_aside: bool = False) -> Path | None:
     """:func:`save_session` for a document already taken (:func:`session_to_dict` or
     :func:`session_snapshot`); safe on a worker thread. A link is written through: its
     target is replaced (:func:`session_file`)."""
@@ -107,10 +116,17 @@ def save_document(document: dict[str, Any], path: str | Path,
             f"{path.name} changed since it was read here (another window or program saved "
             f"it) and is left as it is; open it again to see that version ({path})")
     text = writer.text(document) if writer is not None else session_text(document)
+    aside = None
     try:
-        atomic_write_text(path, text, keep_backup=backup)
+        if keep_aside and path.exists():  # copied first: the file is never missing
+            aside = free_name(path.with_name(path.name + ".bak"))
+            copy_atomically(path, aside)
+        atomic_write_text(path, text, keep_backup=backup and not keep_aside)
     except OSError as exc:
+        if aside is not None and file_stamp(path) == now:  # not replaced: no copy kept
+            aside.unlink(missing_ok=True)
         raise _save_error(path, exc.strerror or str(exc)) from exc
+    return aside
 
 
 def file_stamp(path: str | Path) -> tuple[int, int, int] | None:

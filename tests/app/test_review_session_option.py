@@ -91,4 +91,10 @@ def test_a_previous_version_or_a_capitalised_session_file_opens_as_a_session(
     path = tmp_path / name
     shutil.copy(truth_session_file, path)
     assert main(["review", str(path), "--screenshot", str(tmp_path / "x.png")]) == 0
-    assert "needs its audio" not in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "needs its audio" not in err
+    if name != "REVIEW.JSON":  # the frames re-scored on opening were saved: restored
+        assert f"{name} is a kept previous version: review work saved restores it as " \
+            "review.json" in err
+        assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+            [name, "review.json", "x.png"])  # not review.json.bak.bak

@@ -400,3 +400,37 @@ def test_undo_steps_that_no_longer_fit_the_file_are_dropped_and_the_window_says_
         "offset changed since they were saved" in again.status_text.text()
     assert not again.undo_action.isEnabled()
     assert again.model.session.sets[-1].decision == "rejected"
+
+
+@pytest.mark.parametrize("opened", ["review.json.bak", "review.json.bak.1"])
+def test_review_work_in_a_kept_previous_version_restores_it_as_the_session_file(
+    qtbot, open_window, session_in_folder: Path, opened: str
+) -> None:
+    """Opened to go back to it, a kept previous version autosaved beside itself as
+    review.json.bak.bak, and review.json went on holding the other version. Its review
+    work is saved as review.json; the review.json it replaces is kept as a free .bak.N
+    (never as .bak: that may be the version restored), and the status line says where."""
+    folder = session_in_folder.parent
+    older = load_session(session_in_folder)
+    older.sets[-1] = older.sets[-1].with_decision("rejected")
+    (folder / "review.json.bak").unlink(missing_ok=True)
+    save_session(older, folder / opened, backup=False)
+    current = session_in_folder.read_bytes()
+    window = open_window(folder / opened)
+    assert session_in_folder.read_bytes() == current  # opened only: nothing changed yet
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    window.saver.flush()
+    kept = "review.json.bak.1" if opened == "review.json.bak" else "review.json.bak.2"
+    assert not (folder / f"{opened}.bak").exists()
+    assert (folder / kept).read_bytes() == current
+    restored = load_session(session_in_folder)
+    assert restored.sets[0].decision == "accepted" and restored.sets[-1].decision == "rejected"
+    assert f"{opened} restored as review.json; the review.json it replaced is kept as " \
+        f"{kept}" in window.status_text.text()
+    assert window.saver.path == session_in_folder
+    qtbot.keyClick(window, Qt.Key.Key_R)  # from now on saving goes on as usual
+    window.saver.flush()
+    assert load_session(folder / "review.json.bak").sets[0].decision == "accepted"
+    assert (folder / kept).read_bytes() == current
+    assert sorted(p.name for p in folder.iterdir()) == sorted(
+        {"review.json", "review.json.bak", opened, kept})

@@ -396,3 +396,30 @@ def test_another_take_put_in_place_of_the_recording_is_refused_not_reviewed(
     assert "has no frame stamped" in text and "\n" not in text
     assert "put the session's own recording back there" in text
     assert session_path.read_bytes() == before
+
+
+@pytest.mark.parametrize("opened", ["lab.json.bak", "lab.json.bak.3"])
+def test_a_kept_previous_version_opened_is_restored_by_its_first_save(
+        processed_tiny, tiny_synth, tmp_path: Path, opened: str) -> None:
+    """Its review work was saved beside it as lab.json.bak.bak. The session's file is
+    lab.json: opening changes nothing, the first save writes lab.json and keeps the
+    lab.json it replaces as a free .bak.N (the .bak may be the version opened)."""
+    _with_its_session(processed_tiny, tiny_synth, tmp_path, "reviews/lab.json")
+    path = tmp_path / "reviews" / "lab.json"
+    older = load_session(path)
+    older.sets[0] = older.sets[0].with_decision("rejected")
+    save_session(older, path.with_name(opened), backup=False)
+    current = path.read_bytes()
+    inputs = load_for_review(session_path=path.with_name(opened))
+    inputs.close()
+    assert (inputs.session_path, inputs.restores) == (path, path.with_name(opened))
+    assert inputs.note.startswith(f"{opened} is a kept previous version: review work saved "
+                                  "restores it as lab.json; the lab.json there now is then "
+                                  "kept as lab.json.bak.1")
+    assert path.read_bytes() == current  # opened only
+    aside = save_session(inputs.session, inputs.session_path, expect=inputs.session_stamp,
+                         keep_aside=True)
+    assert aside == path.with_name("lab.json.bak.1") and aside.read_bytes() == current
+    assert load_session(path).sets[0].decision == "rejected"
+    assert not path.with_name(f"{opened}.bak").exists()
+    assert not (path.with_name("lab.json.bak").exists() and opened != "lab.json.bak")
