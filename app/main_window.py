@@ -216,6 +216,8 @@ class ReviewWindow(QMainWindow):
         self.similar = SimilarAction(self)
         self.detector = DetectAction(self)
         self.transport = Transport(self, say=lambda text: self.status.end("audio", text))
+        # paused, a tile held dimmed over a dropped frame says there is no frame instead
+        self.transport.state_changed.connect(lambda _playing: self._refresh_playhead())
         self._build_actions()
         self.setAcceptDrops(True)
         self._save_clock = QTimer(self)

@@ -7,7 +7,7 @@ import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from PySide6.QtCore import QObject, Qt, QTimer
+from PySide6.QtCore import QObject, Qt, QTimer, Signal
 from PySide6.QtWidgets import QPushButton, QWidget
 
 from app.audio_player import AudioPlayer
@@ -30,6 +30,10 @@ class Transport(QObject):
     """The window's playback: its button (see :meth:`make_button`) shows and toggles
     it, ``player`` makes the sound, and the model's playhead follows. ``say`` puts a line
     on the status line."""
+
+    #: play started (True) or paused (False): what a tile shows depends on it (a frame
+    #: dropped while playing holds the earlier image dimmed; paused, the tile says so)
+    state_changed = Signal(bool)
 
     def __init__(self, parent: QWidget, say: Callable[[str], None]) -> None:
         super().__init__(parent)
@@ -85,6 +89,7 @@ class Transport(QObject):
         else:
             self._timer.stop()
             self.player.stop()
+        self.state_changed.emit(self.playing)
 
     def hear_word(self) -> None:
         """W: play the trigger word of the set under the playhead (the playhead stays)."""

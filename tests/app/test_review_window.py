@@ -133,6 +133,34 @@ def test_during_playback_a_dropped_frame_keeps_the_last_image_dimmed(qtbot, wind
     assert all(t.image is None and t.message == "no frame near the playhead" for t in tiles)
 
 
+def test_pausing_in_a_dropped_frame_shows_the_tile_as_paused(qtbot, window) -> None:
+    """Paused where a camera dropped a frame, its tile kept the dimmed earlier image,
+    captioned "dropped frame" and without the "no frame" warning: it was worked out for
+    playback and nothing worked it out again when play stopped. Paused, it says there is
+    no frame near the playhead; back on a frame, the frame shows undimmed."""
+    import numpy as np
+
+    model = window.model
+    gaps = {name: np.nonzero(np.diff(stamps) > 1.6 * model._periods[name])[0]
+            for name, stamps in model._stamps.items()}
+    stream = next(name for name, found in gaps.items() if len(found))
+    stamps, period = model._stamps[stream], model._periods[stream]
+    before = int(stamps[gaps[stream][0]])
+    model.set_playhead(before)
+    tile = window.grid.tiles[stream]
+    qtbot.waitUntil(lambda: tile.image is not None and not tile.dimmed, timeout=10_000)
+    window.transport.playing = True  # as the play key does, without the clock moving on
+    model.set_playhead(before + period)  # in the gap
+    assert tile.dimmed and tile.caption == "dropped frame"
+    qtbot.keyClick(window, Qt.Key.Key_Space)  # pause
+    assert not window.transport.playing
+    assert tile.image is None and not tile.dimmed
+    assert tile.message == "no frame near the playhead" and tile.warning == "no frame"
+    model.set_playhead(before)  # paused, back on the frame before the gap
+    qtbot.waitUntil(lambda: tile.image is not None, timeout=10_000)
+    assert not tile.dimmed and tile.warning == "" and tile.caption != "dropped frame"
+
+
 def test_a_camera_without_a_frame_in_the_set_says_so_and_how_far_its_nearest_is(
         qtbot, window) -> None:
     """At a set whose camera got no frame, the tile said "no frame near the playhead"
