@@ -9,26 +9,33 @@ from PySide6.QtGui import QPainter
 from PySide6.QtWidgets import QLabel, QSizePolicy, QWidget
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from PySide6.QtGui import QPaintEvent, QResizeEvent
 
 
 class ElidedLabel(QLabel):
     """Never wraps and never widens the window: too long a text ends in "…". A text of
     items joined by ``separator`` loses whole items from its end ("… · enlarge · …",
-    not "… · whole ses…"), where one at least still fits."""
+    not "… · whole ses…"), where one at least still fits. A text given with shorter
+    forms shows the longest of them that fits before any is cut."""
 
     def __init__(self, text: str, tooltip: str = "", parent: QWidget | None = None,
                  separator: str = "") -> None:
         super().__init__(parent)
         self.separator = separator
+        self.shorter: tuple[str, ...] = ()
         self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.set_full_text(text)
         if tooltip:
             self.setToolTip(tooltip)
 
-    def set_full_text(self, text: str) -> None:
-        """Show ``text`` (cut to the label's width; the tooltip holds it whole)."""
+    def set_full_text(self, text: str, shorter: Sequence[str] = ()) -> None:
+        """Show ``text`` (cut to the label's width; the tooltip holds it whole), or where
+        it is too long the first of ``shorter`` (longest first) that fits, else the last
+        of them cut."""
         self.full_text = text
+        self.shorter = tuple(shorter)
         self.setToolTip(text)
         self._elide()
 
@@ -39,6 +46,11 @@ class ElidedLabel(QLabel):
     def _elide(self) -> None:
         width = self.contentsRect().width()
         metrics = self.fontMetrics()
+        if self.shorter and metrics.horizontalAdvance(self.full_text) > width:
+            text = next((t for t in self.shorter if metrics.horizontalAdvance(t) <= width),
+                        self.shorter[-1])
+            self.setText(metrics.elidedText(text, Qt.TextElideMode.ElideRight, width))
+            return
         if self.separator and metrics.horizontalAdvance(self.full_text) > width:
             items = self.full_text.split(self.separator)
             for n in range(len(items) - 1, 0, -1):

@@ -1013,28 +1013,38 @@ class ReviewWindow(QMainWindow):
 
     def _update_info_line(self) -> None:
         """The line under the grid: the set under the playhead (its place in the list,
-        skew, when it was said) and the playhead's time."""
+        skew, when it was said) and the playhead's time. Where it is too narrow (960 px,
+        half a 1920 px screen) the playhead's time stays whole: the camera clock's stamp
+        goes first, then when the word was said, "from start", the skew, the set's
+        place; the tooltip has it all."""
         model = self.model
         if model is None:
             return
         current = model.set_at_playhead()
         start_ns, _ = model.time_range_ns()
         rel = (model.playhead_ns - start_ns) / 1e9
-        # what the operator reads first leads: a narrow window cuts the line's end
-        set_text = ""
-        if current is not None:
-            # counted over the sets the filter lists, which J/K step through (the list's
-            # # column is the id)
-            place = list_place(model.session.sets, model.filter,
-                               model.session.sets.index(current))
-            said = clock_text((current.t_ns - start_ns) / 1e9)
-            # the skew before the time said: at 1024 px the line shows about this much
-            framed = sum(f.index >= 0 for f in current.frames)
-            skew = f"{current.skew_ns / 1e6:.1f} ms" if framed > 1 else MISSING
-            set_text = (f"set #{current.id} ({place}) · skew "
-                        f"{skew} · said at {said} · ")
+        t = f"t = {rel:.3f} s"
+        times = [f"{t} from start ({model.playhead_ns / 1e9:.3f} s)", f"{t} from start", t]
+        if current is None:
+            self.info_line.set_full_text(times[0], times[1:])
+            return
+        # counted over the sets the filter lists, which J/K step through (the list's #
+        # column is the id)
+        place = list_place(model.session.sets, model.filter,
+                           model.session.sets.index(current))
+        said = clock_text((current.t_ns - start_ns) / 1e9)
+        framed = sum(f.index >= 0 for f in current.frames)
+        skew = f"skew {current.skew_ns / 1e6:.1f} ms" if framed > 1 else f"skew {MISSING}"
+        # what the operator reads first leads: the set, then its skew
+        named = f"set #{current.id} ({place})"
         self.info_line.set_full_text(
-            set_text + f"t = {rel:.3f} s from start ({model.playhead_ns / 1e9:.3f} s)")
+            f"{named} · {skew} · said at {said} · {times[0]}",
+            [f"{named} · {skew} · said at {said} · {times[1]}",
+             f"{named} · {skew} · {times[1]}",
+             f"{named} · {skew} · {t}",
+             f"{named} · {t}",
+             f"set #{current.id} · {t}",
+             t])
 
     def _on_frame(self, stream: str, index: int, image: QImage) -> None:
         tile = self.grid.tiles.get(stream)

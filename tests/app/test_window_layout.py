@@ -225,3 +225,26 @@ def test_key_hints_on_a_laptop_drop_whole_hints_not_half_a_word(qtbot, window) -
     assert hints.fontMetrics().horizontalAdvance(shown) <= hints.contentsRect().width()
     assert "double-click a camera: enlarge" in shown
     assert hints.toolTip().startswith("Space play / pause")  # the whole list is there
+
+
+def test_the_playhead_time_shows_whole_at_half_a_1920_px_screen(qtbot, window) -> None:
+    """At 960 px the line under the grid was cut at "said at 00:04.39 · t …": the
+    playhead's time, the one thing an operator must read there, was only in its
+    tooltip. The set's place, skew and time said give way to it, the tooltip keeps all."""
+    from PySide6.QtWidgets import QApplication
+
+    window.resize(960, 1040)
+    qtbot.waitUntil(lambda: window.width() == 960)
+    model, line = window.model, window.info_line
+    start_ns = model.time_range_ns()[0]
+    for _ in range(len(model.session.sets) + 1):
+        QApplication.processEvents()
+        t = f"t = {(model.playhead_ns - start_ns) / 1e9:.3f} s"
+        assert t in line.text(), line.text()
+        assert line.fontMetrics().horizontalAdvance(line.text()) <= line.contentsRect().width()
+        assert line.toolTip() == line.full_text and " s from start (" in line.full_text
+        if model.set_at_playhead() is not None:  # which set, still said
+            assert line.text().startswith(f"set #{model.set_at_playhead().id}")
+        qtbot.keyClick(window, Qt.Key.Key_K)
+    model.set_playhead(start_ns)  # between sets: the time alone, whole
+    assert f"t = {0:.3f} s from start" in line.text()
