@@ -67,6 +67,8 @@ MARKER_RADIUS_PX = (1.5, 4.5)
 OUTLINE_BELOW_PX = 6.0
 #: a tile's header height and its image's margins at the sides and foot, pixels
 TILE_HEADER_PX, TILE_MARGIN_PX = 22, 3
+#: the room between a tile's sides and the boxes of text at its foot, pixels
+FOOT_INSET_PX = 6
 #: the space between tiles, pixels
 TILE_SPACING_PX = 4
 #: the grid's margin around its tiles and band, pixels: room for the focus frame, which
@@ -149,8 +151,9 @@ def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: st
     nor between tiles of a grid. Then what a reviewer needs least goes first: the
     caption, then the decision's word (its symbol, the border's colour and the set list
     still say it), then the warning's words give way to their ``short_note`` ("▲ no
-    board"), which is cut only then (down to its symbol: it is what only this tile
-    tells), and at last the end of the stream's name."""
+    board"), and that to the warning's symbol alone (the tile then says the words at its
+    foot, see :meth:`CameraTile.warning_at_foot`: "▲ no bo…" told nothing), and at last
+    the end of the stream's name."""
     symbol = f"  {DECISION_SYMBOLS[decision]}" if decision else ""
     if short_stream and bold.horizontalAdvance(f"{stream}  ?") + HEADER_GAP + \
             plain.horizontalAdvance(LONGEST_SHORT_WARNING) > width:
@@ -169,9 +172,6 @@ def header_texts(bold: QFontMetrics, plain: QFontMetrics, width: int, stream: st
         for text in (note, short_note):
             if plain.horizontalAdvance(text) <= room(short):
                 return short, text
-        text = plain.elidedText(short_note, Qt.TextElideMode.ElideRight, room(short))
-        if len(text) >= len(WARNING_SYMBOL) + 3:  # the symbol and a letter at least
-            return short, text
         least = WARNING_SYMBOL
     reserve = plain.horizontalAdvance(least) + HEADER_GAP if least else 0
     for title in (full, short):
@@ -380,16 +380,44 @@ class CameraTile(QWidget):
             p.setPen(WARNING_COLOUR if self.warning else QColor(170, 170, 170))
             p.setFont(self.font())
             p.drawText(line, Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter, note)
-        foot = self.footnote or self.caption_at_foot(note)
-        if foot:
-            p.setFont(self.font())
-            metrics = QFontMetrics(self.font())
-            box = QRectF(6, self.height() - metrics.height() - 10,
-                         metrics.horizontalAdvance(foot) + 12, metrics.height() + 6)
-            p.fillRect(box, QColor(0, 0, 0, 170))
-            p.setPen(QColor(235, 235, 235))
-            p.drawText(box, Qt.AlignmentFlag.AlignCenter, foot)
+        if self.footnote:
+            feet = [(self.footnote, QColor(235, 235, 235))]
+        else:
+            feet = [(text, colour) for text, colour in (
+                (self.warning_at_foot(note), WARNING_COLOUR),
+                (self.caption_at_foot(note), QColor(235, 235, 235))) if text]
+        self._draw_feet(p, feet)
         p.end()
+
+    def _draw_feet(self, p: QPainter, feet: list[tuple[str, QColor]]) -> None:
+        """Draw ``feet`` (text, colour) in boxes at the tile's foot, the first highest;
+        a text too wide for the tile wraps."""
+        p.setFont(self.font())
+        metrics = QFontMetrics(self.font())
+        flags = Qt.AlignmentFlag.AlignCenter | Qt.TextFlag.TextWordWrap
+        bottom = self.height() - 4
+        for text, colour in reversed(feet):
+            room = max(1, self.width() - 2 * FOOT_INSET_PX - 12)
+            size = metrics.boundingRect(0, 0, room, 10 * metrics.height(), int(flags), text)
+            box = QRectF(FOOT_INSET_PX, bottom - size.height() - 6, min(size.width(), room) + 12,
+                         size.height() + 6)
+            p.fillRect(box, QColor(0, 0, 0, 170))
+            p.setPen(colour)
+            p.drawText(box, flags, text)
+            bottom = box.top() - 2
+
+    def warning_at_foot(self, shown_in_header: str) -> str:
+        """The warning in words, when the header had room for its symbol only: in full
+        where the tile's foot has room for it, else in a word or two (``short_warning``)."""
+        if not self.warning:
+            return ""
+        note = f"{WARNING_SYMBOL} {self.warning}"
+        short_note = f"{WARNING_SYMBOL} {self.short_warning}"
+        if shown_in_header in (note, short_note):
+            return ""
+        room = self.width() - 2 * FOOT_INSET_PX - 12
+        return note if QFontMetrics(self.font()).horizontalAdvance(note) <= room \
+            else short_note
 
     def caption_at_foot(self, shown_in_header: str) -> str:
         """The caption, when it says the tile shows a nearest frame (not the set's chosen

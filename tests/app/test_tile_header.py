@@ -301,6 +301,50 @@ def test_twelve_cameras_on_a_laptop_say_each_warning_in_words(
             assert not a.intersects(b) and b.right() <= tile.width()
 
 
+@pytest.mark.parametrize("size", [(960, 1040), (1024, 768)])
+def test_twelve_cameras_in_a_small_window_say_each_warning_whole(
+        qtbot, monkeypatch: pytest.MonkeyPatch, open_window, twelve_camera_synth,
+        tmp_path, size: tuple[int, int]) -> None:
+    """Twelve cameras at half a 1920 px screen (960 px) or on a 1024 px screen: a tile's
+    header had room for "▲ no bo…" only, the words in its tooltip alone. Where the
+    header has no room for them, it keeps the warning's symbol and the tile says the
+    words at its foot, whole, over no other text."""
+    from dataclasses import replace
+
+    from truth_sessions import truth_session
+
+    from speechcal_core.review.summary import FLAG_SHORT_WORDS, FLAG_WORDS
+    from speechcal_core.session.store import save_session
+
+    session = truth_session(*twelve_camera_synth)
+    first = session.sets[0]
+    frames = [replace(f, flags=TWELVE_FLAGS[k]) if k < len(TWELVE_FLAGS) else f
+              for k, f in enumerate(first.frames)]
+    session.sets[0] = replace(first, frames=tuple(frames))
+    path = tmp_path / "twelve.json"
+    save_session(session, path)
+    window = open_window(path)
+    window.resize(*size)
+    qtbot.waitUntil(lambda: window.size().toTuple() == size)
+    tiles = list(window.grid.tiles.values())
+    assert all(t.width() < 160 for t in tiles)
+
+    monkeypatch.setattr(app.frame_grid, "QPainter", RecordingPainter)
+    for k, tile in enumerate(tiles[:len(TWELVE_FLAGS)]):
+        RecordingPainter.texts = []
+        tile.grab()
+        texts = [(text, rect) for text, rect in RecordingPainter.texts if text]
+        flags = TWELVE_FLAGS[k]
+        words = [FLAG_WORDS.get(f, f) for f in flags], [FLAG_SHORT_WORDS.get(f, f) for f in flags]
+        said = {f"{WARNING_SYMBOL} {', '.join(w)}" for w in words}
+        assert any(text in said for text, _ in texts), (size, texts)
+        assert not any("…" in text for text, _ in texts), texts
+        for n, (_, a) in enumerate(texts):
+            assert a.left() >= 0 and a.right() <= tile.width() and a.bottom() <= tile.height()
+            for _, b in texts[n + 1:]:
+                assert not a.intersects(b), texts
+
+
 def test_compact_names_keep_what_tells_the_cameras_apart() -> None:
     from app.frame_grid import compact_names
 
