@@ -26,12 +26,18 @@ if TYPE_CHECKING:
     from PySide6.QtWidgets import QStyleOptionGraphicsItem, QWidget
 
 #: the least room between two sets' labels, pixels: a label that would come closer to
-#: the one before it is hidden (its band stays) until zooming in makes room
+#: the one before it goes to the next row down, or, with every row taken there, is hidden
+#: (its band stays) until zooming in makes room
 LABEL_GAP_PX = 4
+#: rows of labels along the top: a word said just after another (a set added with T
+#: beside a heard one) has its label under the other's, not left out
+LABEL_ROWS = 2
 #: a label's padding around its text, pixels (its background hides the playhead behind it)
 LABEL_PAD_PX = (4, 2)
 #: the data height the labels hang from (the waveform's y range is -1..1)
 LABEL_TOP_Y = 1.0
+#: the room between two rows of labels, pixels
+LABEL_ROW_GAP_PX = 1
 BAND_ALPHA = 70
 #: a band's or label's repaint reaches this far beyond it, pixels (its edge lines, and
 #: the view's rounding of the area to whole pixels)
@@ -73,6 +79,7 @@ class WordMarks:
         self._version = 0  # counts changes of the marks' places, texts and decisions
         self._shown_key: tuple | None = None  # what the labels shown were thinned for
         self._shown: list[Mark] = []
+        self._rows: dict[int, int] = {}  # the row of each label shown, by set id
         self._widths: dict[tuple[str, bool], float] = {}  # a label's width by text, bold
         self.font = QFont()
         self._metrics = QFontMetrics(self.font)
@@ -159,23 +166,32 @@ class WordMarks:
         return self._marks[set_id].decision
 
     def shown_labels(self) -> list[Mark]:
-        """The marks whose labels show in the view as it is now, from the left: one that
-        would touch the last shown is left out ("?20?21" when two words lie close in the
-        whole session's view), and so is one that would touch the current set's label,
-        which always shows. Worked out again only when the view or the marks changed."""
+        """The marks whose labels show in the view as it is now, from the left. The
+        current set's label always shows, in the top row; any other goes in the highest
+        of the LABEL_ROWS rows where it touches neither the label before it nor the
+        current one ("?3" under a "?13" added just after it, where one row printed
+        "?3?13" or left "?3" out), and is left out where every row is taken there.
+        Worked out again only when the view or the marks changed."""
         box = self.plot.getViewBox()
         (x0, x1), _y = box.viewRange()
         width = box.width()
         key = (x0, x1, width, self.shift_s, self.current, self._version)
         if key != self._shown_key:
-            self._shown = self._thin_labels(x0, x1, width)
+            self._shown, self._rows = self._stack_labels(x0, x1, width)
             self._shown_key = key
         return list(self._shown)
 
-    def _thin_labels(self, x0: float, x1: float, width: float) -> list[Mark]:
-        """:meth:`shown_labels` worked out for the view ``x0``..``x1``, ``width`` pixels."""
+    def label_row(self, set_id: int) -> int:
+        """The row (0: the top one) a shown label is drawn in."""
+        self.shown_labels()
+        return self._rows.get(set_id, 0)
+
+    def _stack_labels(self, x0: float, x1: float, width: float
+                      ) -> tuple[list[Mark], dict[int, int]]:
+        """:meth:`shown_labels` and their rows worked out for the view ``x0``..``x1``,
+        ``width`` pixels."""
         if x1 <= x0 or width <= 0:
-            return []
+            return [], {}
         per_x = width / (x1 - x0)
 
         def span(mark: Mark) -> tuple[float, float]:
@@ -184,19 +200,22 @@ class WordMarks:
 
         current = self._marks.get(self.current) if self.current is not None else None
         kept = span(current) if current is not None else None
-        right = float("-inf")
-        shown = []
+        rights = [float("-inf")] * LABEL_ROWS  # where each row's last label ends
+        shown, rows = [], {}
         for mark in self._by_middle:
             left, end = span(mark)
             if mark is current:
-                shown.append(mark)
-                right = max(right, end)
-            elif left >= right + LABEL_GAP_PX and (
-                    kept is None or end + LABEL_GAP_PX <= kept[0]
-                    or left >= kept[1] + LABEL_GAP_PX):
-                shown.append(mark)
-                right = end
-        return shown
+                row = 0
+            else:
+                row = next((r for r in range(LABEL_ROWS) if left >= rights[r] + LABEL_GAP_PX
+                            and (r or kept is None or end + LABEL_GAP_PX <= kept[0]
+                                 or left >= kept[1] + LABEL_GAP_PX)), None)
+                if row is None:
+                    continue
+            shown.append(mark)
+            rows[mark.set_id] = row
+            rights[row] = max(rights[row], end)
+        return shown, rows
 
     def label_width(self, mark: Mark) -> float:
         """A label's width on screen, pixels, its padding included (bold when current)."""
@@ -219,9 +238,10 @@ class WordMarks:
 
     def _label_places(self) -> dict[int, tuple]:
         """Per label shown, what its drawing depends on: where (x of its middle, width in
-        pixels), its text, decision (colour) and boldness."""
+        pixels), its text, decision (colour), boldness and row."""
         return {m.set_id: (m.middle + self.shift_s, self.label_width(m), m.text, m.decision,
-                           m.set_id == self.current) for m in self.shown_labels()}
+                           m.set_id == self.current, self._rows.get(m.set_id, 0))
+                for m in self.shown_labels()}
 
     def _update_labels(self, before: dict[int, tuple]) -> None:
         """Repaint the labels whose place or look changed since ``before`` (as
@@ -344,7 +364,9 @@ class _Layer(pg.GraphicsObject):
             width = marks.label_width(mark)
             if middle + width / 2 < left or middle - width / 2 > right:
                 continue
-            rect = QRectF(middle - width / 2, top, width, height)
+            row = marks.label_row(mark.set_id)
+            rect = QRectF(middle - width / 2, top + row * (height + LABEL_ROW_GAP_PX), width,
+                          height)
             painter.fillRect(rect, BACKGROUND)
             painter.setFont(marks.current_font if mark.set_id == marks.current else marks.font)
             painter.setPen(DECISION_COLOURS[mark.decision].lighter(140))

@@ -8,7 +8,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from PySide6.QtCore import QPoint, QPointF, QRect, Qt
+from PySide6.QtCore import QPoint, QPointF, QRect, QRectF, Qt
 from truth_sessions import truth_session
 
 from app.main_window import ReviewWindow
@@ -107,16 +107,19 @@ def _with_a_word_close_after_the_first(window):
     return wave, first
 
 
-def test_labels_of_sets_too_close_to_read_are_thinned_until_zoomed_in(window) -> None:
+def test_labels_of_sets_too_close_to_read_are_stacked_until_zoomed_in(window) -> None:
     """Two words 0.15 s apart in the whole session's view: their labels would print over
-    each other ("?20?21"), so the second one hides until zooming in makes room."""
+    each other ("?20?21"), so the second one goes in the row under the first until
+    zooming in makes room beside it."""
     wave, first = _with_a_word_close_after_the_first(window)
-    shown = {m.text for m in wave.marks.shown_labels()}
-    assert f"?{first.id}" in shown and "?99" not in shown
+    marks = wave.marks
+    assert {first.id, 99} <= {m.set_id for m in marks.shown_labels()}
+    assert (marks.label_row(first.id), marks.label_row(99)) == (0, 1)
     a, b = wave.mark_extent(first.id)
     x = (a + b) / 2
     wave.setXRange(x - 0.5, x + 0.5, padding=0)
-    assert {first.id, 99} <= {m.set_id for m in wave.marks.shown_labels()}
+    assert {first.id, 99} <= {m.set_id for m in marks.shown_labels()}
+    assert marks.label_row(first.id) == marks.label_row(99) == 0
     # labels that never crowd each other all show in the whole view
     wave.set_sets(window.model.session.sets)
     wave.show_whole()
@@ -213,14 +216,54 @@ def test_an_offset_edit_moves_the_envelope_then_draws_it_anew(window, qtbot) -> 
 
 def test_the_current_sets_label_shows_even_where_labels_crowd(window) -> None:
     """Thinning dropped the label of the set under the playhead when another word lay
-    close before it; the current set's label now always shows (bold), and the crowding
-    neighbour's gives way."""
+    close before it; the current set's label now always shows (bold) in the top row,
+    and the crowding neighbour's gives way to the row under it."""
     wave, first = _with_a_word_close_after_the_first(window)
-    wave.marks.set_current(99)
-    shown = {m.set_id for m in wave.marks.shown_labels()}
-    assert 99 in shown and first.id not in shown
-    wave.marks.set_current(None)
-    assert first.id in {m.set_id for m in wave.marks.shown_labels()}
+    marks = wave.marks
+    marks.set_current(99)
+    assert {first.id, 99} <= {m.set_id for m in marks.shown_labels()}
+    assert (marks.label_row(99), marks.label_row(first.id)) == (0, 1)
+    marks.set_current(None)
+    assert (marks.label_row(first.id), marks.label_row(99)) == (0, 1)
+
+
+def _drawn_label_rects(wave) -> dict[int, QRectF]:
+    """Where each shown label is drawn in the waveform's pixels (its row included)."""
+    from app.word_marks import LABEL_ROW_GAP_PX
+
+    box, marks = wave.getViewBox(), wave.marks
+    rects = {}
+    for mark in marks.shown_labels():
+        scene = box.mapViewToScene(QPointF(mark.middle + marks.shift_s, LABEL_TOP_Y))
+        top = wave.viewport().mapTo(wave, wave.mapFromScene(scene))
+        width, height = marks.label_width(mark), marks.label_height()
+        y = top.y() + marks.label_row(mark.set_id) * (height + LABEL_ROW_GAP_PX)
+        rects[mark.set_id] = QRectF(top.x() - width / 2, y, width, height)
+    return rects
+
+
+def test_a_set_added_beside_a_heard_one_leaves_both_labels_readable(qtbot, window) -> None:
+    """A set added with T just after set 3 (set 13, current): its bold "?13" took the
+    row, and "?3" was left out over its own band, as if "?13" had been drawn over it.
+    At half a 1920 px screen both show, the current one in the top row, no two labels
+    touch, and each is drawn where it is placed."""
+    window.resize(960, 1040)
+    qtbot.waitUntil(lambda: window.width() == 960)
+    wave, first = _with_a_word_close_after_the_first(window)
+    marks = wave.marks
+    marks.set_current(99)
+    neighbour = first.id
+    assert {99, neighbour} <= {m.set_id for m in marks.shown_labels()}
+    assert marks.label_row(99) == 0
+    rects = list(_drawn_label_rects(wave).values())
+    for n, a in enumerate(rects):
+        for b in rects[n + 1:]:
+            assert not a.intersects(b)
+    image = wave.grab().toImage()  # the neighbour's label is drawn where it is placed
+    rect = _drawn_label_rects(wave)[neighbour].toRect()
+    lit = [image.pixelColor(x, y).lightness() > 120
+           for x in range(rect.left(), rect.right()) for y in range(rect.top(), rect.bottom())]
+    assert sum(lit) > 10  # its text
 
 
 def test_changing_set_takes_a_zoomed_in_view_along(window, qtbot) -> None:
