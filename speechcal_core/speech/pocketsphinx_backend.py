@@ -222,18 +222,19 @@ CLEAR_RETRY_STEP = 0.3
 #: ... up to this sensitivity, no higher: from 0.8 (``--sensitivity 0.8``, the retry at 1)
 #: real speech at 20 dB went from 1.00 / 1.00 to 1.00 / 0.78, "clubs" heard in "five"
 CLEAR_RETRY_MAX = 0.8
-#: a trigger word the filler's cost (tuned on "capture") lets pass too seldom shows it: the
-#: middle tier's spans where nothing was heard, decoded again as the clearest are
+#: a trigger word the filler's cost (tuned on "capture") lets pass too seldom shows it:
+#: the middle tier's spans where nothing was heard, decoded again as the clearest are
 #: (CLEAR_RETRY_STEP), hear many more of it. Their triggers are kept where they number at
 #: least UNDERHEARD_SHARE of those heard before, and UNDERHEARD_MIN: the word needs the
 #: dearer filler there too (real speech, four "clubs" a scene at 5 dB: where 2 more were
-#: enough, 3 false alarms in 10 scenes, "clubs" heard in other words). Not otherwise: for "capture" they are few (0-0.12 of those
-#: heard, seeds 101-104 at 10 and 5 dB), and as templates they let the search take more
-#: near-homophones (10 dB, seeds 1-3: precision 0.986 -> 0.962 when always kept). 10 dB,
-#: seeds 101-108, recall / precision: "record" 0.378 / 0.899 -> 0.722 / 0.926, "mark"
-#: 0.438 / 0.960 -> 0.689 / 0.970, "snapshot" 0.529 / 0.858 -> 0.725 / 0.833 (more
-#: "snap shut"); "capture" kept none at 10 dB (seeds 101-112) and some in one session at
-#: 5 dB (5 of 19 more: the search had found them already); its benchmark the same
+#: enough, 3 false alarms in 10 scenes, "clubs" heard in other words). Not otherwise: for
+#: "capture" they are few (0-0.12 of those heard, seeds 101-104 at 10 and 5 dB), and as
+#: templates they let the search take more near-homophones (10 dB, seeds 1-3: precision
+#: 0.986 -> 0.962 when always kept). 10 dB, seeds 101-108, recall / precision: "record"
+#: 0.378 / 0.899 -> 0.722 / 0.926, "mark" 0.438 / 0.960 -> 0.689 / 0.970, "snapshot"
+#: 0.529 / 0.858 -> 0.725 / 0.833 (more "snap shut"); "capture" kept none at 10 dB (seeds
+#: 101-112) and some in one session at 5 dB (5 of 19 more: the search had found them
+#: already); its benchmark the same
 UNDERHEARD_SHARE = 0.25
 UNDERHEARD_MIN = 4
 DECODING_SHARE = 0.8  # of the work, for progress reports: the search takes the rest
