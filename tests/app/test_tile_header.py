@@ -253,19 +253,13 @@ TWELVE_FLAGS = [("no-target",), ("blurred",), ("skew",), ("blurred", "no-target"
                 ("moving",)]
 
 
-def test_twelve_cameras_on_a_laptop_say_each_warning_in_words(
-        qtbot, monkeypatch: pytest.MonkeyPatch, open_window, twelve_camera_synth,
-        tmp_path) -> None:
-    """Twelve cameras in a window on a 1366 x 768 screen: the tiles' headers cut "▲ target
-    not found" to "▲ targ…" (the words only in the tooltip). Each warning now says its
-    word in full or short ("▲ no board"), the cameras' names drop the "/image_raw" they
-    all share, and every tile names its camera the same way."""
+def open_twelve_flagged(open_window, twelve_camera_synth, tmp_path):
+    """The twelve-camera session with its first set's frames flagged (TWELVE_FLAGS),
+    opened in the window."""
     from dataclasses import replace
 
     from truth_sessions import truth_session
 
-    from app.main_window import SCREEN_MARGIN_PX
-    from speechcal_core.review.summary import FLAG_SHORT_WORDS, FLAG_WORDS
     from speechcal_core.session.store import save_session
 
     session = truth_session(*twelve_camera_synth)
@@ -275,7 +269,19 @@ def test_twelve_cameras_on_a_laptop_say_each_warning_in_words(
     session.sets[0] = replace(first, frames=tuple(frames))
     path = tmp_path / "twelve.json"
     save_session(session, path)
-    window = open_window(path)
+    return open_window(path)
+
+def test_twelve_cameras_on_a_laptop_say_each_warning_in_words(
+        qtbot, monkeypatch: pytest.MonkeyPatch, open_window, twelve_camera_synth,
+        tmp_path) -> None:
+    """Twelve cameras in a window on a 1366 x 768 screen: the tiles' headers cut "▲ target
+    not found" to "▲ targ…" (the words only in the tooltip). Each warning now says its
+    word in full or short ("▲ no board"), the cameras' names drop the "/image_raw" they
+    all share, and every tile names its camera the same way."""
+    from app.main_window import SCREEN_MARGIN_PX
+    from speechcal_core.review.summary import FLAG_SHORT_WORDS, FLAG_WORDS
+
+    window = open_twelve_flagged(open_window, twelve_camera_synth, tmp_path)
     window.resize(1366 - SCREEN_MARGIN_PX[0], 768 - SCREEN_MARGIN_PX[1])
     qtbot.waitUntil(lambda: window.grid.columns == 4)
     tiles = list(window.grid.tiles.values())
@@ -309,21 +315,9 @@ def test_twelve_cameras_in_a_small_window_say_each_warning_whole(
     header had room for "▲ no bo…" only, the words in its tooltip alone. Where the
     header has no room for them, it keeps the warning's symbol and the tile says the
     words at its foot, whole, over no other text."""
-    from dataclasses import replace
-
-    from truth_sessions import truth_session
-
     from speechcal_core.review.summary import FLAG_SHORT_WORDS, FLAG_WORDS
-    from speechcal_core.session.store import save_session
 
-    session = truth_session(*twelve_camera_synth)
-    first = session.sets[0]
-    frames = [replace(f, flags=TWELVE_FLAGS[k]) if k < len(TWELVE_FLAGS) else f
-              for k, f in enumerate(first.frames)]
-    session.sets[0] = replace(first, frames=tuple(frames))
-    path = tmp_path / "twelve.json"
-    save_session(session, path)
-    window = open_window(path)
+    window = open_twelve_flagged(open_window, twelve_camera_synth, tmp_path)
     window.resize(*size)
     qtbot.waitUntil(lambda: window.size().toTuple() == size)
     tiles = list(window.grid.tiles.values())
