@@ -244,7 +244,9 @@ UNDERHEARD_MIN = 4
 #: every second span first it stopped there in all six sessions at 10 and 5 dB. 10 dB,
 #: seeds 101-108, recall / precision, all spans -> every second first (every third):
 #: "record" 0.722 / 0.926 -> 0.758 / 0.930 (0.631 / 0.937), "mark" 0.689 / 0.970 ->
-#: 0.650 / 0.977 (0.601 / 0.966)
+#: 0.650 / 0.977 (0.601 / 0.966). The benchmark's seeds 1-3, before any of this -> now,
+#: 10 / 5 dB: "record" 0.56 -> 0.80 / 0.41 -> 0.48, "mark" 0.55 -> 0.77 / 0.61 -> 0.68,
+#: "snapshot" 0.64 -> 0.72 / 0.44 -> 0.38 (the words added as templates lost it some)
 UNDERHEARD_SAMPLE = 2
 DECODING_SHARE = 0.8  # of the work, for progress reports: the search takes the rest
 #: the share of the work done once the more sensitive decodings are done
