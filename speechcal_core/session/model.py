@@ -174,10 +174,15 @@ class Session:
     #: new set is numbered after it (:meth:`new_set_id`), never as a set removed before
     last_set_id: int = 0
 
+    def highest_set_id(self) -> int:
+        """The highest set number given so far: of the sets the session has or has had
+        (a set added with an id of its own counts too)."""
+        return max(self.last_set_id, max((s.id for s in self.sets), default=0))
+
     def new_set_id(self) -> int:
         """The number of a new set, taken: after every set the session has or has had
         (a removed set's, an undone added set's), also across saving and opening again."""
-        self.last_set_id = max(self.last_set_id, max((s.id for s in self.sets), default=0)) + 1
+        self.last_set_id = self.highest_set_id() + 1
         return self.last_set_id
 
     def claps_audio_s(self) -> tuple[float, ...]:

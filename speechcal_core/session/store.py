@@ -65,7 +65,7 @@ def _document(session: Session, session_path: Path, sets: list[Any]) -> dict[str
         "sync": {**_with_audio_path(session.sync_evidence, lambda a: _relative(a, base)),
                  **session.sync.to_dict()},
         "sets": sets,
-        "last_set_id": max(session.last_set_id, max((s.id for s in session.sets), default=0)),
+        "last_set_id": session.highest_set_id(),
         "calibration": session.calibration,
         **session.extra,
     }
