@@ -292,6 +292,12 @@ def underheard_words(words: tuple[str, ...], before: Mapping[str, int],
         UNDERHEARD_MIN, UNDERHEARD_SHARE * before.get(word, 0)))
 
 
+def _keener(spec: TriggerSpec) -> TriggerSpec:
+    """``spec`` as unheard spans are decoded again: CLEAR_RETRY_STEP more sensitive, up
+    to CLEAR_RETRY_MAX (at or above that, no keener than ``spec``: no retry)."""
+    return replace(spec, sensitivity=min(CLEAR_RETRY_MAX, spec.sensitivity + CLEAR_RETRY_STEP))
+
+
 def _retry_note(before: list[Word], spec: TriggerSpec, louder: TriggerSpec,
                 heard_again: int) -> str:
     """What the operator is told when the speech was decoded again more sensitively."""
@@ -429,8 +435,7 @@ class PocketsphinxBackend:
         """``heard`` with the triggers of a much more sensitive decoding
         (CLEAR_RETRY_STEP, up to CLEAR_RETRY_MAX) of the clearest spans where nothing was
         heard."""
-        keen = replace(spec, sensitivity=min(CLEAR_RETRY_MAX,
-                                             spec.sensitivity + CLEAR_RETRY_STEP))
+        keen = _keener(spec)
         if keen.sensitivity <= spec.sensitivity:
             return heard
         clearest = _unheard_spans(activity, heard, 0)
@@ -444,8 +449,7 @@ class PocketsphinxBackend:
         for each trigger word of which it hears many more (UNDERHEARD_SHARE). Every
         UNDERHEARD_SAMPLE-th span is decoded first, the rest only where that heard its
         share of what a word needs (:func:`underheard_words`)."""
-        keen = replace(spec, sensitivity=min(CLEAR_RETRY_MAX,
-                                             spec.sensitivity + CLEAR_RETRY_STEP))
+        keen = _keener(spec)
         middle = _unheard_spans(activity, heard, 1)
         if keen.sensitivity <= spec.sensitivity or not middle:
             return heard
