@@ -186,6 +186,34 @@ POSTERIORGRAM_LEVEL_SLOPE = 0.06
 #: recall 0.990 -> 0.987. Noisy seeds are not checked: on seeds 1-3 that dropped real
 #: triggers and with them the templates that find others (5 dB recall 0.844 -> 0.800).
 SEED_CHECK: float | None = 1.5
+#: ... unless the recogniser still hears it with its filler at its cheapest (at
+#: DOUBT_SENSITIVITY): there the near-homophones it took for the trigger
+#: ("captain", "capsule", "rapture") go to the phone loop, while a voice's one trigger
+#: stays the trigger. A voice that says the trigger once in a recording has no close
+#: sibling among the others: 30 s sessions of seeds 101-160 at 20 dB (six triggers, four
+#: voices) lost 67 of 360 triggers to the check, 66 of them heard clearly. Of the seeds it
+#: dropped there and in 120 s sessions (seeds 101-149), the cheaper filler kept 56 of 62
+#: triggers and 2 of 16 near-homophones (a filler phone at log10 -4 instead of -3: 60
+#: triggers and 6 near-homophones). The cheapest whatever the sensitivity: at sensitivity
+#: 1, a filler only 0.5 cheaper still heard "record" in a "recorder" the check had dropped
+DOUBT_SENSITIVITY = 0.0
+#: ... in the clearest tier's grammar with the inflections at the trigger's own prior
+#: ("recorder" for "record": one voice's it heard as "record" at the cheapest filler
+#: too). Found / false alarms at 20 dB, the 60 s sessions below: 195 / 5 -> 195 / 4, made
+#: with one camera 190 / 5 -> 190 / 4; the 30 s ones the same
+DOUBT_TIER = replace(TIERS[0], rival_log10=0.0)
+#: the decoders' name of that grammar
+DOUBT_SEARCH = "doubt"
+#: ... and only where the recogniser heard fewer triggers than this: with more, every voice
+#: has said it several times, and what the check drops is nearly always a near-homophone.
+#: In 120 s sessions (about 40 heard) the cheaper filler kept those: seeds 125-148 at
+#: 20 dB, found / false alarms 973 / 7 -> 974 / 14 (inflections at their usual prior).
+#: Below 30, found / false alarms
+#: before -> after: the 30 s sessions above 293 / 11 -> 353 / 13; ten 60 s sessions at
+#: 20 dB (seeds 3, 9, 21, 31-37, about 19 triggers each) 192 / 3 -> 195 / 4, made with
+#: one camera 184 / 4 -> 190 / 4 (below 20: 193 / 3 and 185 / 4); 120 s sessions at
+#: 5 dB, seeds 101-124, 937 / 51 -> 937 / 53 (one session heard fewer), at 10 dB the same
+DOUBT_BELOW_SEEDS = 30
 #: how much more sensitively speech is decoded again (``_listen_harder``): the noisiest
 #: spans where the recogniser heard nothing, and all of it where it hears too few
 #: triggers for the similarity search to start from (fewer than its MIN_SEEDS of every
@@ -376,7 +404,9 @@ class PocketsphinxBackend:
                                              verify=SEED_CHECK, checked=clear, search=search,
                                              contested=contested, level_slope=slope,
                                              clear_from_db=CHECKED_FROM_DB,
-                                             inflected=inflected)
+                                             inflected=inflected,
+                                             second_opinion=self._second_opinion(
+                                                 x, activity, spec, len(seeds)))
             extra = [w for w in extra if activity.level_db(w.start_s, w.end_s) >= EXPAND_MIN_DB]
             # finds shaped unlike every heard trigger go ("rapture": voiced from its start).
             # Only where the triggers are heard clearly enough for MFCCs: 10 dB, found /
@@ -470,6 +500,37 @@ class PocketsphinxBackend:
         kept = replace(spec, words=underheard)
         return heard.with_triggers(sample, kept).with_triggers(more, kept)
 
+    def _second_opinion(self, x: np.ndarray, activity: VoiceActivity, spec: TriggerSpec,
+                        seeds: int) -> Callable[[list[Word]], list[Word]] | None:
+        """What the seed check asks about the triggers it would drop, where fewer than
+        DOUBT_BELOW_SEEDS were heard (``seeds``) and ``spec`` is more sensitive than
+        DOUBT_SENSITIVITY: those still heard with the cheapest filler (:meth:`_still_heard`)
+        are kept."""
+        if seeds >= DOUBT_BELOW_SEEDS or spec.sensitivity <= DOUBT_SENSITIVITY:
+            return None
+        return lambda doubted: self._still_heard(x, activity, spec, doubted)
+
+    def _still_heard(self, x: np.ndarray, activity: VoiceActivity, spec: TriggerSpec,
+                     triggers: list[Word]) -> list[Word]:
+        """Those of ``triggers`` the recogniser still hears with its filler at its
+        cheapest (DOUBT_SEARCH). Each one's span is decoded here, after the span before it
+        as the front end's warm-up."""
+        kept = []
+        for trigger in triggers:
+            k = next((k for k, (a, b) in enumerate(activity.segments) if a <= trigger.t <= b),
+                     None)
+            if k is None:
+                continue
+            a, b = activity.segments[k]
+            warm_up = x[int(activity.segments[k - 1][0] * RATE):
+                        int(activity.segments[k - 1][1] * RATE)] if k else None
+            span = Span(a, x[int(a * RATE):int(b * RATE)], DOUBT_SEARCH)
+            heard = self.decode_chunk(spec, Chunk(warm_up, [span]))
+            if any(w.word == trigger.word and w.start_s < trigger.end_s
+                   and trigger.start_s < w.end_s for w in heard):
+                kept.append(trigger)
+        return kept
+
     def _hear(self, x: np.ndarray, activity: VoiceActivity,
               segments: list[tuple[float, float]], spec: TriggerSpec,
               shares: tuple[float, float]) -> Heard:
@@ -524,6 +585,9 @@ class PocketsphinxBackend:
             self._decoder.add_fsg(WARM_UP_SEARCH, _word_loop(
                 self._decoder.get_logmath(), WARM_UP_SEARCH,
                 [(PHONE_PREFIX + WARM_UP_PHONE.lower(), 0)]))
+            self._decoder.add_fsg(DOUBT_SEARCH, _spot_grammar(
+                self._decoder.get_logmath(), replace(spec, sensitivity=DOUBT_SENSITIVITY),
+                self._rivals, self._confusables, self._phones, DOUBT_TIER))
             self._key = key
             self._sensitivities = set()
         if spec.sensitivity not in self._sensitivities:

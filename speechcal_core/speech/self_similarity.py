@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -167,6 +167,7 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
                        contested: Sequence[Word] = (),
                        clear_from_db: float = math.inf,
                        inflected: Sequence[Word] = (),
+                       second_opinion: Callable[[list[Word]], list[Word]] | None = None,
                        ) -> tuple[list[Word], list[Word]]:
     """The seeds that sound like the other seeds, and new instances similar to those.
 
@@ -176,6 +177,8 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
     other triggers, while the real ones have close siblings. All comparisons are DTW
     costs over the same features, so unlike recogniser scores they compare across spans.
     ``checked`` (one flag per seed) limits the check to some seeds; the others are kept.
+    ``second_opinion`` gets the seeds the check would drop and returns those to keep
+    after all: a seed unlike the others may be the one trigger of another voice.
     Seeds whose median closest cost exceeds MAX_MUTUAL_COST do not sound alike: all are
     kept, and nothing is searched for.
     A new instance is accepted below ``factor`` times the kept seeds' median closest cost
@@ -209,6 +212,10 @@ def confirm_and_expand(samples: np.ndarray, rate: int, seeds: list[Word],
         cutoff = verify * float(np.median(finite))
         keep = [k for k in range(len(seeds)) if matches[k] is None
                 or closest[k] <= cutoff or (checked is not None and not checked[k])]
+        if second_opinion is not None and len(keep) < len(seeds):
+            doubted = [k for k in range(len(seeds)) if k not in keep]
+            still = set(second_opinion([seeds[k] for k in doubted]))
+            keep = sorted(keep + [k for k in doubted if seeds[k] in still])
         kept, matches, closest = [seeds[k] for k in keep], [matches[k] for k in keep], \
             closest[keep]
         if search != "mfcc":

@@ -82,7 +82,9 @@ def test_seeds_in_two_voices_heard_once_each_lead_to_no_search(tmp_path: Path) -
     assert [round(w.t - sum(spans[2]) / 2, 1) for w in extra] == [0.0]
 
 
-def test_a_seed_unlike_the_other_seeds_is_dropped_the_real_ones_stay(tmp_path: Path) -> None:
+def seeds_with_near_homophones(tmp_path: Path) -> tuple[Scene, list[Word], list[Word]]:
+    """A scene of one voice's "capture"s among a "rapture", a "capsule" and a "picture",
+    all of them as seeds, and the true ones."""
     items = [("capture", "rms/capture_1"), ("rapture", "rms/rapture_1"),
              ("capture", "rms/capture_2"), ("capture", "rms/capture_3"),
              ("capsule", "rms/capsule_1"), ("capture", "rms/capture_5"),
@@ -92,7 +94,11 @@ def test_a_seed_unlike_the_other_seeds_is_dropped_the_real_ones_stay(tmp_path: P
     true_seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for a, b in scene.spans("capture")]
     false_seeds = [Word("capture", a, b, 0.9, "pocketsphinx") for text, a, b in scene.placed
                    if text != "capture"]
-    seeds = sorted(true_seeds + false_seeds, key=lambda w: w.start_s)
+    return scene, sorted(true_seeds + false_seeds, key=lambda w: w.start_s), true_seeds
+
+
+def test_a_seed_unlike_the_other_seeds_is_dropped_the_real_ones_stay(tmp_path: Path) -> None:
+    scene, seeds, true_seeds = seeds_with_near_homophones(tmp_path)
     activity = voice_activity(scene.samples, 16000)
     kept, extra = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
                                      noise_floor=3.0)
@@ -107,6 +113,27 @@ def test_a_seed_unlike_the_other_seeds_is_dropped_the_real_ones_stay(tmp_path: P
     kept_some, _ = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
                                       noise_floor=3.0, checked=only_capsule)
     assert [w for w in seeds if w not in kept_some] == [seeds[only_capsule.index(True)]]
+
+
+def test_a_second_opinion_keeps_the_dropped_seeds_it_vouches_for(tmp_path: Path) -> None:
+    # the seed check asks about the seeds it would drop, and keeps those the second
+    # opinion returns (the backend's: still heard with a cheaper filler)
+    scene, seeds, true_seeds = seeds_with_near_homophones(tmp_path)
+    activity = voice_activity(scene.samples, 16000)
+    capsule = next(w for w in seeds if (w.start_s, w.end_s) == scene.spans("capsule")[0])
+    asked: list[Word] = []
+
+    def vouch_for_capsule(doubted: list[Word]) -> list[Word]:
+        asked.extend(doubted)
+        return [w for w in doubted if w == capsule]
+
+    kept, _ = confirm_and_expand(scene.samples, 16000, seeds, activity, blocked=[],
+                                 noise_floor=3.0, second_opinion=vouch_for_capsule)
+    assert capsule in asked
+    assert not set(asked) & set(true_seeds)
+    assert capsule in kept
+    assert set(true_seeds) <= set(kept)
+    assert [w for w in seeds if w not in kept] == [w for w in asked if w != capsule]
 
 
 def test_noise_floored_features_bring_noisy_and_clean_instances_closer() -> None:
