@@ -253,6 +253,9 @@ class CameraTile(QWidget):
         self.short_name = stream
         self.footnote = ""  # drawn at the tile's foot (an enlarged camera: how to return)
         self.dimmed = False  # the image is an earlier frame held over a dropped one
+        #: the caption of the frame asked for while the image held dimmed is still shown:
+        #: it comes with that frame's image (the dimmed image kept "dropped frame")
+        self.next_caption: str | None = None
         self.key = ""  # the number key that shows this camera alone (1-9, grid order)
         self._corners: tuple[tuple[float, float], ...] = ()
         self._corner_spacing = 0.0
@@ -273,9 +276,14 @@ class CameraTile(QWidget):
         self._corner_spacing = kept_corner_spacing(self._corners)
         self.update()
 
-    def show_image(self, image: QImage, caption: str) -> None:
+    def show_image(self, image: QImage, caption: str | None = None) -> None:
+        """Show ``image`` with ``caption`` (default: the one :meth:`expect_frame` kept
+        for it, else the caption shown)."""
+        if caption is None:
+            caption = self.caption if self.next_caption is None else self.next_caption
         reshaped = self.image is None or self.image.size() != image.size()
         self.image, self.message, self.caption = image, "", caption
+        self.next_caption = None
         if reshaped:
             self.shape_changed.emit()
         self.dimmed = False
@@ -283,7 +291,7 @@ class CameraTile(QWidget):
 
     def show_message(self, message: str) -> None:
         self.image, self.message = None, message
-        self.dimmed = False
+        self.dimmed, self.next_caption = False, None
         self.update()
 
     def hold_dimmed(self, caption: str) -> None:
@@ -291,7 +299,17 @@ class CameraTile(QWidget):
         camera dropped a frame: a blank tile flashed at every gap)."""
         if self.image is None:
             return
-        self.caption, self.dimmed = caption, True
+        self.caption, self.dimmed, self.next_caption = caption, True, None
+        self.update()
+
+    def expect_frame(self, caption: str) -> None:
+        """A frame captioned ``caption`` was asked for: the caption shows at once, or,
+        over a held dimmed image, with the frame's image (the new frame's time over the
+        old dimmed image misled until it was decoded)."""
+        if self.dimmed:
+            self.next_caption = caption
+            return
+        self.caption, self.next_caption = caption, None
         self.update()
 
     def set_state(self, decision: str | None, warning: str = "",

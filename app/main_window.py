@@ -976,7 +976,7 @@ class ReviewWindow(QMainWindow):
                 continue
             widget.set_state(decision, flag_words(tile.flags), flag_short_words(tile.flags))
             widget.corners = tile.corners
-            widget.caption = chosen if tile.chosen else f"{tile.offset_ns / 1e6:+.1f} ms"
+            widget.expect_frame(chosen if tile.chosen else f"{tile.offset_ns / 1e6:+.1f} ms")
             wanted.append((tile.stream, tile.index))
             self._pending_tiles.add(tile.stream)
         self.loader.request(wanted)
@@ -1049,7 +1049,7 @@ class ReviewWindow(QMainWindow):
     def _on_frame(self, stream: str, index: int, image: QImage) -> None:
         tile = self.grid.tiles.get(stream)
         if tile is not None:
-            tile.show_image(image, tile.caption)
+            tile.show_image(image)  # with the caption its request gave
         self._pending_tiles.discard(stream)
 
     def _on_frame_failed(self, stream: str, index: int, message: str) -> None:

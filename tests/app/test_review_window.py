@@ -161,6 +161,45 @@ def test_pausing_in_a_dropped_frame_shows_the_tile_as_paused(qtbot, window) -> N
     assert not tile.dimmed and tile.warning == "" and tile.caption != "dropped frame"
 
 
+def test_a_dimmed_tile_keeps_its_caption_until_the_next_frame_is_decoded(
+        qtbot, window, monkeypatch) -> None:
+    """Playing on from a dropped frame, the tile took the next frame's caption ("+0.4 ms")
+    at once, over the old dimmed image, until that frame was decoded: caption and image
+    now change together."""
+    import threading
+
+    import numpy as np
+
+    model = window.model
+    gaps = {name: np.nonzero(np.diff(stamps) > 1.6 * model._periods[name])[0]
+            for name, stamps in model._stamps.items()}
+    stream = next(name for name, found in gaps.items() if len(found))
+    stamps, period = model._stamps[stream], model._periods[stream]
+    gap = int(gaps[stream][0])
+    model.set_playhead(int(stamps[gap]))
+    tile = window.grid.tiles[stream]
+    qtbot.waitUntil(lambda: tile.image is not None and not tile.dimmed, timeout=10_000)
+    old_image = tile.image
+    decoded = threading.Event()
+    source = window.loader.source
+    frame = source.frame
+    monkeypatch.setattr(source, "frame", lambda s, i: (decoded.wait(10), frame(s, i))[1])
+    window.loader._cache.pop((stream, gap + 1), None)
+    window.transport.playing = True  # as the play key does, without the clock moving on
+    try:
+        model.set_playhead(int(stamps[gap]) + period)  # in the gap
+        assert tile.dimmed and tile.caption == "dropped frame"
+        model.set_playhead(int(stamps[gap + 1]))  # the frame after it, still decoding
+        assert tile.image is old_image and tile.dimmed
+        assert tile.caption == "dropped frame"
+        decoded.set()
+        qtbot.waitUntil(lambda: tile.image is not old_image, timeout=10_000)
+        assert not tile.dimmed and tile.caption.endswith(" ms")
+    finally:
+        decoded.set()
+        window.transport.playing = False
+
+
 def test_a_camera_without_a_frame_in_the_set_says_so_and_how_far_its_nearest_is(
         qtbot, window) -> None:
     """At a set whose camera got no frame, the tile said "no frame near the playhead"
