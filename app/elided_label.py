@@ -64,16 +64,33 @@ class ElidedLabel(QLabel):
 class EllipsisLabel(QLabel):
     """A one-line label whose text, when too long for it, is drawn cut with "…" (so the
     reader sees there is more: the tooltip should hold it whole); ``text()`` stays whole.
-    Never widens the window."""
+    A text given with shorter forms is drawn as the longest of them that fits before any
+    is cut. Never widens the window."""
 
     def __init__(self, text: str = "", parent: QWidget | None = None) -> None:
         super().__init__(text, parent)
+        self.shorter: tuple[str, ...] = ()
         self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
 
+    def setText(self, text: str) -> None:
+        """Show ``text``, with no shorter forms."""
+        self.shorter = ()
+        super().setText(text)
+
+    def set_texts(self, text: str, shorter: Sequence[str] = ()) -> None:
+        """Show ``text``, or where it is too long the first of ``shorter`` (longest
+        first) that fits, else the last of them cut."""
+        super().setText(text)
+        self.shorter = tuple(shorter)
+        self.update()
+
     def shown_text(self) -> str:
-        """The text as drawn: cut with "…" to the label's width."""
-        return self.fontMetrics().elidedText(self.text(), Qt.TextElideMode.ElideRight,
-                                             self.contentsRect().width())
+        """The text as drawn: the longest form that fits, else the shortest cut with "…"
+        to the label's width."""
+        width, metrics = self.contentsRect().width(), self.fontMetrics()
+        forms = (self.text(), *self.shorter)
+        text = next((t for t in forms if metrics.horizontalAdvance(t) <= width), forms[-1])
+        return metrics.elidedText(text, Qt.TextElideMode.ElideRight, width)
 
     def paintEvent(self, event: QPaintEvent) -> None:
         painter = QPainter(self)

@@ -44,6 +44,7 @@ from app.set_table import MISSING, SetTable, clock_text
 from app.similar_action import SimilarAction
 from app.status_line import StatusLine
 from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
+from app.sync_line import sync_line_forms
 from app.tasks import BackgroundTask, start
 from app.transport import NO_SET_TO_HEAR, Transport
 from app.waveform import WaveformView
@@ -69,7 +70,6 @@ from speechcal_core.review.summary import (
 )
 from speechcal_core.session.store import SessionChangedError, SessionFileError
 from speechcal_core.sync.errors import SyncError
-from speechcal_core.sync.estimate import clap_misread, clap_off
 from speechcal_core.text import counted, shown_name, unbroken_figures
 
 if TYPE_CHECKING:
@@ -100,14 +100,6 @@ def opening_text(stage: str, fraction: float) -> str:
             "The status line below has Cancel.</p>")
 
 
-#: the sync line's tooltip when few words fall at a still board (see word_stillness)
-MOVING_WORDS_TIP = (
-    "The board is held still at each trigger word, yet here many words fall while it "
-    "moves. Is the audio this recording's? If it is, the offset is off: another sound "
-    "may have been taken for the clap. Find the real clap on the waveform (the wheel "
-    "zooms out to the whole audio: it may lie before the first frame), click it and "
-    "press C; or move the audio with { } (±1 frame) until the words fall where the "
-    "board stops.")
 #: the keys that go to another set (J, K, Home, End): when they go nowhere the status
 #: line says why
 STEP_ACTIONS = ("next_set", "previous_set", "first_set", "last_set")
@@ -145,17 +137,6 @@ HINTS_TIP = (
     "click on a set's word goes to that set), a double-click (or the 'whole session' "
     "button) shows the whole session\n"
     "Ctrl+F find trigger words: other words or another sensitivity")
-
-
-def audio_start_text(lead_s: float) -> str:
-    """Where the audio starts against the first frame, ``lead_s`` seconds before it
-    (negative: after it), in words with no sign: "audio starts 1.183 s after the first
-    frame"; "with" when that is under half a millisecond."""
-    lead_ms = round(lead_s * 1000)
-    if lead_ms == 0:
-        return "audio starts with the first frame"
-    side = "before" if lead_ms > 0 else "after"
-    return f"audio starts {abs(lead_ms) / 1000:.3f} s {side} the first frame"
 
 
 class ReviewWindow(QMainWindow):
@@ -1191,46 +1172,16 @@ class ReviewWindow(QMainWindow):
                 inputs.close()
 
     def _update_sync_line(self) -> None:
-        """The offset line: where the audio starts, drift, how the offset was found; in
-        amber and first, what looks wrong (a camera's clap off the others, words that
-        fall while the board moves), so a narrow window cuts the rest, not that."""
+        """The offset line (see :func:`sync_line_forms`): a narrow window shows a shorter
+        form, the tooltip has it whole."""
         if self.model is None or self.inputs is None:
             return
-        session = self.model.session
-        sync = session.sync
-        lead = (self.model.time_range_ns()[0] - sync.offset_ns) / 1e9
-        how = {"auto": "auto ✓", "manual": "edited ✎", "stamped": "stamped ✓"}.get(
-            sync.source, sync.source)
-        cams = [c for c in session.sync_evidence.get("cameras") or [] if isinstance(c, dict)]
-        residuals = [abs(c.get("residual_ns") or 0) for c in cams]
-        # the residuals are the automatic sync's: an edited offset has none to show
-        shown = residuals and sync.source != "manual"
-        # a camera that timed the first clap wrongly but the second well: its clock is
-        # right, and with three or more cameras the others set the offset
-        misread = [c for c in cams if len(cams) >= 3 and clap_misread(c)]
-        off = [c for c in cams if shown and clap_off(c) and c not in misread]
-        alerts = [f"{c.get('name')} clap {(c.get('residual_ns') or 0) / 1e6:+.1f} ms off the "
-                  "others" for c in off]
-        notes = [str(w) for w in session.sync_evidence.get("warnings") or []] \
-            if off or misread else []
-        residuals = [abs(c.get("residual_ns") or 0) for c in cams if c not in misread]
-        stillness = self.model.word_stillness()
-        if stillness.doubtful:
-            alerts.insert(0, f"only {stillness.still} of {stillness.judged} words at a still "
-                             "board")
-            notes.insert(0, MOVING_WORDS_TIP)
-        # one camera has nothing to differ from; one clap measures no drift
-        worst = f" · camera residuals ≤ {max(residuals) / 1e6:.1f} ms" \
-            if shown and residuals and not off and len(cams) > 1 else ""
-        claps = session.sync_evidence.get("claps") or []
-        drift = ("drift not measured (one clap)" if len(claps) < 2 and sync.drift == 0
-                 else f"drift {sync.drift * 1e6:.1f} ppm")
-        text = f"{audio_start_text(lead)} · {drift} · {how}{worst}"
-        if alerts:
-            text = f"{WARNING_SYMBOL} {' · '.join(alerts)} · {text}"
-        self.sync_line.setText(text)
-        self.sync_line.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if alerts else "")
-        self.sync_line.setToolTip("\n".join([text, *notes]))  # in full, however narrow
+        line = sync_line_forms(self.model.session, self.model.time_range_ns()[0],
+                               self.model.word_stillness())
+        self.sync_line.set_texts(line.texts[0], line.texts[1:])
+        self.sync_line.setStyleSheet(f"color: {WARNING_TEXT_COLOUR.name()}" if line.alerted
+                                     else "")
+        self.sync_line.setToolTip(line.tooltip)
 
     def _autosave(self, session: Session) -> None:
         """Save after every change (off the UI thread: :meth:`_on_saved` says how it

@@ -362,3 +362,45 @@ def test_undoing_a_large_clap_shift_gives_the_view_back_as_it_was(
     qtbot.keyClick(window, Qt.Key.Key_Y, Qt.KeyboardModifier.ControlModifier)  # redo
     v0, v1 = _view(wave)
     assert v0 < before[0] - 5.0 and all(v0 <= x <= v1 for x in _marks_x(wave))
+
+
+def test_a_half_screen_window_shows_the_sync_line_s_figures_in_shorter_words(
+        qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    """At 960 px (half a 1920 px screen) a one-clap session's line was cut at "camera
+    residu…": the figures lost for words. Shorter words keep every figure in view; the
+    tooltip still has the line whole."""
+    session = load_session(truth_session_file)
+    session.sync_evidence["claps"] = session.sync_evidence["claps"][:1]
+    session.sync = replace(session.sync, drift=0.0)
+    session.sync_evidence["cameras"] = [{"name": "/cam0/image_raw", "residual_ns": 1_400_000},
+                                        {"name": "/cam1/image_raw", "residual_ns": -300_000}]
+    path = tmp_path / "one_clap.json"
+    save_session(session, path)
+    window = open_window(path)
+    window.resize(960, 1040)
+    qtbot.waitUntil(lambda: window.width() == 960, timeout=5_000)
+    line = window.sync_line
+    assert "drift not measured (one clap)" in line.text()  # whole, as the tooltip
+    assert line.toolTip().startswith(line.text())
+    shown = line.shown_text()
+    assert "…" not in shown and "one clap" in shown and shown.endswith("residuals ≤ 1.4 ms")
+    assert "before" in shown and "auto ✓" in shown
+    assert line.fontMetrics().horizontalAdvance(shown) <= line.contentsRect().width()
+
+
+def test_a_narrow_window_keeps_a_sync_warning_before_the_figures(
+        qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    """A warning comes first and in shorter words too: the camera off the others stays
+    named at 960 px, the figures after it shortened."""
+    session = load_session(truth_session_file)
+    session.sync_evidence["cameras"] = [
+        {"name": "/cam0/image_raw", "residual_ns": 300_000},
+        {"name": "/cam1/image_raw", "residual_ns": 176_500_000, "period_ns": 66_666_667}]
+    path = tmp_path / "off.json"
+    save_session(session, path)
+    window = open_window(path)
+    window.resize(960, 1040)
+    qtbot.waitUntil(lambda: window.width() == 960, timeout=5_000)
+    shown = window.sync_line.shown_text()
+    assert shown.startswith("▲ /cam1/image_raw clap +176.5 ms off") and "…" not in shown
+    assert "before" in shown and "drift" in shown
