@@ -84,14 +84,16 @@ def sync_line_forms(session: Session, first_frame_ns: int, stillness: WordStilln
     worst = f"≤ {max(residuals) / 1e6:.1f} ms" \
         if shown and residuals and not off and len(cams) > 1 else ""
     claps = session.sync_evidence.get("claps") or []
-    one_clap = len(claps) < 2 and sync.drift == 0
+    # an offset given (process --offset-ns) has no clap at all: "(one clap)" misled
+    few = "one clap" if claps else "no clap"
+    unmeasured = len(claps) < 2 and sync.drift == 0
     drift = f"drift {sync.drift * 1e6:.1f} ppm"
     forms = [
-        [audio_start_text(lead), "drift not measured (one clap)" if one_clap else drift,
+        [audio_start_text(lead), f"drift not measured ({few})" if unmeasured else drift,
          how, f"camera residuals {worst}" if worst else ""],
-        [audio_start_text(lead), "no drift (one clap)" if one_clap else drift, how,
+        [audio_start_text(lead), f"no drift ({few})" if unmeasured else drift, how,
          f"residuals {worst}" if worst else ""],
-        [audio_start_text(lead, short=True), "one clap" if one_clap else drift, how,
+        [audio_start_text(lead, short=True), few if unmeasured else drift, how,
          f"residuals {worst}" if worst else ""],
     ]
     texts = [" · ".join(part for part in form if part) for form in forms]

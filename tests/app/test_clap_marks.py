@@ -91,6 +91,22 @@ def test_one_clap_or_one_camera_is_not_shown_as_measured(
     assert "drift not measured (one clap)" in text and "residuals" not in text
 
 
+def test_an_offset_given_without_a_clap_does_not_speak_of_one_clap(
+        qtbot, open_window, truth_session_file: Path, tmp_path: Path) -> None:
+    """A session made with an offset given (process --offset-ns) holds no clap at all,
+    yet the line said "drift not measured (one clap)"."""
+    session = load_session(truth_session_file)
+    session.sync = replace(session.sync, drift=0.0, source="manual")
+    session.sync_evidence = {}
+    path = tmp_path / "given.json"
+    save_session(session, path)
+    window = open_window(path)
+    assert "drift not measured (no clap)" in window.sync_line.text()
+    window.resize(960, 1040)
+    qtbot.waitUntil(lambda: window.width() == 960, timeout=5_000)
+    assert "one clap" not in window.sync_line.shown_text()
+
+
 def test_a_camera_that_timed_only_the_first_clap_wrongly_is_no_alarm(
         open_window, truth_session_file: Path, tmp_path: Path) -> None:
     """In line at the second clap, its clock is right and the others set the offset:
