@@ -43,7 +43,7 @@ from app.session_saver import SessionSaver, free_name_beside
 from app.set_table import MISSING, SetTable, clock_text
 from app.similar_action import SimilarAction
 from app.status_line import StatusLine
-from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR
+from app.style import DECISION_SYMBOLS, WARNING_SYMBOL, WARNING_TEXT_COLOUR, hint_text_colour
 from app.sync_line import sync_line_forms
 from app.tasks import BackgroundTask, start
 from app.transport import NO_SET_TO_HEAR, Transport
@@ -485,7 +485,7 @@ class ReviewWindow(QMainWindow):
         ):
             sync_row.addWidget(self._action_button(label, action, tip))
         self.help_line = ElidedLabel(HINTS, HINTS_TIP, separator=" · ")
-        self.help_line.setStyleSheet("color: gray")
+        self.help_line.setStyleSheet(f"color: {hint_text_colour(self.palette()).name()}")
         bottom_layout.addLayout(sync_row)
         bottom_layout.addWidget(self.help_line)
         split.addWidget(bottom)

@@ -248,3 +248,24 @@ def test_the_playhead_time_shows_whole_at_half_a_1920_px_screen(qtbot, window) -
         qtbot.keyClick(window, Qt.Key.Key_K)
     model.set_playhead(start_ns)  # between sets: the time alone, whole
     assert f"t = {0:.3f} s from start" in line.text()
+
+
+def _luminance(colour) -> float:
+    """WCAG relative luminance of a QColor."""
+    def channel(v: int) -> float:
+        c = v / 255
+        return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+    return (0.2126 * channel(colour.red()) + 0.7152 * channel(colour.green())
+            + 0.0722 * channel(colour.blue()))
+
+
+def test_the_key_hints_are_dark_enough_to_read(window) -> None:
+    """The help line under the waveform was Qt's "gray" on the light window: 3.4:1, under
+    the 4.5:1 that small text needs. Its darkest pixel (a glyph's core) against the
+    window now holds 4.5:1 at least."""
+    image = window.help_line.grab().toImage()
+    darkest = min((image.pixelColor(x, y) for y in range(image.height())
+                   for x in range(image.width())), key=_luminance)
+    background = window.help_line.palette().color(window.help_line.backgroundRole())
+    lighter, darker = sorted((_luminance(background), _luminance(darkest)), reverse=True)
+    assert (lighter + 0.05) / (darker + 0.05) >= 4.5
