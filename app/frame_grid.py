@@ -375,7 +375,10 @@ class CameraTile(QWidget):
                 self._draw_corners(p, target, scale)
         else:
             p.setPen(QColor(200, 200, 200))
-            p.drawText(area, Qt.AlignmentFlag.AlignCenter | Qt.TextFlag.TextWordWrap, self.message)
+            # clear of the decision and warning borders (1.5-5 px in): in a narrow tile
+            # the message's widest line ran under them
+            p.drawText(area.adjusted(FOOT_INSET_PX, 0, -FOOT_INSET_PX, 0),
+                       Qt.AlignmentFlag.AlignCenter | Qt.TextFlag.TextWordWrap, self.message)
         if self.decision:
             pen = QPen(DECISION_COLOURS[self.decision], 3)
             p.setPen(pen)

@@ -351,3 +351,23 @@ def test_compact_names_keep_what_tells_the_cameras_apart() -> None:
     assert compact_names(["/cam0/image_raw"]) == {"/cam0/image_raw": "/cam0/image_raw"}
     assert compact_names(["/image_raw", "/a/image_raw"]) == \
         {"/image_raw": "/image_raw", "/a/image_raw": "/a/image_raw"}  # nothing left of one
+
+
+@pytest.mark.parametrize("width", [160, 180, 200, 240])
+def test_a_tile_s_message_wraps_inside_its_borders(qtbot, monkeypatch: pytest.MonkeyPatch,
+                                                   width: int) -> None:
+    """In a narrow tile (the 12-camera grid at 960 or 1024 px), "this camera's nearest is"
+    ran from edge to edge, under the amber warning border (drawn 3-5 px in): the message
+    now wraps clear of it."""
+    tile = CameraTile("/cam2/image_raw")
+    qtbot.addWidget(tile)
+    tile.resize(width, 150)
+    message = "no frame for this set: this camera's nearest is -0.01 s away"
+    tile.show_message(message)
+    tile.set_state("undecided", "no frame")
+    monkeypatch.setattr(app.frame_grid, "QPainter", RecordingPainter)
+    RecordingPainter.texts = []
+    tile.grab()
+    [rect] = [rect for text, rect in RecordingPainter.texts if text == message]
+    assert tile.width() == width
+    assert rect.left() >= 6 and rect.right() <= width - 6
