@@ -851,6 +851,11 @@ class ReviewWindow(QMainWindow):
         model.last_decided = None
         model.step_refused = ""
         model.trigger(action)
+        if len(model.session.sets) != n_sets and not model.session.sets:
+            # the model records the step after it tells of the sets: the empty list's
+            # words, which name a removal that undo puts back, were worked out before it
+            # (a lone set removed said no trigger word was found in the audio)
+            self._apply_filter()
         # each says what it did, which also replaces a message it made untrue ("redone:
         # decision on set 2" through later decisions, "set #3 removed" after its undo)
         if removing is not None and all(s.id != removing.id for s in model.session.sets):

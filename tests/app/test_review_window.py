@@ -413,6 +413,28 @@ def test_with_every_set_removed_the_list_and_band_say_so(qtbot, window) -> None:
     assert window.table.model().rowCount() == 1 and not window.no_sets_label.isVisible()
 
 
+def test_a_lone_set_removed_is_not_taken_for_a_word_never_heard(
+        qtbot, open_window, truth_session_file, tmp_path) -> None:
+    """A session of one set (one word heard): Del on it left the empty list saying no
+    “capture” was found in the audio, as if none had been heard, where Ctrl+Z puts it
+    back; so too after redoing the removal."""
+    from speechcal_core.session.store import save_session
+
+    session = load_session(truth_session_file)
+    session.sets[:] = session.sets[:1]
+    path = tmp_path / "one_set.json"
+    save_session(session, path)
+    window = open_window(path)
+    removed = "▲ No frame sets left: every “capture” was removed (Ctrl+Z puts the last back)."
+    qtbot.keyClick(window, Qt.Key.Key_Delete)
+    assert not window.model.session.sets
+    assert window.no_sets_label.text().startswith(removed)
+    qtbot.keyClick(window, Qt.Key.Key_U)
+    assert not window.no_sets_label.isVisible()
+    window.run_action("redo")
+    assert window.no_sets_label.text().startswith(removed)
+
+
 def test_add_and_remove_buttons_do_what_t_and_delete_do(qtbot, window) -> None:
     model = window.model
     rows = window.table.model().rowCount()
