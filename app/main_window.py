@@ -462,9 +462,13 @@ class ReviewWindow(QMainWindow):
         top.addWidget(right)
         top.setStretchFactor(0, 3)
         top.setStretchFactor(1, 1)
-        # the list's columns at the window's font (480 px at 9 pt): a larger system font
-        # cut the decision column off
-        right.setMinimumWidth(max(480, 70 * self.fontMetrics().averageCharWidth()))
+        # the list's columns at the window's font, measured (at least 480 px, as at
+        # 9 pt): a larger system font cut the decision column off, and 70 average
+        # characters held a 10 pt window of 12 cameras 8 px wider than half a 1920 px
+        # screen
+        right.setMinimumWidth(480)
+        self.table.least_width_changed.connect(
+            lambda least: right.setMinimumWidth(max(480, least)))
         top.setSizes([900, 500])
         split.addWidget(top)
         bottom = QWidget()

@@ -315,6 +315,8 @@ class SetTable(QTableView):
     """Lists frame sets (see :class:`SetListModel`); selecting a row asks to go to that set."""
 
     set_chosen = Signal(int)  # row index == index into the session's sets
+    #: :meth:`least_width` changed (the columns were fitted to other texts or a new font)
+    least_width_changed = Signal(int)
 
     def __init__(self, parent=None) -> None:
         super().__init__(parent)
@@ -341,6 +343,7 @@ class SetTable(QTableView):
         self._widest_digit = ""
         self._word_width = 0  # the word column's width for its widest text
         self._decision_width = 0  # the decision column's, for its texts
+        self._least_width = 0  # the last least_width told of
         self._updating = False
         self.selectionModel().selectionChanged.connect(self._selection_changed)
         #: whether the last mouse press changed the selection (and so chose a set)
@@ -384,6 +387,19 @@ class SetTable(QTableView):
         if WORD in wanted and not self.isVisible():
             header.resizeSection(WORD, self._word_width)
         self._fit_word()
+        least = self.least_width()
+        if least != self._least_width:
+            self._least_width = least
+            self.least_width_changed.emit(least)
+
+    def least_width(self) -> int:
+        """The narrowest the list shows every column at, pixels: each as wide as its
+        texts, the word column as its header (its long texts end in "…"), and room for
+        the frame and a scrollbar."""
+        header = self.horizontalHeader()
+        others = sum(header.sectionSize(c) for c in range(DECISION) if c != WORD)
+        return (others + header.sectionSizeHint(WORD) + self._decision_width
+                + self.verticalScrollBar().sizeHint().width() + 2 * self.frameWidth())
 
     def _cell_width(self, shape: bytes) -> int:
         """The width Qt's fitting gives a cell of this shape (see :data:`SHAPE`)."""
