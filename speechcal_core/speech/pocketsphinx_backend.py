@@ -521,10 +521,9 @@ class PocketsphinxBackend:
                      None)
             if k is None:
                 continue
-            a, b = activity.segments[k]
-            warm_up = x[int(activity.segments[k - 1][0] * RATE):
-                        int(activity.segments[k - 1][1] * RATE)] if k else None
-            span = Span(a, x[int(a * RATE):int(b * RATE)], DOUBT_SEARCH)
+            warm_up = _samples(x, activity.segments[k - 1]) if k else None
+            span = Span(activity.segments[k][0], _samples(x, activity.segments[k]),
+                        DOUBT_SEARCH)
             heard = self.decode_chunk(spec, Chunk(warm_up, [span]))
             if any(w.word == trigger.word and w.start_s < trigger.end_s
                    and trigger.start_s < w.end_s for w in heard):
@@ -538,7 +537,7 @@ class PocketsphinxBackend:
         ``spec``'s sensitivity, word bounds snapped to the words' energy; progress is
         reported from ``shares[0]`` to ``shares[1]`` of the work."""
         self._prepare(spec)  # for the word lists below
-        spans = [Span(start, x[int(start * RATE):int(end * RATE)], _search_name(
+        spans = [Span(start, _samples(x, (start, end)), _search_name(
                      spec.sensitivity, activity.level_db(start, end),
                      activity.level_db(start, end, PEAK_PERCENTILE)))
                  for start, end in segments]
@@ -635,6 +634,11 @@ class PocketsphinxBackend:
         self._rivals, self._confusables = rivals, confusables
         self._hiss_first, self._hiss_last = hiss_first, hiss_last
         return decoder
+
+
+def _samples(x: np.ndarray, segment: tuple[float, float]) -> np.ndarray:
+    """The samples of ``x`` from ``segment[0]`` to ``segment[1]`` (seconds)."""
+    return x[int(segment[0] * RATE):int(segment[1] * RATE)]
 
 
 def _unheard_spans(activity: VoiceActivity, heard: Heard, tier: int
