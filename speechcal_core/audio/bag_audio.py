@@ -12,7 +12,7 @@ import numpy as np
 import soundfile as sf
 
 from speechcal_core.audio.errors import AudioError
-from speechcal_core.audio.loader import Audio
+from speechcal_core.audio.loader import Audio, NumberCheck
 
 if TYPE_CHECKING:
     from rosbags.typesys.store import Typestore
@@ -66,7 +66,8 @@ def audio_topics(paths: Sequence[str | Path]) -> dict[str, str]:
 
 def load_bag_audio(paths: Sequence[str | Path], topic: str | None = None, *,
                    channel: int | None = None) -> BagAudio:
-    """Decode the audio topic (the only one, when ``topic`` is None) of a bag."""
+    """Decode the audio topic (the only one, when ``topic`` is None) of a bag; samples
+    that are not numbers are taken as in an audio file (:class:`NumberCheck`)."""
     from rosbags.highlevel import AnyReader
 
     bag = Path(paths[0]).name
@@ -98,6 +99,9 @@ def load_bag_audio(paths: Sequence[str | Path], topic: str | None = None, *,
     if not chunks or not any(chunks):
         raise AudioError(f"{bag}: audio topic {names[0]} holds no samples")
     samples, rate, channels, starts = _decode(chunks, info, bag, channel)
+    numbers = NumberCheck(f"{bag}: audio topic {names[0]}")
+    samples = numbers.clean(samples)
+    numbers.check()
     audio = Audio(samples, rate, Path(paths[0]), channels, rate, channel)
     if stamps:
         return BagAudio(audio, names[0], np.array(stamps, dtype=np.int64), starts)

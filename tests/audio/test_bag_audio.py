@@ -23,23 +23,27 @@ CHUNK = 1600  # 100 ms
 T0_NS = 1_700_000_000_000_000_000
 
 
-def _write_bag(path: Path, samples: np.ndarray, *, stamped: bool, drift: float = 0.0) -> None:
+def _write_bag(path: Path, samples: np.ndarray, *, stamped: bool, drift: float = 0.0,
+               sample_format: str = "S16LE") -> None:
     from rosbags.rosbag1 import Writer
 
     store = audio_types()
     types = store.types
     header_t, time_t = types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"]
-    pcm = (np.clip(samples, -1, 1) * 32767).astype("<i2")
+    if sample_format == "F32LE":  # float samples as they are, NaN and inf too
+        pcm = samples.astype("<f4")
+    else:
+        pcm = (np.clip(samples, -1, 1) * 32767).astype("<i2")
     with Writer(path) as w:
         info_c = w.add_connection("/audio/audio_info", AUDIO_INFO, typestore=store)
         kind = AUDIO_STAMPED if stamped else AUDIO_DATA
         data_c = w.add_connection("/audio/audio", kind, typestore=store)
-        info = types[AUDIO_INFO](channels=1, sample_rate=RATE, sample_format="S16LE",
+        info = types[AUDIO_INFO](channels=1, sample_rate=RATE, sample_format=sample_format,
                                  bitrate=0, coding_format="wave")
         w.write(info_c, T0_NS, store.serialize_ros1(info, AUDIO_INFO))
         for k, i in enumerate(range(0, pcm.size, CHUNK)):
             chunk = np.frombuffer(pcm[i:i + CHUNK].tobytes(), np.uint8).copy()
-            end_s = (i + chunk.size // 2) / RATE  # stamped when the buffer is full
+            end_s = (i + chunk.size // pcm.itemsize) / RATE  # stamped when the buffer is full
             stamp = T0_NS + round(end_s * (1 + drift) * 1e9) + 300_000 * (k % 3)  # latency
             data = types[AUDIO_DATA](data=chunk)
             if stamped:
@@ -78,3 +82,29 @@ def test_unstamped_audio_has_no_sync_and_missing_topic_is_named(tmp_path: Path) 
     assert stamped_sync(ba) is None and ba.audio.duration_s == pytest.approx(2.0)
     with pytest.raises(AudioError, match="/nope"):
         load_sync_audio("/nope", [bag])
+
+
+def test_bag_audio_mostly_not_numbers_is_refused_as_damaged(tmp_path: Path) -> None:
+    x = _tone(2.0)
+    x[: int(0.6 * x.size)] = np.nan
+    x[-10:] = np.inf
+    bag = tmp_path / "nan.bag"
+    _write_bag(bag, x, stamped=True, sample_format="F32LE")
+    with pytest.raises(AudioError, match=r"nan\.bag: audio topic /audio/audio: the audio is "
+                                         r"damaged: 60% of its samples are not numbers"):
+        load_bag_audio([bag])
+
+
+def test_bag_audio_scattered_not_numbers_read_as_silence(tmp_path: Path) -> None:
+    x = _tone(2.0)
+    bad = np.arange(5, x.size, 997)
+    x[bad] = np.nan
+    x[7] = np.inf
+    bag = tmp_path / "glitch.bag"
+    _write_bag(bag, x, stamped=False, sample_format="F32LE")
+    samples = load_bag_audio([bag]).audio.samples
+    assert np.isfinite(samples).all()
+    assert (samples[bad] == 0).all() and samples[7] == 1.0
+    keep = np.ones(x.size, bool)
+    keep[bad] = keep[7] = False
+    assert np.allclose(samples[keep], x[keep])
