@@ -211,7 +211,11 @@ def _from_csv(p: Path, text: str, delimiter: str = ",") -> Transcript:
     """CSV ``word,start,end`` (a header row is optional and may name the columns in any
     order, also as text/label, begin, stop; extra columns ignored); tab-separated too."""
     out = Transcript(p, "csv")
-    rows = list(csv.reader(io.StringIO(text), delimiter=delimiter))
+    try:
+        rows = list(csv.reader(io.StringIO(text), delimiter=delimiter))
+    except csv.Error as exc:  # a quote left open swallows the rest into one field
+        raise SpeechError(f"{p}: not a readable CSV ({exc}: a quote left open?); "
+                          "give a CSV of word,start,end") from exc
     backwards = 0  # rows whose times are numbers, the end before the start
     header = [c.strip().lower() for c in rows[0]] if rows else []
     cols = (0, 1, 2)

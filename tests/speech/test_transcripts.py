@@ -111,6 +111,7 @@ def test_words_before_the_audio_and_words_listed_twice_are_noted(tmp_path: Path)
     ("1.0\tcapture\n", "start<TAB>end<TAB>label"),
     ("hello\n", "not a transcript"),  # one word of plain text: no header, no rows
     ("from,to,what\n1.0,1.5,capture\n2.0,2.5,capture\n", "columns must be word,start,end"),
+    ('"capture,1.0,1.5\n' + "capture,2.0,2.5\n" * 10_000, "a quote left open"),
 ])
 def test_bad_transcripts_name_the_file_and_the_fix(tmp_path: Path, text: str, fix: str) -> None:
     p = _write(tmp_path, "bad.txt", text)
