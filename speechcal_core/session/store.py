@@ -341,7 +341,7 @@ def load_session(path: str | Path) -> Session:
                  if k not in ("offset_ns", "drift", "source")},
                 lambda a: _absolute(a, base)),
             sets=sets,
-            triggers_word=list(data.get("trigger_words", ["capture"])),
+            triggers_word=_trigger_words(data.get("trigger_words", ["capture"])),
             calibration=dict(data.get("calibration", {})),
             extra={k: v for k, v in data.items() if k not in known},
             last_set_id=_last_set_id(data.get("last_set_id"), sets),
@@ -384,6 +384,17 @@ def _check_streams(value: Any) -> None:
     if value is not None and not (isinstance(value, list) and value
                                   and all(isinstance(v, str) and v for v in value)):
         raise ValueError(f"'{STREAMS_KEY}' is {value!r}, not a list of stream names")
+
+
+def _trigger_words(value: Any) -> list[str]:
+    """The session's trigger words; one word written by hand is a list of one (taken
+    as a list, "snapshot" was the words "s", "n", ...); ValueError unless words."""
+    if isinstance(value, str) and value.strip():
+        return [value.strip()]
+    if not (isinstance(value, list) and all(isinstance(v, str) and v.strip() for v in value)):
+        raise ValueError(f"'trigger_words' is {value!r:.40}, not a list of words, e.g. "
+                         '["capture"]')
+    return [v.strip() for v in value]
 
 
 def _derived_fix(key: str) -> str:

@@ -330,6 +330,8 @@ def _edited(tmp_path: Path, edit) -> Path:
     (lambda d: d.update(sets={}), "'sets' is {}, not a list of frame sets"),
     (lambda d: d.update(sets=None), "'sets' is None, not a list of frame sets"),
     (lambda d: d.update(last_set_id="7"), "'last_set_id' is '7', not a set number"),
+    # the review window joins them as text (the words named when others are asked for)
+    (lambda d: d.update(trigger_words=[1]), "'trigger_words' is [1], not a list of words"),
     (lambda d: d["sets"][0].update(decision="yes"),
      "set 1: decision 'yes' is none of accepted, rejected, undecided"),
     (lambda d: d["sets"][0].pop("trigger"), "set 1: the key 'trigger' is missing"),
@@ -422,6 +424,13 @@ def test_a_damaged_set_offers_the_earlier_version_when_there_is_one(tmp_path: Pa
 def test_decisions_written_by_hand_in_capitals_are_read(tmp_path: Path) -> None:
     path = _edited(tmp_path, lambda d: d["sets"][0].update(decision="Accepted"))
     assert load_session(path).sets[0].decision == "accepted"
+
+
+def test_one_trigger_word_written_by_hand_is_that_word(tmp_path: Path) -> None:
+    """Read as a list, "snapshot" was eight one-letter words: a set added in the review
+    window took "s" for its word."""
+    path = _edited(tmp_path, lambda d: d.update(trigger_words=" snapshot"))
+    assert load_session(path).triggers_word == ["snapshot"]
 
 
 def test_a_byte_order_mark_from_an_editor_is_read(tmp_path: Path) -> None:
