@@ -152,14 +152,13 @@ class TargetSpec:
         values: dict[str, str] = {}
         for line in text.splitlines():
             line = line.split("#", 1)[0].strip()
-            if line.startswith("{") and line.endswith("}"):  # YAML's flow style, one line
-                entries = line[1:-1].split(",")
+            if line.startswith("{") or line.endswith("}"):  # YAML's flow style, as JSON too
+                entries = line.strip("{}").split(",")
             else:
-                entries = [line]
+                entries = [line.removesuffix(",")]  # a line of JSON written over lines
             for entry in entries:
                 if ":" in entry:
-                    key, value = (part.strip() for part in entry.split(":", 1))
-                    value = value.strip("'\"")
+                    key, value = (part.strip().strip("'\"") for part in entry.split(":", 1))
                     if values.get(key, value) != value:  # Kalibr would take the last, silently
                         raise TargetError(
                             f"{path}: {key} is given twice ({values[key]} and {value}); keep "

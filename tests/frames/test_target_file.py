@@ -45,6 +45,20 @@ def test_the_one_line_flow_style_of_yaml_is_read_too(tmp_path: Path) -> None:
     assert TargetSpec.from_kalibr_yaml(path) == TargetSpec("aprilgrid", 7, 6, 0.088, 0.3)
 
 
+@pytest.mark.parametrize("text", [
+    '{"target_type": "aprilgrid", "tagCols": 6, "tagRows": 7, "tagSize": 0.088, '
+    '"tagSpacing": 0.3}\n',
+    '{\n  "target_type": "aprilgrid",\n  "tagCols": 6,\n  "tagRows": 7,\n'
+    '  "tagSize": 0.088,\n  "tagSpacing": 0.3\n}\n',
+])
+def test_a_target_written_as_json_is_read(tmp_path: Path, text: str) -> None:
+    """JSON is YAML too (Kalibr reads it): its quoted keys were not found, and the file
+    was said to have no target_type line."""
+    path = tmp_path / "target.yaml"
+    path.write_text(text)
+    assert TargetSpec.from_kalibr_yaml(path) == TargetSpec("aprilgrid", 7, 6, 0.088, 0.3)
+
+
 @pytest.mark.parametrize("content", [
     CHECKERBOARD,
     CHECKERBOARD.replace("colSpacingMeters: 0.045\n", ""),  # one size for both axes
