@@ -24,8 +24,11 @@ def load_sync_audio(audio: str, recording: Sequence[str | Path], *,
     bags = [Path(r) for r in recording]
     try:
         topics = audio_topics(bags)
-    except AudioError:
-        topics = {}
+    except AudioError as exc:  # read by rosbags: a bag cut short is not (its images are)
+        raise AudioError(f"{audio}: audio file not found, and the recording's audio topics "
+                         f"cannot be read ({exc}); an audio topic is read only from a whole "
+                         "bag: `rosbag reindex` a ROS1 bag cut short (`mcap recover` an MCAP "
+                         "file), or give the microphone's audio file with --audio") from exc
     if audio not in topics:
         listed = ", ".join(sorted(topics)) or "none"
         raise AudioError(f"{audio}: audio file not found, and not an audio topic of the "

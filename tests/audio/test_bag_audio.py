@@ -108,3 +108,19 @@ def test_bag_audio_scattered_not_numbers_read_as_silence(tmp_path: Path) -> None
     keep = np.ones(x.size, bool)
     keep[bad] = keep[7] = False
     assert np.allclose(samples[keep], x[keep])
+
+
+def test_audio_topic_of_a_bag_cut_short_says_to_reindex(tmp_path: Path) -> None:
+    """The images of a bag cut short are read (``index --scan``), its audio topic only by
+    rosbags, from a whole bag: the topic was said not to be in the recording."""
+    whole = tmp_path / "whole.bag"
+    _write_bag(whole, _tone(5.0), stamped=True)
+    cut = tmp_path / "cut.bag"
+    data = whole.read_bytes()
+    cut.write_bytes(data[:int(0.6 * len(data))])
+    with pytest.raises(AudioError) as exc:
+        load_sync_audio("/audio/audio", [cut])
+    message = str(exc.value)
+    assert message.startswith("/audio/audio: audio file not found, and the recording's "
+                              "audio topics cannot be read (cut.bag: ")
+    assert "`rosbag reindex` a ROS1 bag cut short" in message and "\n" not in message
