@@ -15,6 +15,7 @@ from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.mp3_join import joined_mp3_note, open_mp3_chain
 from speechcal_core.audio.ogg_chain import SoundFileChain, open_ogg_chain
 from speechcal_core.audio.resampling import resample, resample_blocks
+from speechcal_core.audio.wav_length import wav_declared_frames, wav_unfinished_bytes
 from speechcal_core.fsutil import shell_quoted
 
 #: endings of audio files libsndfile does not decode (a phone's or Windows' recorder):
@@ -86,11 +87,11 @@ def load_audio(path: str | Path, *, rate: int | None = None,
         raise AudioError(f"{p}: cannot resample to {rate} Hz; give a positive rate")
     with open_audio(p, channel) as f:
         channels, rate_in = int(f.channels), int(f.samplerate)
-        header_s = _header_seconds(f)
+        header_s = _header_seconds(f, p)
         mono = _read_mono(f, p, channel)
         silent_s = _silent_s(f)
     if mono.size == 0:
-        raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
+        raise AudioError(_no_samples(p))
     numbers = NumberCheck(p)
     mono = numbers.clean(mono)
     numbers.check()
@@ -109,13 +110,13 @@ def load_resampled(path: str | Path, rate: int, *,
     with open_audio(p, channel) as f:
         channels, rate_in = int(f.channels), int(f.samplerate)
         expected = header_frames(f) or 0
-        header_s = _header_seconds(f)
+        header_s = _header_seconds(f, p)
         numbers = NumberCheck(p)
         samples, size_in = resample_blocks(map(numbers.clean, mono_blocks(f, p, channel)),
                                            rate_in, int(rate), size_hint=expected)
         silent_s = _silent_s(f)
     if size_in == 0:
-        raise AudioError(f"{p}: holds no audio samples; record or copy the audio again")
+        raise AudioError(_no_samples(p))
     numbers.check()
     return (Audio(samples, int(rate), p, channels, rate_in, channel, header_s, silent_s),
             size_in)
@@ -151,6 +152,16 @@ class NumberCheck:
                 "(NaN or infinite), not sound; record, copy or export the take again")
 
 
+def _no_samples(p: Path) -> str:
+    """Why ``p`` decoded to no samples, and what to do."""
+    unread = wav_unfinished_bytes(p)
+    if unread:
+        return (f"{p}: its header says it holds no audio, yet {unread} bytes of it follow "
+                "(the recorder stopped before it wrote the length); repair the header, e.g. "
+                f"sox --ignore-length {shell_quoted(p.name)} fixed.wav, and give that file")
+    return f"{p}: holds no audio samples; record or copy the audio again"
+
+
 def _silent_s(f: SoundFileLike) -> float:
     """Seconds of ``f`` read as silence (read to its end) where parts did not decode."""
     frames = int(getattr(f, "silent_frames", 0))
@@ -164,8 +175,12 @@ def header_frames(f: SoundFileLike) -> int | None:
     return frames if 0 <= frames < UNKNOWN_FRAMES else None
 
 
-def _header_seconds(f: SoundFileLike) -> float | None:
+def _header_seconds(f: SoundFileLike, path: Path) -> float | None:
+    """The length in seconds ``f``'s header gives (for a WAV file its data chunk's size,
+    which libsndfile shortens to what is left of a file cut short)."""
     frames = header_frames(f)
+    if isinstance(f, sf.SoundFile) and f.format in ("WAV", "WAVEX") and frames is not None:
+        frames = max(frames, wav_declared_frames(path) or 0)
     return frames / f.samplerate if frames is not None and f.samplerate > 0 else None
 
 
