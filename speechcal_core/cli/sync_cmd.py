@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from speechcal_core.cli._output import emit_json, progress
@@ -47,7 +48,9 @@ def run(args: argparse.Namespace) -> int:
         # what is wrong with the files given (a part of a split bag) explains the rest
         for note in getattr(source, "notes", []):
             progress(f"note: {note}")
-        audio, stamped = load_sync_audio(args.audio, args.recording, channel=args.channel)
+        audio_notes: list[str] = []  # the audio topic's stamps unusable: the clap times it
+        audio, stamped = load_sync_audio(args.audio, args.recording, channel=args.channel,
+                                         notes=audio_notes)
         _check_hand_set_clap(args, audio.duration_s, source)
         if stamped is not None and args.audio_clap is None and args.video_clap_ns is None:
             result = stamped
@@ -60,6 +63,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             result = sync_recording(source, audio, search_s=args.search_s,
                                     audio_clap_s=args.audio_clap, progress=progress)
+    result = replace(result, warnings=(*audio_notes, *result.warnings))
     for note in result.warnings:  # notes, as every command says them (README)
         progress(f"note: {note}")
     doc = result.to_dict()

@@ -9,14 +9,16 @@ from speechcal_core.audio.bag_audio import audio_topics, load_bag_audio
 from speechcal_core.audio.errors import AudioError
 from speechcal_core.audio.loader import Audio, load_audio
 from speechcal_core.sync.estimate import SyncResult
-from speechcal_core.sync.stamped import stamped_sync
+from speechcal_core.sync.stamped import stamped_sync, stamps_problem
 
 
 def load_sync_audio(audio: str, recording: Sequence[str | Path], *,
-                    channel: int | None = None) -> tuple[Audio, SyncResult | None]:
+                    channel: int | None = None, notes: list[str] | None = None
+                    ) -> tuple[Audio, SyncResult | None]:
     """The audio, and for stamped bag audio the sync it implies (else None).
 
     ``audio`` is a file path, or an audio topic of the recording (e.g. ``/audio/audio``).
+    Why a topic's stamps cannot time it (then the clap does) is added to ``notes``.
     """
     p = Path(audio)
     if p.exists() or not audio.startswith("/") or p.suffix:
@@ -34,4 +36,7 @@ def load_sync_audio(audio: str, recording: Sequence[str | Path], *,
         raise AudioError(f"{audio}: audio file not found, and not an audio topic of the "
                          f"recording either (audio topics: {listed})")
     bag = load_bag_audio(bags, audio, channel=channel)
+    problem = stamps_problem(bag)
+    if problem and notes is not None:
+        notes.append(problem)
     return bag.audio, stamped_sync(bag)

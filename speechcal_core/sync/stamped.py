@@ -9,6 +9,11 @@ from speechcal_core.sync.estimate import SyncResult
 from speechcal_core.sync.model import SyncModel
 
 MIN_DRIFT_SPAN_S = 10.0
+#: audio seconds the chunks' stamps must span to judge how fast they advance
+MIN_RATE_SPAN_S = 1.0
+#: how far the stamps' pace may be off the audio's (far beyond any clock's drift, and
+#: the latency of one chunk over the span)
+MAX_RATE_ERROR = 0.1
 
 
 def stamped_sync(bag: BagAudio, *, stamp_at: str = "end") -> SyncResult | None:
@@ -19,19 +24,12 @@ def stamped_sync(bag: BagAudio, *, stamp_at: str = "end") -> SyncResult | None:
     ever delays a stamp, so the offset follows the earliest chunks (a low quantile); the
     drift is the slope over the recording when it spans long enough.
     """
-    if bag.chunk_stamps_ns is None or bag.chunk_stamps_ns.size == 0:
+    if bag.chunk_stamps_ns is None or bag.chunk_stamps_ns.size == 0 or stamps_problem(bag):
         return None
-    stamps = bag.chunk_stamps_ns.astype(np.int64)
-    rate = float(bag.audio.rate)
+    stamps, t_audio = _stamped_times(bag, stamp_at)
     notes: list[str] = []
-    if bag.chunk_starts is None or bag.chunk_starts.size != stamps.size:
-        t_audio = np.zeros(1)
-        stamps = stamps[:1]
+    if t_audio.size < bag.chunk_stamps_ns.size:
         notes.append(f"{bag.topic}: compressed chunks; offset from the first stamp only")
-    else:
-        starts = bag.chunk_starts.astype(np.float64)
-        ends = np.append(starts[1:], bag.audio.samples.size)
-        t_audio = (ends if stamp_at == "end" else starts) / rate
     base = int(stamps[0])
     rel = (stamps - base).astype(np.float64)
     drift = 0.0
@@ -43,3 +41,35 @@ def stamped_sync(bag: BagAudio, *, stamp_at: str = "end") -> SyncResult | None:
     model = SyncModel(int(offset), float(drift), "stamped")
     return SyncResult(model, (), tuple(notes), {"audio_topic": bag.topic,
                                                "stamp_at": stamp_at})
+
+
+def _stamped_times(bag: BagAudio, stamp_at: str = "end") -> tuple[np.ndarray, np.ndarray]:
+    """The chunks' header stamps and the audio seconds each marks (of compressed chunks,
+    whose samples are not counted per chunk, the first only)."""
+    assert bag.chunk_stamps_ns is not None
+    stamps = bag.chunk_stamps_ns.astype(np.int64)
+    if bag.chunk_starts is None or bag.chunk_starts.size != stamps.size:
+        return stamps[:1], np.zeros(1)
+    starts = bag.chunk_starts.astype(np.float64)
+    ends = np.append(starts[1:], bag.audio.samples.size)
+    return stamps, (ends if stamp_at == "end" else starts) / float(bag.audio.rate)
+
+
+def stamps_problem(bag: BagAudio) -> str | None:
+    """Why the chunks' header stamps of ``bag`` cannot time its audio (a driver that left
+    them unset, or stamps that do not advance with the samples), or None; taken as they
+    were, unset stamps gave an offset of 0 and a drift of -1000000 ppm."""
+    if bag.chunk_stamps_ns is None or bag.chunk_stamps_ns.size == 0:
+        return None
+    stamps, t_audio = _stamped_times(bag)
+    if np.any(stamps <= 0):
+        return (f"{bag.topic}: its chunks' header stamps are unset (0), so they cannot time "
+                "the audio; the clap does")
+    span_s = float(t_audio[-1] - t_audio[0])
+    if span_s < MIN_RATE_SPAN_S:
+        return None
+    rate = float(stamps[-1] - stamps[0]) / 1e9 / span_s
+    if abs(rate - 1.0) > MAX_RATE_ERROR:
+        return (f"{bag.topic}: its chunks' header stamps advance {rate:.3g} s per second of "
+                "audio, so they cannot time it; the clap does")
+    return None

@@ -16,7 +16,7 @@ from speechcal_core.audio.bag_audio import (
     load_bag_audio,
 )
 from speechcal_core.sync.sources import load_sync_audio
-from speechcal_core.sync.stamped import stamped_sync
+from speechcal_core.sync.stamped import stamped_sync, stamps_problem
 
 RATE = 16000
 CHUNK = 1600  # 100 ms
@@ -24,7 +24,7 @@ T0_NS = 1_700_000_000_000_000_000
 
 
 def _write_bag(path: Path, samples: np.ndarray, *, stamped: bool, drift: float = 0.0,
-               sample_format: str = "S16LE") -> None:
+               sample_format: str = "S16LE", unset_stamps: bool = False) -> None:
     from rosbags.rosbag1 import Writer
 
     store = audio_types()
@@ -47,8 +47,8 @@ def _write_bag(path: Path, samples: np.ndarray, *, stamped: bool, drift: float =
             stamp = T0_NS + round(end_s * (1 + drift) * 1e9) + 300_000 * (k % 3)  # latency
             data = types[AUDIO_DATA](data=chunk)
             if stamped:
-                hdr = header_t(seq=k, stamp=time_t(sec=stamp // 10**9, nanosec=stamp % 10**9),
-                               frame_id="mic")
+                sec, nanosec = (0, 0) if unset_stamps else divmod(stamp, 10**9)
+                hdr = header_t(seq=k, stamp=time_t(sec=sec, nanosec=nanosec), frame_id="mic")
                 msg = types[AUDIO_STAMPED](header=hdr, audio=data)
             else:
                 msg = data
@@ -124,3 +124,31 @@ def test_audio_topic_of_a_bag_cut_short_says_to_reindex(tmp_path: Path) -> None:
     assert message.startswith("/audio/audio: audio file not found, and the recording's "
                               "audio topics cannot be read (cut.bag: ")
     assert "`rosbag reindex` a ROS1 bag cut short" in message and "\n" not in message
+
+
+@pytest.mark.parametrize(("unset", "drift", "says"), [
+    (True, 0.0, "its chunks' header stamps are unset (0), so they cannot time the audio; "
+                "the clap does"),
+    (False, -0.5, "its chunks' header stamps advance 0.5 s per second of audio, so they "
+                  "cannot time it; the clap does"),
+])
+def test_stamps_that_cannot_time_the_audio_leave_it_to_the_clap(tmp_path: Path, unset: bool,
+                                                                drift: float, says: str
+                                                                ) -> None:
+    """A driver that leaves the header unset: taken as they were, its stamps gave an offset
+    of 0 and a drift of -1000000 ppm, and every word fell outside the recording."""
+    bag = tmp_path / "unset.bag"
+    _write_bag(bag, _tone(12.0), stamped=True, drift=drift, unset_stamps=unset)
+    ba = load_bag_audio([bag])
+    assert ba.chunk_stamps_ns is not None and stamped_sync(ba) is None
+    assert stamps_problem(ba) == f"/audio/audio: {says}"
+    notes: list[str] = []
+    audio, sync = load_sync_audio("/audio/audio", [bag], notes=notes)
+    assert sync is None and notes == [f"/audio/audio: {says}"]
+    assert audio.duration_s == pytest.approx(12.0)
+
+
+def test_stamps_with_latency_and_drift_time_the_audio(tmp_path: Path) -> None:
+    bag = tmp_path / "good.bag"
+    _write_bag(bag, _tone(3.0), stamped=True, drift=100e-6)
+    assert stamps_problem(load_bag_audio([bag])) is None
