@@ -81,7 +81,7 @@ def read_transcript(path: str | Path) -> Transcript:
             from exc
     if not text.strip():
         raise SpeechError(f"{p}: the transcript is empty; export it again with word timestamps")
-    stripped = text.lstrip()
+    stripped = text.lstrip()  # blank lines before a header are no row
     if stripped[:1] in "[{":
         try:
             data = json.loads(text)
@@ -97,11 +97,13 @@ def read_transcript(path: str | Path) -> Transcript:
     if "\t" in first:
         header = [c.strip().lower() for c in first.split("\t")]
         if header == ["start", "end", "text"]:
-            return _from_whisper_tsv(p, text).checked()
+            return _from_whisper_tsv(p, stripped).checked()
         if any(h in names for h in header for names in CSV_COLUMNS) or _word_first(header):
-            return _from_csv(p, text, delimiter="\t").checked()
-        return _from_audacity(p, text).checked()
-    return _from_csv(p, text).checked()
+            return _from_csv(p, stripped, delimiter="\t").checked()
+        return _from_audacity(p, stripped).checked()
+    if first.count(";") >= 2:  # a spreadsheet's CSV where the decimal mark is a comma
+        return _from_csv(p, stripped, delimiter=";").checked()
+    return _from_csv(p, stripped).checked()
 
 
 def _word_first(cells: list[str]) -> bool:
@@ -254,12 +256,21 @@ def _from_csv(p: Path, text: str, delimiter: str = ",") -> Transcript:
     return out
 
 
+#: a number written with a decimal comma (a spreadsheet's or Audacity's in some locales)
+_DECIMAL_COMMA = re.compile(r"[-+]?\d+,\d+")
+
+
 def _number(value: Any) -> float | None:
-    """A finite float, or None for missing/blank/non-numeric values."""
+    """A finite float (also one written with a decimal comma, "6,460000"), or None for
+    missing/blank/non-numeric values."""
     if value is None or isinstance(value, bool):
         return None
+    if not isinstance(value, (int, float)):
+        value = str(value).strip()
+        if _DECIMAL_COMMA.fullmatch(value):
+            value = value.replace(",", ".")
     try:
-        x = float(str(value).strip()) if not isinstance(value, (int, float)) else float(value)
+        x = float(value)
     except ValueError:
         return None
     return x if x == x and abs(x) != float("inf") else None

@@ -90,6 +90,31 @@ def test_a_tab_separated_word_table_without_a_header_is_not_read_as_audacity_lab
     assert t.format == "audacity" and [w.start_s for w in t.words] == [6.6, 9.26]
 
 
+@pytest.mark.parametrize("text", [
+    "word;start;end\ncapture;1,25;1,5\nok;2;2,5\n",  # a spreadsheet's CSV (de, fr)
+    "capture;1,25;1,5\nok;2;2,5\n",
+    "1,250000\t1,500000\tcapture\n2,000000\t2,500000\tok\n",  # Audacity in such a locale
+])
+def test_times_with_a_decimal_comma_are_read(tmp_path: Path, text: str) -> None:
+    """They were words "without timestamps", skipped, and no trigger word was found."""
+    t = read_transcript(_write(tmp_path, "words.csv", text))
+    assert [(w.word, w.start_s, w.end_s) for w in t.words] == [("capture", 1.25, 1.5),
+                                                                 ("ok", 2.0, 2.5)]
+    assert t.note() is None
+
+
+@pytest.mark.parametrize("text", [
+    "\n\nword,start,end\ncapture,1.25,1.5\n",
+    "\n\nword\tstart\tend\ncapture\t1.25\t1.5\n",
+    "\r\nstart\tend\ttext\n1250\t1500\tcapture\n",
+])
+def test_blank_lines_before_a_header_leave_it_a_header(tmp_path: Path, text: str) -> None:
+    """The header was read as a word without timestamps, and said so."""
+    t = read_transcript(_write(tmp_path, "words.csv", text))
+    assert [(w.word, w.start_s, w.end_s) for w in t.words] == [("capture", 1.25, 1.5)]
+    assert t.note() is None
+
+
 def test_words_before_the_audio_and_words_listed_twice_are_noted(tmp_path: Path) -> None:
     rows = "capture,-3.0,-2.5\ncapture,1.0,1.5\ncapture,1.0,1.5\nCapture,4.0,4.5\n"
     t = read_transcript(_write(tmp_path, "shifted.csv", rows))
