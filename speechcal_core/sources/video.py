@@ -9,6 +9,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from speechcal_core.errors import UsageError
 from speechcal_core.sources import index_cache
 from speechcal_core.sources.base import RawFrame, StreamInfo
 from speechcal_core.sources.common import StreamTable
@@ -22,6 +23,11 @@ from speechcal_core.sources.stats import UNSET_STAMPS, stamp_stats
 os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
 
 
+#: a start stamp beyond this (the year 2116) leaves the frames' int64 stamps no room:
+#: a digit too many in it overflowed, or wrapped the stamps round to negative ones
+MAX_START_NS = 2**62
+
+
 def start_stamp(path: Path, start_ns: int | None) -> tuple[int, str]:
     """The header stamp of the first frame and, when it is a guess, a note saying so.
 
@@ -29,18 +35,27 @@ def start_stamp(path: Path, start_ns: int | None) -> tuple[int, str]:
     then an integer file name (``1700000000000000000.mp4``), else 0.
     """
     if start_ns is not None:
+        if abs(start_ns) >= MAX_START_NS:
+            raise UsageError(f"--video-start-ns {start_ns}: {_NO_STAMP}")
         return int(start_ns), ""
     sidecar = path.with_name(path.name + ".start_ns")
     if sidecar.is_file():
         text = sidecar.read_text().strip()
         try:
-            return int(text), ""
+            start = int(text)
         except ValueError:
             msg = f"{sidecar}: expected one integer (ns), found {text[:40]!r}"
             raise SourceError(msg) from None
-    if path.stem.isdigit():
+        if abs(start) >= MAX_START_NS:
+            raise SourceError(f"{sidecar}: {text[:40]} is {_NO_STAMP}")
+        return start, ""
+    if path.stem.isdigit() and int(path.stem) < MAX_START_NS:
         return int(path.stem), ""
     return 0, f"no start stamp (write it to {sidecar.name}); stamps start at 0"
+
+
+_NO_STAMP = ("no header stamp: give the first frame's time in nanoseconds since 1970, "
+             "e.g. 1700000000000000000 (19 digits)")
 
 
 class VideoSource(StreamTable):

@@ -56,6 +56,29 @@ def test_video_start_stamp_argument_and_missing_start_is_reported(tmp_path: Path
             "no start stamp (write it to side.avi.start_ns); stamps start at 0")  # no more
 
 
+def test_a_start_stamp_with_a_digit_too_many_is_named_not_a_traceback(
+        tmp_path: Path) -> None:
+    """20 digits overflowed the frames' int64 stamps (OverflowError); one under int64's
+    end wrapped them round to negative times, which were said to be unset."""
+    from speechcal_core.errors import UsageError
+
+    path = write_video(tmp_path / "side.avi", n=5, fourcc="MJPG")
+    fix = ("no header stamp: give the first frame's time in nanoseconds since 1970, e.g. "
+           "1700000000000000000 (19 digits)")
+    for start in (17_000_000_000_000_000_000, 9_223_372_036_854_775_000):
+        with pytest.raises(UsageError) as usage:
+            open_recording([path], video_start_ns=start).close()
+        assert str(usage.value) == f"--video-start-ns {start}: {fix}"
+        (tmp_path / "side.avi.start_ns").write_text(f"{start}\n")
+        with pytest.raises(SourceError) as exc:
+            open_recording([path]).close()
+        assert str(exc.value) == f"{tmp_path / 'side.avi.start_ns'}: {start} is {fix}"
+        (tmp_path / "side.avi.start_ns").unlink()
+    named = write_video(tmp_path / "17000000000000000000.avi", n=5, fourcc="MJPG")
+    with open_recording([named]) as src:  # a file name too long for a stamp is a name
+        assert src.stamps("17000000000000000000")[0] == 0
+
+
 def test_two_videos_give_two_streams(tmp_path: Path) -> None:
     a = write_video(tmp_path / "cam0.avi", n=5, fourcc="MJPG")
     b = write_video(tmp_path / "cam1.avi", n=7, fourcc="MJPG")
