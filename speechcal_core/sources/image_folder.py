@@ -11,7 +11,7 @@ from speechcal_core.sources.base import RawFrame, StreamInfo
 from speechcal_core.sources.common import StreamTable
 from speechcal_core.sources.decode import decode_compressed
 from speechcal_core.sources.errors import BadFrameError, SourceError
-from speechcal_core.sources.stats import stamp_stats
+from speechcal_core.sources.stats import MAX_STAMP_NS, stamp_stats
 
 IMAGE_SUFFIXES = {".png": "png", ".jpg": "jpeg", ".jpeg": "jpeg"}
 #: a camera's frames lie further apart than this (10 kHz); names closer are no stamps_ns
@@ -89,6 +89,11 @@ class ImageFolderSource(StreamTable):
             )
 
     def _add_folder(self, name: str, folder: Path, items: list[tuple[int, str]]) -> None:
+        if items[-1][0] >= MAX_STAMP_NS:  # sorted: the last is the largest
+            raise SourceError(
+                f"{folder}: its image {items[-1][1]} is named beyond any header stamp; name "
+                "each image by its header stamp in nanoseconds since 1970 (<stamp_ns>.png, "
+                "e.g. 1700000000000000000.png)")
         st = stamp_stats([np.array([s for s, _ in items], np.int64)])
         if 0 < st.median_period_ns < MIN_PERIOD_NS:
             raise SourceError(

@@ -13,6 +13,11 @@ from speechcal_core.text import counted
 UNSET_STAMPS = "zero or negative stamps (header stamps not set?)"
 #: what the problems say of a stream whose files interleave (two takes given as one)
 ANOTHER_RECORDING = "another recording given too?"
+#: a stamp given by hand or by a file's name beyond this (the year 2116) is no header
+#: stamp: a digit too many overflowed int64, or left the stamps after it no room
+MAX_STAMP_NS = 2**62
+#: how to write a header stamp, said where one is beyond :data:`MAX_STAMP_NS`
+STAMP_FORM = "nanoseconds since 1970, e.g. 1700000000000000000 (19 digits)"
 
 
 @dataclass(frozen=True)

@@ -15,17 +15,12 @@ from speechcal_core.sources.base import RawFrame, StreamInfo
 from speechcal_core.sources.common import StreamTable
 from speechcal_core.sources.errors import BadFrameError, SourceError
 from speechcal_core.sources.scan import FileScan, TopicScan
-from speechcal_core.sources.stats import UNSET_STAMPS, stamp_stats
+from speechcal_core.sources.stats import MAX_STAMP_NS, STAMP_FORM, UNSET_STAMPS, stamp_stats
 
 # FFmpeg writes its own lines ("moov atom not found") to stderr beside the one-line
 # reason SpeechCal gives for a bad video; quiet unless the user set a level (read when
 # the first capture opens)
 os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
-
-
-#: a start stamp beyond this (the year 2116) leaves the frames' int64 stamps no room:
-#: a digit too many in it overflowed, or wrapped the stamps round to negative ones
-MAX_START_NS = 2**62
 
 
 def start_stamp(path: Path, start_ns: int | None) -> tuple[int, str]:
@@ -35,7 +30,7 @@ def start_stamp(path: Path, start_ns: int | None) -> tuple[int, str]:
     then an integer file name (``1700000000000000000.mp4``), else 0.
     """
     if start_ns is not None:
-        if abs(start_ns) >= MAX_START_NS:
+        if abs(start_ns) >= MAX_STAMP_NS:
             raise UsageError(f"--video-start-ns {start_ns}: {_NO_STAMP}")
         return int(start_ns), ""
     sidecar = path.with_name(path.name + ".start_ns")
@@ -46,16 +41,15 @@ def start_stamp(path: Path, start_ns: int | None) -> tuple[int, str]:
         except ValueError:
             msg = f"{sidecar}: expected one integer (ns), found {text[:40]!r}"
             raise SourceError(msg) from None
-        if abs(start) >= MAX_START_NS:
+        if abs(start) >= MAX_STAMP_NS:
             raise SourceError(f"{sidecar}: {text[:40]} is {_NO_STAMP}")
         return start, ""
-    if path.stem.isdigit() and int(path.stem) < MAX_START_NS:
+    if path.stem.isdigit() and int(path.stem) < MAX_STAMP_NS:
         return int(path.stem), ""
     return 0, f"no start stamp (write it to {sidecar.name}); stamps start at 0"
 
 
-_NO_STAMP = ("no header stamp: give the first frame's time in nanoseconds since 1970, "
-             "e.g. 1700000000000000000 (19 digits)")
+_NO_STAMP = f"no header stamp: give the first frame's time in {STAMP_FORM}"
 
 
 class VideoSource(StreamTable):

@@ -230,6 +230,24 @@ def test_images_named_by_frame_number_or_in_milliseconds_are_refused(
         "each image by its header stamp in nanoseconds (<stamp_ns>.png")
 
 
+@pytest.mark.parametrize("first", [17_000_000_000_000_000_000, 9_223_372_036_654_775_807])
+def test_images_named_beyond_any_header_stamp_are_refused(tmp_path: Path,
+                                                          first: int) -> None:
+    """A digit too many in the names raised OverflowError; names near int64's end were
+    taken, leaving no room for the times computed from them."""
+    folder = tmp_path / "frames" / "cam0"
+    folder.mkdir(parents=True)
+    for i in range(3):
+        cv2.imwrite(str(folder / f"{first + i * PERIOD}.png"), pixels(0, i))
+    last = f"{first + 2 * PERIOD}.png"
+    with pytest.raises(SourceError) as exc:
+        open_recording([tmp_path / "frames"]).close()
+    assert str(exc.value) == (
+        f"{folder}: its image {last} is named beyond any header stamp; name each image by "
+        "its header stamp in nanoseconds since 1970 (<stamp_ns>.png, e.g. "
+        "1700000000000000000.png)")
+
+
 def test_folder_without_stamped_images_is_refused(tmp_path: Path) -> None:
     (tmp_path / "cam0").mkdir()
     (tmp_path / "cam0" / "image.png").write_bytes(b"x")
