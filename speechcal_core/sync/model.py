@@ -7,6 +7,10 @@ from typing import overload
 
 import numpy as np
 
+#: an offset read from a file beyond this (the year 2116) is no camera-clock time: a
+#: hand edit that overflowed every time computed from it
+MAX_OFFSET_NS = 2**62
+
 
 @dataclass(frozen=True)
 class SyncModel:
@@ -67,4 +71,8 @@ class SyncModel:
         drift = float(data.get("drift", 0.0))
         if not np.isfinite(drift) or drift <= -1.0:
             raise ValueError(f"the sync's drift is {drift}, not a clock rate error")
-        return cls(int(data["offset_ns"]), drift, source)
+        offset = int(data["offset_ns"])
+        if isinstance(data["offset_ns"], bool) or abs(offset) >= MAX_OFFSET_NS:
+            raise ValueError(f"the sync's offset_ns {data['offset_ns']!r:.40} is no "
+                             "camera-clock time in nanoseconds")
+        return cls(offset, drift, source)

@@ -323,6 +323,11 @@ def _edited(tmp_path: Path, edit) -> Path:
     (lambda d: d.update(schema="1"), "'schema' is '1', not a schema number from 1 to"),
     (lambda d: d["sync"].update(drift=float("nan")), "the sync's drift is nan"),
     (lambda d: d["sync"].update(offset_ns=float("inf")), "cannot convert float infinity"),
+    # every session time computed from these overflowed: export and the window raised
+    (lambda d: d["sync"].update(offset_ns=10**25),
+     "the sync's offset_ns 10000000000000000000000000 is no camera-clock time"),
+    (lambda d: d["sync"].update(offset_ns=2**63 - 1),
+     "the sync's offset_ns 9223372036854775807 is no camera-clock time"),
     (lambda d: d["sets"].append(dict(d["sets"][0])), "set id 1 appears twice"),
     # a session without its list of sets opened as one with no sets, and the next save
     # wrote that over the file
