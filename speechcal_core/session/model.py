@@ -32,8 +32,22 @@ class Trigger:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> Trigger:
-        return cls(str(data["word"]), float(data["start_s"]), float(data["end_s"]),
+        return cls(str(data["word"]), _audio_s(data, "start_s"), _audio_s(data, "end_s"),
                    float(data.get("score", 1.0)), str(data.get("source", "detected")))
+
+
+#: audio seconds beyond this (31 years) are a hand edit gone wrong: the session times
+#: computed from them overflowed, and the review window raised
+MAX_AUDIO_S = 1e9
+
+
+def _audio_s(data: dict[str, Any], key: str) -> float:
+    """The trigger's time ``key`` in audio seconds; ValueError naming it when it is none."""
+    value = float(data[key])
+    if not abs(value) < MAX_AUDIO_S:  # nan too
+        raise ValueError(f"its trigger's {key} {data[key]!r:.40} is no time in the audio "
+                         "(seconds)")
+    return value
 
 
 #: session times are int64 nanoseconds (DESIGN.md §1): beyond, a hand edit gone wrong

@@ -340,6 +340,11 @@ def _edited(tmp_path: Path, edit) -> Path:
     (lambda d: d["sets"][0].update(decision="yes"),
      "set 1: decision 'yes' is none of accepted, rejected, undecided"),
     (lambda d: d["sets"][0].pop("trigger"), "set 1: the key 'trigger' is missing"),
+    # the session times computed from these overflowed, and the review window raised
+    (lambda d: d["sets"][0]["trigger"].update(start_s=float("nan")),
+     "set 1: its trigger's start_s nan is no time in the audio (seconds)"),
+    (lambda d: d["sets"][0]["trigger"].update(end_s=1e12),
+     "set 1: its trigger's end_s 1000000000000.0 is no time in the audio (seconds)"),
     (lambda d: d["sets"][0].pop("id"), "set number 1 in the list: the key 'id' is missing"),
     (lambda d: d["sets"][0].update(frames=None), "set 1: a value of the wrong kind"),
     # the window compared such figures with numbers and raised
