@@ -77,6 +77,13 @@ def read_transcript(path: str | Path) -> Transcript:
     try:
         text = p.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
+        from speechcal_core.sources.sniff import looks_like
+
+        seen = looks_like(p) if isinstance(exc, UnicodeDecodeError) else ""
+        if seen:  # the audio or the recording given in its place
+            raise SpeechError(f"{p}: this is {seen.split(' (')[0]}, not a transcript; give "
+                              f"--transcript a transcript with word times ({FORMATS})") \
+                from exc
         raise SpeechError(f"{p}: cannot read the transcript ({exc}); save it as UTF-8 text") \
             from exc
     if not text.strip():

@@ -145,6 +145,21 @@ def test_bad_transcripts_name_the_file_and_the_fix(tmp_path: Path, text: str, fi
     assert str(p) in str(exc.value)
 
 
+def test_the_audio_given_as_the_transcript_is_named_as_audio(tmp_path: Path) -> None:
+    """Swapped arguments: the audio was "a transcript to save as UTF-8 text"."""
+    import numpy as np
+    import soundfile as sf
+
+    audio = tmp_path / "mic.flac"
+    sf.write(audio, np.zeros(16000, np.float32), 16000)
+    with pytest.raises(SpeechError) as exc:
+        read_transcript(audio)
+    assert str(exc.value) == (
+        f"{audio}: this is a FLAC audio file, not a transcript; give --transcript a "
+        "transcript with word times (WhisperX JSON, faster-whisper JSON, Audacity labels "
+        "(.txt), openai-whisper TSV or CSV word,start,end)")
+
+
 def test_missing_transcript_names_the_option(tmp_path: Path) -> None:
     with pytest.raises(SpeechError, match="--transcript"):
         read_transcript(tmp_path / "nope.json")
