@@ -194,8 +194,10 @@ def _from_audacity(p: Path, text: str) -> Transcript:
 
 def _from_whisper_tsv(p: Path, text: str) -> Transcript:
     """openai-whisper's ``--output_format tsv``: ``start<TAB>end<TAB>text`` under that
-    header, times in whole milliseconds; a line's words share its times."""
-    out = Transcript(p, "whisper-tsv")
+    header, times in whole milliseconds; a line's words share its times. Times with a
+    fraction are seconds (a table written by hand under the same header): read as
+    milliseconds, every word fell in the audio's first hundredth of a second."""
+    rows = []
     for n, line in enumerate(text.splitlines()[1:], 2):
         if not line.strip():
             continue
@@ -203,12 +205,17 @@ def _from_whisper_tsv(p: Path, text: str) -> Transcript:
         if len(parts) < 3:
             raise SpeechError(f"{p}: line {n} is not 'start<TAB>end<TAB>text'; write the "
                               "transcript again with whisper's --output_format tsv")
-        t0, t1 = _number(parts[0]), _number(parts[1])
-        for word in parts[2].split():
+        rows.append((_number(parts[0]), _number(parts[1]), parts[2].split()))
+    times = [t for t0, t1, _ in rows for t in (t0, t1) if t is not None]
+    seconds = any(not t.is_integer() for t in times)
+    out = Transcript(p, "tsv" if seconds else "whisper-tsv")
+    unit = 1.0 if seconds else 1000.0
+    for t0, t1, words in rows:
+        for word in words:
             if t0 is None or t1 is None or t1 < t0:
                 out.untimed.append(word)
             else:
-                out.words.append(Word(word, t0 / 1000.0, t1 / 1000.0, 1.0, "whisper-tsv"))
+                out.words.append(Word(word, t0 / unit, t1 / unit, 1.0, out.format))
     return out
 
 

@@ -145,6 +145,15 @@ def test_bad_transcripts_name_the_file_and_the_fix(tmp_path: Path, text: str, fi
     assert str(p) in str(exc.value)
 
 
+def test_a_start_end_text_table_in_seconds_is_read_in_seconds(tmp_path: Path) -> None:
+    """Under whisper's TSV header, times were taken for milliseconds whatever they were:
+    6.46 s became 0.00646 s, without a word."""
+    text = "start\tend\ttext\n6.46\t6.875\tcapture\n8\t8.5\tok capture\n"
+    t = read_transcript(_write(tmp_path, "words.tsv", text))
+    assert [(w.word, w.start_s, w.end_s) for w in t.words] == [
+        ("capture", 6.46, 6.875), ("ok", 8.0, 8.5), ("capture", 8.0, 8.5)]
+
+
 def test_the_audio_given_as_the_transcript_is_named_as_audio(tmp_path: Path) -> None:
     """Swapped arguments: the audio was "a transcript to save as UTF-8 text"."""
     import numpy as np
