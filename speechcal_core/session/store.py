@@ -331,6 +331,7 @@ def load_session(path: str | Path) -> Session:
         known = {"schema", "recording", "audio", "audio_channel", "trigger_words", "sync",
                  "sets", "last_set_id", "calibration"}
         sets = [_frame_set(path, k, s) for k, s in enumerate(data["sets"])]
+        _check_frames_in_streams(data.get(STREAMS_KEY), sets)
         return Session(
             recording=[_absolute(p, base) for p in data["recording"]],
             audio=_absolute(data["audio"], base) if data.get("audio") else None,
@@ -384,6 +385,20 @@ def _check_streams(value: Any) -> None:
     if value is not None and not (isinstance(value, list) and value
                                   and all(isinstance(v, str) and v for v in value)):
         raise ValueError(f"'{STREAMS_KEY}' is {value!r}, not a list of stream names")
+
+
+def _check_frames_in_streams(streams: list[str] | None, sets: list[FrameSet]) -> None:
+    """ValueError naming a set that shows a stream the session's ``streams`` leave out (a
+    hand edit): its camera was said to be missing from the recording."""
+    if streams is None:
+        return
+    for frame_set in sets:
+        for frame in frame_set.frames:
+            if frame.stream not in streams:
+                raise ValueError(
+                    f"set {frame_set.id} shows {frame.stream}, which '{STREAMS_KEY}' leaves "
+                    "out; put it back in the list, and leave a camera out with speechcal "
+                    f"review SESSION.json --skip-stream {frame.stream} (its frames go too)")
 
 
 def _trigger_words(value: Any) -> list[str]:

@@ -202,6 +202,8 @@ def test_the_audio_channel_is_kept_and_a_bad_one_is_named(tmp_path: Path) -> Non
         load_session(path)
 
 def test_the_streams_used_are_kept_and_bad_ones_are_named(tmp_path: Path) -> None:
+    from dataclasses import replace
+
     from speechcal_core.sources import StreamChoice
 
     session = _session(tmp_path)
@@ -209,6 +211,7 @@ def test_the_streams_used_are_kept_and_bad_ones_are_named(tmp_path: Path) -> Non
     save_session(session, path)
     assert load_session(path).stream_choice() is None  # all streams
     session.extra["streams"] = ["/cam0/image_raw"]
+    session.sets = [replace(s, frames=s.frames[:1]) for s in session.sets]  # cam0's only
     save_session(session, path)
     assert load_session(path).stream_choice() == StreamChoice(only=("/cam0/image_raw",))
     for bad in ("/cam0/image_raw", [], [3]):
@@ -335,6 +338,11 @@ def _edited(tmp_path: Path, edit) -> Path:
     (lambda d: d.update(sets={}), "'sets' is {}, not a list of frame sets"),
     (lambda d: d.update(sets=None), "'sets' is None, not a list of frame sets"),
     (lambda d: d.update(last_set_id="7"), "'last_set_id' is '7', not a set number"),
+    # export and the window said the recording lacked the camera: another recording's
+    (lambda d: d.update(streams=["/cam0/image_raw"]),
+     "set 1 shows /cam1/image_raw, which 'streams' leaves out; put it back in the list, "
+     "and leave a camera out with speechcal review SESSION.json --skip-stream "
+     "/cam1/image_raw (its frames go too)"),
     # the review window joins them as text (the words named when others are asked for)
     (lambda d: d.update(trigger_words=[1]), "'trigger_words' is [1], not a list of words"),
     (lambda d: d["sets"][0].update(decision="yes"),
