@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 from speechcal_core.sources.base import FrameSource, RawFrame, StreamInfo
 from speechcal_core.sources.errors import BadFrameError, SourceError
+from speechcal_core.sources.ros2_metadata import missing_part_notes
 from speechcal_core.sources.selection import StreamChoice
 
 if TYPE_CHECKING:
@@ -105,6 +106,7 @@ def open_recording(
             bags = BagSource(files, use_cache=use_cache)
             files = []
             bags.notes.extend(split_part_notes(items))
+            bags.notes.extend(missing_part_notes(items))
             sources.insert(0, bags)
         from speechcal_core.sources.selection import select_streams
 

@@ -163,6 +163,24 @@ def test_ros2_folder_with_several_storage_files_is_one_recording(make_bag) -> No
         assert src.notes == []
 
 
+@pytest.mark.parametrize("fmt", ["ros2-sqlite3", "ros2-mcap"])
+def test_a_ros2_folder_missing_a_part_its_metadata_lists_says_so(make_bag, fmt: str) -> None:
+    """A split bag copied without one of its parts read as a shorter recording, without
+    a word."""
+    folder = make_bag(fmt, [Cam("/cam0/image_raw", regular(10))], name="split")
+    (part,) = [p.name for p in folder.iterdir() if p.suffix in (".db3", ".mcap")]
+    meta = folder / "metadata.yaml"
+    text = meta.read_text()
+    assert text.count(f"- {part}") == 1  # as rosbags writes it, block style
+    meta.write_text(text.replace(f"- {part}", f"- {part}\n  - split_1{Path(part).suffix}"))
+    with open_recording([folder]) as src:
+        assert list(src.stamps("/cam0/image_raw")) == regular(10)
+        assert src.notes == [
+            f"{folder}: its metadata.yaml lists split_1{Path(part).suffix}, not in the "
+            "folder: that part of the recording is missing (a split bag copied in part?); "
+            "copy the bag folder again whole"]
+
+
 @pytest.mark.parametrize("fmt", ["ros1", "ros1-lz4", "ros1-bz2"])
 def test_many_small_chunks_are_indexed_in_file_order(make_bag, fmt: str) -> None:
     cams = [Cam(f"/cam{k}/image_raw", regular(30), index=k) for k in range(2)]
