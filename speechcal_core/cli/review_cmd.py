@@ -58,6 +58,10 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"{'--session' if args.session else '--target'} goes with a "
                          "recording: RECORDING --audio AUDIO "
                          f"{'--session SESSION.json' if args.session else '--target T.yaml'}")
+    elif sessions := [p for p in args.inputs if named_as_session(p)]:
+        raise UsageError(f"{sessions[0]} is a session file: open it alone (speechcal review "
+                         f"{sessions[0]}), it knows its recording and audio; a recording's "
+                         "session file goes with --session")
     elif args.inputs:
         recording, audio = _recording_and_audio(args.inputs, args.audio, args.session)
         args.audio = audio

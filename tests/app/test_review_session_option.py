@@ -49,6 +49,18 @@ def test_session_option_with_a_session_file_is_a_usage_error(
     assert "go with a recording" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("inputs", [["s1/session.json", "s1/audio.ogg"],
+                                    ["s1/recording.bag", "s1/session.json"]])
+def test_a_session_file_among_other_inputs_is_told_to_open_alone(
+        inputs: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+    """It was taken for a recording: "a JSON file (a session file opens with speechcal
+    review), not a recording", said to a speechcal review."""
+    assert main(["review", *inputs]) == 2
+    assert ("s1/session.json is a session file: open it alone (speechcal review "
+            "s1/session.json), it knows its recording and audio; a recording's session file "
+            "goes with --session") in capsys.readouterr().err
+
+
 def test_session_option_without_a_recording_is_a_usage_error(
         capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["review", "--session", "x.json"]) == 2
