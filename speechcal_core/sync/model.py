@@ -7,9 +7,7 @@ from typing import overload
 
 import numpy as np
 
-#: an offset read from a file beyond this (the year 2116) is no camera-clock time: a
-#: hand edit that overflowed every time computed from it
-MAX_OFFSET_NS = 2**62
+from speechcal_core.sources.stats import MAX_STAMP_NS
 
 
 @dataclass(frozen=True)
@@ -72,7 +70,9 @@ class SyncModel:
         if not np.isfinite(drift) or drift <= -1.0:
             raise ValueError(f"the sync's drift is {drift}, not a clock rate error")
         offset = int(data["offset_ns"])
-        if isinstance(data["offset_ns"], bool) or abs(offset) >= MAX_OFFSET_NS:
+        # as far out as a stamp no header holds: a hand edit that overflowed every time
+        # computed from it
+        if isinstance(data["offset_ns"], bool) or abs(offset) >= MAX_STAMP_NS:
             raise ValueError(f"the sync's offset_ns {data['offset_ns']!r:.40} is no "
                              "camera-clock time in nanoseconds")
         return cls(offset, drift, source)
