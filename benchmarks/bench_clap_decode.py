@@ -9,8 +9,8 @@ folder or kept in ``--work DIR`` (made there once, then reused).
 Each session is synced in this process (its index built first, by a sync not timed), then
 ``--repeats`` times with each reading, alternately: the baseline ``read_baseline`` (every
 frame decoded in full colour, then made gray and small, as before) and the current
-:mod:`speechcal_core.sync.clap_frames` (a JPEG decoded straight to reduced gray for the
-coarse pass, to its luma for the fine pass). One JSON line per session: the median sync
+:mod:`speechcal_core.sync.clap_frames` (a JPEG's luma decoded alone, area-resized for the
+coarse pass, as it is for the fine pass). One JSON line per session: the median sync
 times (wall clock, and this process's CPU time, steadier on a busy machine), their
 ratios, and the differences of offset, drift and every camera clap between
 the two readings; then a summary with the medians and the largest differences.

@@ -148,7 +148,7 @@ def test_an_empty_compressed_frame_is_a_bad_frame_in_the_reduced_preview_too(
 @pytest.mark.parametrize("fmt", ["ros1", "ros2-mcap"])
 def test_damaged_jpeg_frames_in_the_clap_search_are_marked_bad_as_when_decoded(
         make_bag, fmt: str) -> None:
-    """The clap search decodes JPEG frames straight to reduced gray; a damaged, cut or
+    """The clap search decodes JPEG frames straight to their luma; a damaged, cut or
     empty one is read as a full decoding reads it: a BadFrameError naming the frame, and
     the frame marked bad in its stream (not a grey picture from a half-decoded JPEG)."""
     cam = Cam("/cam0/image_raw", regular(10), encoding="jpeg", width=64, height=48)

@@ -1,5 +1,5 @@
-"""The clap search reads each camera's frames at the size its passes need: JPEG frames
-straight to reduced gray, every other kind of frame as before."""
+"""The clap search reads a JPEG frame's luma alone (no colour) for both its passes, every
+other kind of frame as before."""
 
 from __future__ import annotations
 
@@ -41,7 +41,7 @@ def _search(source) -> list:
 
 def test_jpeg_clap_search_decodes_no_frame_in_full_colour(session_root: Path) -> None:
     """Full-colour decoding of every frame of the search window took most of a sync's
-    time; JPEG frames are now decoded to gray at the size each pass needs."""
+    time; JPEG frames are now decoded to their luma alone."""
     out, truth = make_session(session_root, seed=0)
     with open_recording(out / truth["recording"]) as src:
         counting = CountingSource(src)
@@ -53,9 +53,9 @@ def test_jpeg_clap_search_decodes_no_frame_in_full_colour(session_root: Path) ->
     assert counting.decoded == []
 
 
-def test_a_folder_of_jpeg_files_is_read_reduced_and_finds_the_bags_clap(
+def test_a_folder_of_jpeg_files_is_read_as_luma_and_finds_the_bags_clap(
         session_root: Path, tmp_path: Path) -> None:
-    """JPEG image files (``<stamp_ns>.jpg``) are read reduced as bag payloads are: the
+    """JPEG image files (``<stamp_ns>.jpg``) are read as luma as bag payloads are: the
     same bytes in a folder give the same clap, with no frame decoded in full colour."""
     out, truth = make_session(session_root, seed=0)
     with open_recording(out / truth["recording"]) as bag:
@@ -78,9 +78,9 @@ def test_a_folder_of_jpeg_files_is_read_reduced_and_finds_the_bags_clap(
         [(c.clap_ns, c.sigma_ns, c.method) for c in from_bag]
 
 
-def test_jpeg_frames_read_reduced_find_the_same_claps(
+def test_jpeg_frames_read_as_luma_find_the_same_claps(
         session_root: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """The claps found from reduced gray JPEG frames are those found from full-colour
+    """The claps found from JPEG frames read as luma are those found from full-colour
     decoding: the same cameras, frames and clap stamps. The V fits' standard errors (from
     the fine pass's luma instead of gray made from colour) move by a few hundred ns at
     most, and with them the drift (its cameras weighted by them) by about 0.0004 ppm."""
@@ -103,9 +103,11 @@ def test_jpeg_frames_read_reduced_find_the_same_claps(
     assert all(a.sigma_ns == pytest.approx(b.sigma_ns, rel=0.01) for a, b in pairs)
 
 
-def test_reduced_jpeg_frames_match_the_full_decoding(session_root: Path) -> None:
-    """A coarse-pass frame decoded reduced has the work size and scale of one decoded in
-    full and made small, and nearly its values; the fine pass's luma nearly its gray."""
+def test_jpeg_frames_read_as_luma_match_the_full_decoding(session_root: Path) -> None:
+    """A coarse-pass frame read from a JPEG's luma has the work size, scale and values of
+    one decoded in full colour and made small (an area average keeps fractions of a level:
+    libjpeg's reduced decoding, in whole levels, was 0.25 off on average and moved a weak
+    clap's coarse V fit); the fine pass's luma nearly the full decoding's gray."""
     out, truth = make_session(session_root, seed=0)
     with open_recording(out / truth["recording"]) as src:
         info = src.streams[0]
@@ -114,7 +116,9 @@ def test_reduced_jpeg_frames_match_the_full_decoding(session_root: Path) -> None
             want, want_scale = to_gray_small(src.frame(info.name, i))
             assert small.dtype == np.float32 and small.shape == want.shape
             assert scale == want_scale
-            assert np.mean(np.abs(small - want)) < 1.0
+            off = np.abs(small - want)
+            # luma and gray made from colour differ by a level in a few pixels at most
+            assert np.mean(off) < 0.01 and np.mean(off > 0.3) < 0.01
             full = full_gray(src, info, i, None)
             assert full.dtype == np.uint8 and full.shape == (info.height, info.width)
             assert np.mean(np.abs(full.astype(float) - gray_full(src.frame(info.name, i)))) < 0.1
