@@ -16,14 +16,18 @@ _MADE: dict[tuple, Path] = {}
 
 def make_session(root: Path, *, seed: int, snr: float = 20.0, claps: int = 1,
                  duration: float = 8.0, drift_ppm: float = 40.0,
-                 encoding: str = "jpeg") -> tuple[Path, dict]:
-    """A small 2-camera 320x240 session (a separate process: the renderer forks workers)."""
-    key = (seed, snr, claps, duration, drift_ppm, encoding)
+                 encoding: str = "jpeg", cameras: int = 2,
+                 size: str = "320x240") -> tuple[Path, dict]:
+    """A small session, 2 cameras at 320x240 unless told (a separate process: the renderer
+    forks workers)."""
+    key = (seed, snr, claps, duration, drift_ppm, encoding, cameras, size)
     if key not in _MADE:
         name = f"s{seed}_{snr:g}_{claps}_{duration:g}"
+        if (cameras, size) != (2, "320x240"):
+            name += f"_n{cameras}_{size}"
         out = root / (name if encoding == "jpeg" else f"{name}_{encoding}")
-        cmd = [sys.executable, "-m", "speechcal_core.cli", "synth", str(out), "--cameras", "2",
-               "--duration", str(duration), "--size", "320x240", "--claps", str(claps),
+        cmd = [sys.executable, "-m", "speechcal_core.cli", "synth", str(out), "--cameras",
+               str(cameras), "--duration", str(duration), "--size", size, "--claps", str(claps),
                "--seed", str(seed), "--snr", str(snr), "--drift-ppm", str(drift_ppm),
                "--encoding", encoding]
         subprocess.run(cmd, check=True, capture_output=True, timeout=300)

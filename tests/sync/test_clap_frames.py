@@ -124,6 +124,31 @@ def test_jpeg_frames_read_as_luma_match_the_full_decoding(session_root: Path) ->
             assert np.mean(np.abs(full.astype(float) - gray_full(src.frame(info.name, i)))) < 0.1
 
 
+def test_a_weak_clap_read_from_jpeg_luma_is_timed_as_from_the_full_decoding(
+        session_root: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The first camera of this session sees a weak clap. Read by libjpeg's reduced
+    decoding, in whole levels, its coarse V fit moved so far that the full-resolution
+    fit, more than half a frame off it, was refused: the clap came 83 ms early. Read as
+    luma and area-resized, the clap is the full decoding's, about a millisecond from the
+    truth."""
+    out, truth = make_session(session_root, seed=4, cameras=3, size="640x480",
+                              duration=30.0, drift_ppm=5.0)
+    with open_recording(out / truth["recording"]) as src:
+        info = src.streams[0]
+        end = info.first_ns + int(SEARCH_S * 1e9)
+        now = video_clap_candidates(src, info.name, info.first_ns, end)
+        monkeypatch.setattr(sync_pipeline, "small_gray", lambda source, info, i, depth:
+                            to_gray_small(source.frame(info.name, i), depth=depth))
+        monkeypatch.setattr(sync_pipeline, "full_gray", lambda source, info, i, depth:
+                            gray_full(source.frame(info.name, i), depth))
+        before = video_clap_candidates(src, info.name, info.first_ns, end)
+    seen_ns = truth["claps"][0]["session_ns"] + truth["cameras"][0]["clock_offset_ns"]
+    assert now and before
+    assert (now[0].clap_ns, now[0].method) == (before[0].clap_ns, before[0].method)
+    assert now[0].sigma_ns == pytest.approx(before[0].sigma_ns, rel=0.01)
+    assert abs(now[0].clap_ns - seen_ns) < 1_500_000
+
+
 @pytest.mark.parametrize("encoding", ["mono8", "mono16", "png"])
 def test_frames_not_jpeg_are_read_as_before(session_root: Path, encoding: str) -> None:
     """Raw and PNG frames are decoded in full and made gray exactly as before, and the
