@@ -466,9 +466,12 @@ class ReviewWindow(QMainWindow):
         # 9 pt): a larger system font cut the decision column off, and 70 average
         # characters held a 10 pt window of 12 cameras 8 px wider than half a 1920 px
         # screen
-        right.setMinimumWidth(480)
-        self.table.least_width_changed.connect(
-            lambda least: right.setMinimumWidth(max(480, least)))
+        self._list_panel = right
+        self._fit_list_panel(480)
+        # a method of the window, not a closure over the panel: the connection goes with
+        # the window, where a closure holds the panel's wrapper for as long as the table
+        # lives and may call into a panel Qt is destroying
+        self.table.least_width_changed.connect(self._fit_list_panel)
         top.setSizes([900, 500])
         split.addWidget(top)
         bottom = QWidget()
@@ -1179,6 +1182,10 @@ class ReviewWindow(QMainWindow):
             if id(inputs.source) not in busy:
                 self._retired.remove(inputs)
                 inputs.close()
+
+    def _fit_list_panel(self, least: int) -> None:
+        """The list's panel at least ``least`` pixels wide (the list's columns), and 480."""
+        self._list_panel.setMinimumWidth(max(480, least))
 
     def _update_sync_line(self) -> None:
         """The offset line (see :func:`sync_line_forms`): a narrow window shows a shorter
