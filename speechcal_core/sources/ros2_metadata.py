@@ -10,35 +10,19 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-KEY = "relative_file_paths:"
-
 
 def listed_files(folder: Path) -> list[str]:
-    """The storage files ``folder``'s metadata.yaml lists (``relative_file_paths``, block
-    or flow style, as rosbag2 and rosbags write it); [] without metadata."""
+    """The storage files ``folder``'s metadata.yaml lists (``relative_file_paths`` of
+    ``rosbag2_bagfile_information``); [] without readable metadata."""
+    from ruamel.yaml import YAML, YAMLError
+
     try:
-        lines = (folder / "metadata.yaml").read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError):
+        data = YAML(typ="safe").load((folder / "metadata.yaml").read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, YAMLError):
         return []
-    for k, line in enumerate(lines):
-        head, _, rest = line.strip().partition(" ")
-        if head != KEY:
-            continue
-        rest = rest.strip()
-        if rest.startswith("["):  # flow style: [a.mcap, b.mcap]
-            return [_plain(n) for n in rest.strip("[]").split(",") if _plain(n)]
-        names = []
-        for item in lines[k + 1:]:
-            entry = item.strip()
-            if not entry.startswith("- "):
-                break
-            names.append(_plain(entry[2:]))
-        return names
-    return []
-
-
-def _plain(text: str) -> str:
-    return text.strip().strip("'\"")
+    info = data.get("rosbag2_bagfile_information") if isinstance(data, dict) else None
+    names = info.get("relative_file_paths") if isinstance(info, dict) else None
+    return [str(n) for n in names if n] if isinstance(names, list) else []
 
 
 def missing_part_notes(paths: Sequence[Path]) -> list[str]:
