@@ -11,7 +11,14 @@ from PySide6.QtWidgets import QLabel, QSizePolicy, QWidget
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
-    from PySide6.QtGui import QPaintEvent, QResizeEvent
+    from PySide6.QtGui import QFontMetrics, QPaintEvent, QResizeEvent
+
+
+def fitting_text(metrics: QFontMetrics, forms: Sequence[str], width: int) -> str:
+    """The first of ``forms`` (longest first) that fits ``width`` pixels, else the last of
+    them cut with "…"."""
+    text = next((t for t in forms if metrics.horizontalAdvance(t) <= width), forms[-1])
+    return metrics.elidedText(text, Qt.TextElideMode.ElideRight, width)
 
 
 class ElidedLabel(QLabel):
@@ -47,9 +54,7 @@ class ElidedLabel(QLabel):
         width = self.contentsRect().width()
         metrics = self.fontMetrics()
         if self.shorter and metrics.horizontalAdvance(self.full_text) > width:
-            text = next((t for t in self.shorter if metrics.horizontalAdvance(t) <= width),
-                        self.shorter[-1])
-            self.setText(metrics.elidedText(text, Qt.TextElideMode.ElideRight, width))
+            self.setText(fitting_text(metrics, (self.full_text, *self.shorter), width))
             return
         if self.separator and metrics.horizontalAdvance(self.full_text) > width:
             items = self.full_text.split(self.separator)
@@ -87,10 +92,8 @@ class EllipsisLabel(QLabel):
     def shown_text(self) -> str:
         """The text as drawn: the longest form that fits, else the shortest cut with "…"
         to the label's width."""
-        width, metrics = self.contentsRect().width(), self.fontMetrics()
-        forms = (self.text(), *self.shorter)
-        text = next((t for t in forms if metrics.horizontalAdvance(t) <= width), forms[-1])
-        return metrics.elidedText(text, Qt.TextElideMode.ElideRight, width)
+        return fitting_text(self.fontMetrics(), (self.text(), *self.shorter),
+                            self.contentsRect().width())
 
     def paintEvent(self, event: QPaintEvent) -> None:
         painter = QPainter(self)
