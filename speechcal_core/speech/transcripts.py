@@ -3,6 +3,7 @@ and openai-whisper's TSV."""
 
 from __future__ import annotations
 
+import codecs
 import csv
 import io
 import json
@@ -69,13 +70,21 @@ def _shown(words: list[str]) -> str:
     return ", ".join(repr(w) for w in words[:5]) + more
 
 
+def _decoded(raw: bytes) -> str:
+    """Text of a transcript file: UTF-8, or UTF-16 where it opens with a byte-order mark
+    (a spreadsheet's "Unicode text")."""
+    if raw[:2] in (codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE):
+        return raw.decode("utf-16")
+    return raw.decode("utf-8-sig")
+
+
 def read_transcript(path: str | Path) -> Transcript:
     """Read a transcript file, detecting its format from the content."""
     p = Path(path)
     if not p.is_file():
         raise SpeechError(f"{p}: transcript not found; check the path given with --transcript")
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        text = _decoded(p.read_bytes())
     except (OSError, UnicodeDecodeError) as exc:
         from speechcal_core.sources.sniff import looks_like
 

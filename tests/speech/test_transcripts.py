@@ -172,3 +172,15 @@ def test_the_audio_given_as_the_transcript_is_named_as_audio(tmp_path: Path) -> 
 def test_missing_transcript_names_the_option(tmp_path: Path) -> None:
     with pytest.raises(SpeechError, match="--transcript"):
         read_transcript(tmp_path / "nope.json")
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-16-be"])
+def test_a_table_saved_as_unicode_text_is_read(tmp_path: Path, encoding: str) -> None:
+    """Spreadsheets save "Unicode text" as UTF-16 with a byte-order mark."""
+    p = tmp_path / "words.txt"
+    text = "word\tstart\tend\r\nCapture!\t1.0\t1.5\r\nok\t2.0\t2.2\r\n"
+    p.write_bytes(("\ufeff" + text).encode(encoding) if encoding.endswith("be")
+                  else text.encode(encoding))
+    t = read_transcript(p)
+    assert [(w.word, w.start_s, w.end_s) for w in t.words] == [
+        ("Capture!", 1.0, 1.5), ("ok", 2.0, 2.2)]
