@@ -139,6 +139,10 @@ def check_summary(session: Session, streams: Sequence[str]) -> CheckSummary | No
             return CheckSummary("calibration check: after re-scoring", (), False)
         return CheckSummary("calibration check: updating…", (), False)
     kept = sum(1 for s in session.sets if s.decision != "rejected")
+    if not kept:  # nothing to check: say why rather than count a check over no sets
+        why = ("every frame set is rejected; accept some to check the calibration"
+               if session.sets else "no frame sets to check")
+        return CheckSummary(f"calibration check: {why}", (), bool(session.sets))
     fits = session.calibration or {}
     cover = session.extra.get("coverage") or {}
     lines = []

@@ -215,3 +215,17 @@ def test_a_camera_that_saw_the_board_only_near_its_centre_is_warned_about(
     assert "▲ the board stayed near the image centre" in summary.cameras[0]
     progress["y"] = 0.5  # spread down the image: not only near the centre
     assert not check_summary(session, fitted).warning
+
+
+def test_with_every_set_rejected_the_line_says_so(searched_session_file: Path) -> None:
+    """Nothing left to check: the line says why instead of counting a check over 0 sets."""
+    model = open_model(searched_session_file)
+    for k in range(len(model.session.sets)):
+        model.go_to_set(k)
+        model.reject()
+    if model.checks_due():
+        _recheck(model)
+    summary = check_summary(model.session, model.streams)
+    assert summary is not None and summary.warning
+    assert summary.line == ("calibration check: every frame set is rejected; accept some "
+                            "to check the calibration")
