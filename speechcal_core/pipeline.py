@@ -261,7 +261,7 @@ def target_not_found_note(sets: Sequence[FrameSet], target: Target,
     frames = [f for s in sets for f in s.frames]
     if not frames or any(f.corners for f in frames):
         return ""
-    given = ("no --target was given, so Kalibr's default board was looked for" if assumed
+    given = ("no --target was given, so Kalibr's default board was looked for." if assumed
              else "is --target the board filmed?")
     return (f"the {target.describe()} was not found in any frame of any camera "
             f"({len(frames)} frames of {len(sets)} frame sets): {given} Process again with "

@@ -30,6 +30,8 @@ class Transcript:
     words: list[Word] = field(default_factory=list)
     untimed: list[str] = field(default_factory=list)
     early: list[str] = field(default_factory=list)  # words timed before the audio's start
+    #: words timed past any audio (the session's MAX_AUDIO_S: times in nanoseconds?)
+    late: list[str] = field(default_factory=list)
     repeated: int = 0  # words listed twice at the same times, taken once
 
     def note(self) -> str | None:
@@ -42,19 +44,28 @@ class Transcript:
             parts.append(f"{len(self.early)} word(s) timed before the audio's start "
                          f"(negative times) skipped ({_shown(self.early)}); is it this "
                          "audio's transcript, with times in seconds?")
+        if self.late:
+            parts.append(f"{len(self.late)} word(s) timed past any audio (over 31 years) "
+                         f"skipped ({_shown(self.late)}); is it this audio's transcript, "
+                         "with times in seconds?")
         if self.repeated:
             parts.append(f"{self.repeated} word(s) listed twice at the same times, taken "
                          "once")
         return f"{self.path}: {'; '.join(parts)}" if parts else None
 
     def checked(self) -> Transcript:
-        """This transcript with words timed before zero set aside and repeats dropped."""
+        """This transcript with words timed before zero or past any audio set aside and
+        repeats dropped."""
+        from speechcal_core.session.model import MAX_AUDIO_S
+
         seen: set[tuple[str, float, float]] = set()
         kept = []
         for word in self.words:
             key = (word.word.lower(), word.start_s, word.end_s)
             if word.start_s < 0:
                 self.early.append(word.word)
+            elif word.end_s >= MAX_AUDIO_S:
+                self.late.append(word.word)
             elif key in seen:
                 self.repeated += 1
             else:

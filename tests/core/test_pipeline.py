@@ -304,3 +304,21 @@ def test_no_clap_seen_names_the_command_that_takes_its_options(
         "make the clap visible to the cameras, search longer (speechcal sync --search-s S), "
         "or set it by hand (speechcal sync --video-clap-ns NS prints the offset; process "
         "takes it as --offset-ns N)")
+
+
+@pytest.mark.parametrize("assumed, reason", [
+    (True, "no --target was given, so Kalibr's default board was looked for. Process again"),
+    (False, "is --target the board filmed? Process again"),
+])
+def test_a_board_found_nowhere_is_noted_in_sentences(assumed: bool, reason: str) -> None:
+    from speechcal_core.pipeline import target_not_found_note
+    from speechcal_core.session.model import FrameChoice, FrameSet, Trigger
+    from speechcal_core.target import TargetSpec
+
+    frames = (FrameChoice("/cam0/image_raw", 3, 100, corners=0),
+              FrameChoice("/cam1/image_raw", 3, 101, corners=0))
+    sets = [FrameSet(1, 100, Trigger("capture", 1.0, 1.5), frames)]
+    note = target_not_found_note(sets, TargetSpec(), assumed)
+    assert note.startswith("the 6x6 AprilGrid of 0.055 m tags was not found in any frame of "
+                           "any camera (2 frames of 1 frame sets): ")
+    assert reason in note

@@ -184,3 +184,15 @@ def test_a_table_saved_as_unicode_text_is_read(tmp_path: Path, encoding: str) ->
     t = read_transcript(p)
     assert [(w.word, w.start_s, w.end_s) for w in t.words] == [
         ("Capture!", 1.0, 1.5), ("ok", 2.0, 2.2)]
+
+
+def test_words_timed_past_any_audio_are_skipped_and_noted(tmp_path: Path) -> None:
+    """Times in nanoseconds (or a typo) lie decades past any audio: a session made from
+    them could not be opened again, so they are set aside as negative times are."""
+    rows = "capture,1.0,1.5\ncapture,1e10,1.00000001e10\ncapture,1.2e19,1.3e19\n"
+    t = read_transcript(_write(tmp_path, "ns.csv", rows))
+    assert [w.start_s for w in t.words] == [1.0]
+    note = t.note()
+    assert note is not None
+    assert "2 word(s) timed past any audio (over 31 years) skipped" in note
+    assert "is it this audio's transcript, with times in seconds?" in note
