@@ -36,7 +36,6 @@ the same words however many decode them (``span_decoding``).
 
 from __future__ import annotations
 
-import math
 from collections import Counter
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
@@ -55,7 +54,6 @@ from speechcal_core.speech.lexicon import (
     pronunciations,
     rival_words,
 )
-from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
 from speechcal_core.speech.self_similarity import MIN_SEEDS, confirm_and_expand
 from speechcal_core.speech.span_decoding import (
     RATE,
@@ -67,6 +65,15 @@ from speechcal_core.speech.span_decoding import (
     default_workers,
 )
 from speechcal_core.speech.speech_index import Representation
+from speechcal_core.speech.spot_grammar import (
+    PEAK_PERCENTILE,
+    TIERS,
+    grammar_name,
+    search_name,
+    spot_grammar,
+    tier_index,
+    word_loop,
+)
 from speechcal_core.speech.timing import word_bounds
 from speechcal_core.speech.vad import VoiceActivity, voice_activity
 from speechcal_core.speech.word_shape import shaped_like
@@ -100,53 +107,6 @@ DECODER_OPTIONS: dict[str, Any] = {
 }
 
 
-@dataclass(frozen=True)
-class Tier:
-    """How to decode spans heard at least ``min_level_db`` above the noise floor.
-
-    ``phone_log10``: log10 cost of one filler phone at sensitivity 0, at the default
-    (DEFAULT_SENSITIVITY) and at 1 (a dearer filler lets more words pass).
-    ``confusable_log10``: log10 prior of a confusable word ("rapture", "captor") against
-    a trigger, or None to leave them out.
-    """
-
-    min_level_db: float
-    #: Above the default the cost grows three times as fast as below it: the default is
-    #: tuned on "capture", and other words need a much dearer filler to pass. Seeds 1-3,
-    #: sensitivity 1, recall at 20 / 10 / 5 dB, clearest tier's cost -11 -> -19:
-    #: "record" 0.77 / 0.65 / 0.44 -> 0.83 / 0.82 / 0.52, "snapshot" 0.82 / 0.70 / 0.46
-    #: -> 0.97 / 0.88 / 0.61; precision the same or better except at 5 dB
-    phone_log10: tuple[float, float, float] = (-3.0, -7.0, -19.0)
-    #: a span whose loudest moment (PEAK_PERCENTILE) stands this high takes this tier
-    #: too, whatever its level: a short word in a long span has a low level
-    min_peak_db: float | None = None
-    confusable_log10: float | None = None
-    #: log10 prior of a rival (an inflection) against a trigger: operators say the
-    #: trigger far more often, and some voices end "capture" so it sounds like "captured"
-    rival_log10: float = -2.0
-
-
-#: from the clearest spans down; the last tier takes everything else
-TIERS: tuple[Tier, ...] = (
-    Tier(18.0, confusable_log10=-10.0),
-    #: a dearer filler in noisier spans: the recogniser's triggers there are the templates
-    #: that find the rest, and a voice it misses entirely is lost (tuning seeds 101-112,
-    #: 5 dB: a quiet female voice had no trigger found in two sessions at (-3, -11))
-    #: Near-homophones compete here too, at a smaller prior: where the recogniser hears
-    #: "rapture" the similarity search needs a much closer match (CONTESTED_SHARE), and
-    #: most of its false alarms were such raptures. Seeds 1-3, 5 dB precision 0.947 ->
-    #: 0.975, 10 dB 0.971 -> 0.990, recall unchanged; seeds 101-124 at 10 dB 0.951 ->
-    #: 0.959 (same recall), at 5 dB 0.932 -> 0.939 (recall 0.910 -> 0.908). The clear
-    #: tier's -10 here lost a 10 dB trigger more.
-    Tier(12.0, phone_log10=(-5.0, -9.0, -21.0), min_peak_db=14.0, confusable_log10=-12.0),
-    #: dearer still in the noisiest spans, now that the posteriorgram search turns the
-    #: extra triggers into templates for the rest. Seeds 101-124: 5 dB recall / precision
-    #: 0.885 / 0.920 -> 0.910 / 0.926, 10 dB unchanged. The same filler for every span
-    #: below 18 dB cost 15 more false alarms at 10 dB; without the peak condition above,
-    #: "captain" at the end of a long quiet span passed as the trigger
-    Tier(-math.inf, phone_log10=(-7.0, -11.0, -23.0), confusable_log10=-12.0),
-)
-PEAK_PERCENTILE = 98.0
 #: spans heard at least this clearly: their found triggers are checked (SEED_CHECK), and
 #: the similarity search adds a word there only on a closer match (CLEAR_SHARE of
 #: ``self_similarity``: the recogniser heard clearly and heard no trigger). It added none
@@ -537,7 +497,7 @@ class PocketsphinxBackend:
         ``spec``'s sensitivity, word bounds snapped to the words' energy; progress is
         reported from ``shares[0]`` to ``shares[1]`` of the work."""
         self._prepare(spec)  # for the word lists below
-        spans = [Span(start, _samples(x, (start, end)), _search_name(
+        spans = [Span(start, _samples(x, (start, end)), search_name(
                      spec.sensitivity, activity.level_db(start, end),
                      activity.level_db(start, end, PEAK_PERCENTILE)))
                  for start, end in segments]
@@ -581,10 +541,10 @@ class PocketsphinxBackend:
         if self._decoder is None or key != self._key:
             self._decoder = self._new_decoder(spec)
             # one phone: whatever the warm-up decodes, the front end adapts, cheaply
-            self._decoder.add_fsg(WARM_UP_SEARCH, _word_loop(
+            self._decoder.add_fsg(WARM_UP_SEARCH, word_loop(
                 self._decoder.get_logmath(), WARM_UP_SEARCH,
                 [(PHONE_PREFIX + WARM_UP_PHONE.lower(), 0)]))
-            self._decoder.add_fsg(DOUBT_SEARCH, _spot_grammar(
+            self._decoder.add_fsg(DOUBT_SEARCH, spot_grammar(
                 self._decoder.get_logmath(), replace(spec, sensitivity=DOUBT_SENSITIVITY),
                 self._rivals, self._confusables, self._phones, DOUBT_TIER))
             self._key = key
@@ -592,9 +552,9 @@ class PocketsphinxBackend:
         if spec.sensitivity not in self._sensitivities:
             logmath = self._decoder.get_logmath()
             for k, tier in enumerate(TIERS):
-                grammar = _spot_grammar(logmath, spec, self._rivals, self._confusables,
+                grammar = spot_grammar(logmath, spec, self._rivals, self._confusables,
                                         self._phones, tier)
-                self._decoder.add_fsg(_grammar_name(spec.sensitivity, k), grammar)
+                self._decoder.add_fsg(grammar_name(spec.sensitivity, k), grammar)
             self._sensitivities.add(spec.sensitivity)
         return self._decoder
 
@@ -647,7 +607,7 @@ def _unheard_spans(activity: VoiceActivity, heard: Heard, tier: int
     not)."""
     words = heard.words + heard.running_on
     return [(a, b) for a, b in activity.segments
-            if _tier_index(activity.level_db(a, b),
+            if tier_index(activity.level_db(a, b),
                            activity.level_db(a, b, PEAK_PERCENTILE)) == tier
             and not any(w.start_s < b and a < w.end_s for w in words)]
 
@@ -660,59 +620,6 @@ def _search_for(seed_levels: list[float]
     if seed_levels and float(np.median(seed_levels)) < POSTERIORGRAM_BELOW_DB:
         return "posteriorgram", POSTERIORGRAM_FACTOR, POSTERIORGRAM_LEVEL_SLOPE
     return "mfcc", SIMILARITY_FACTOR, None
-
-
-def _search_name(sensitivity: float, level_db: float, peak_db: float = -math.inf) -> str:
-    """The grammar (one per tier and sensitivity) for a span at ``level_db`` above the
-    noise floor whose loudest moment stands ``peak_db`` above it."""
-    return _grammar_name(sensitivity, _tier_index(level_db, peak_db))
-
-
-def _grammar_name(sensitivity: float, tier: int) -> str:
-    return f"tier{tier}@{sensitivity:g}"
-
-
-def _tier_index(level_db: float, peak_db: float = -math.inf) -> int:
-    """The tier of a span at ``level_db`` above the noise floor whose loudest moment
-    stands ``peak_db`` above it."""
-    for k, tier in enumerate(TIERS):
-        if level_db >= tier.min_level_db or (
-                tier.min_peak_db is not None and peak_db >= tier.min_peak_db):
-            return k
-    return len(TIERS) - 1
-
-
-def phone_log10(tier: Tier, sensitivity: float) -> float:
-    """The log10 cost of one filler phone in ``tier`` at ``sensitivity`` (0..1): linear
-    from 0 to the default and from the default to 1."""
-    return float(np.interp(sensitivity, (0.0, DEFAULT_SENSITIVITY, 1.0), tier.phone_log10))
-
-
-def _spot_grammar(logmath: Any, spec: TriggerSpec, rivals: list[str], confusables: list[str],
-                  phones: list[str], tier: Tier) -> Any:
-    """One state looping over triggers (free), rivals and confusable words (at the tier's
-    priors; confusables only if it has one) and phones (at a cost each)."""
-    phone_cost = int(logmath.log(10.0) * phone_log10(tier, spec.sensitivity))
-    rival_cost = int(logmath.log(10.0) * tier.rival_log10)
-    words = [(w, 0) for w in spec.words] + [(w, rival_cost) for w in rivals]
-    if tier.confusable_log10 is not None:
-        cost = int(logmath.log(10.0) * tier.confusable_log10)
-        words += [(w, cost) for w in confusables]
-    words += [(w, phone_cost) for w in phones]
-    return _word_loop(logmath, "spot", words)
-
-
-def _word_loop(logmath: Any, name: str, words: list[tuple[str, int]]) -> Any:
-    """A grammar of one state looping over ``words`` (word, log cost), then ending."""
-    import pocketsphinx
-
-    fsg = pocketsphinx.FsgModel(name, logmath, 1.0, 2)
-    for w, cost in words:
-        fsg.trans_add(0, 0, cost, fsg.word_add(w))
-    fsg.null_trans_add(0, 1, 0)
-    fsg.set_start_state(0)
-    fsg.set_final_state(1)
-    return fsg
 
 
 def _alternates(decoder: Any, word: str) -> tuple[set[tuple[str, ...]], str]:

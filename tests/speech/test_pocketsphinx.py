@@ -12,12 +12,8 @@ from speech_scenes import RATE, Scene, clip, make_scene, real_speech
 from speechcal_core.audio import Audio, load_audio
 from speechcal_core.speech import SpeechError, TriggerSpec, detect_triggers
 from speechcal_core.speech.matching import DEFAULT_SENSITIVITY
-from speechcal_core.speech.pocketsphinx_backend import (
-    TIERS,
-    Heard,
-    PocketsphinxBackend,
-    phone_log10,
-)
+from speechcal_core.speech.pocketsphinx_backend import Heard, PocketsphinxBackend
+from speechcal_core.speech.spot_grammar import TIERS, phone_log10
 from speechcal_core.speech.vad import voice_activity
 
 

@@ -18,11 +18,10 @@ from speechcal_core.speech.pocketsphinx_backend import (
     POSTERIORGRAM_FACTOR,
     POSTERIORGRAM_LEVEL_SLOPE,
     SIMILARITY_FACTOR,
-    TIERS,
     _search_for,
-    _tier_index,
 )
 from speechcal_core.speech.self_similarity import LEVEL_SLOPE
+from speechcal_core.speech.spot_grammar import TIERS, tier_index
 from speechcal_core.speech.vad import voice_activity
 
 
@@ -53,8 +52,8 @@ def test_span_level_tracks_how_far_speech_stands_above_the_noise(tmp_path: Path)
 
 
 def test_clear_spans_use_the_first_tier_and_noisy_ones_the_last() -> None:
-    assert _tier_index(TIERS[0].min_level_db + 5.0) == 0
-    assert _tier_index(-20.0) == len(TIERS) - 1
+    assert tier_index(TIERS[0].min_level_db + 5.0) == 0
+    assert tier_index(-20.0) == len(TIERS) - 1
     assert TIERS[-1].min_level_db == -np.inf
 
 
@@ -67,10 +66,10 @@ def test_noisier_spans_weigh_near_homophones_at_a_smaller_prior() -> None:
 def test_a_quiet_span_with_a_loud_moment_is_not_decoded_as_the_noisiest() -> None:
     noisiest, above = len(TIERS) - 1, len(TIERS) - 2
     assert TIERS[-2].min_peak_db is not None
-    assert _tier_index(TIERS[-2].min_level_db - 3.0) == noisiest
-    assert _tier_index(TIERS[-2].min_level_db - 3.0, TIERS[-2].min_peak_db - 1.0) == noisiest
+    assert tier_index(TIERS[-2].min_level_db - 3.0) == noisiest
+    assert tier_index(TIERS[-2].min_level_db - 3.0, TIERS[-2].min_peak_db - 1.0) == noisiest
     # a short word in a long span: low level, but its loudest moment stands out
-    assert _tier_index(TIERS[-2].min_level_db - 3.0, TIERS[-2].min_peak_db + 1.0) == above
+    assert tier_index(TIERS[-2].min_level_db - 3.0, TIERS[-2].min_peak_db + 1.0) == above
 
 
 def test_quietly_heard_triggers_are_searched_for_by_posteriorgram() -> None:
