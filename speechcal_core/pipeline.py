@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import contextlib
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -26,6 +26,7 @@ from speechcal_core.sync.model import SyncModel
 
 if TYPE_CHECKING:
     from speechcal_core.audio import Audio
+    from speechcal_core.audio.bag_audio import BagAudio
     from speechcal_core.frames.detect import Target
     from speechcal_core.frames.sets import FrameSetOptions
     from speechcal_core.sources.base import FrameSource
@@ -78,8 +79,15 @@ def process_recording(
     progress: Progress | None = None,
     channel: int | None = None,
     streams: StreamChoice | None = None,
+    session_path: str | Path | None = None,
 ) -> Session:
     """Sync, detect and build frame sets; returns a new, undecided session.
+
+    ``audio`` is the microphone's file, or an audio topic of the recording (e.g.
+    ``/audio/audio``, as ``speechcal sync`` takes it): its samples are then kept beside
+    the session file ``session_path`` (:func:`~speechcal_core.audio.topic_file.
+    keep_topic_audio`), which becomes the session's audio, and its chunks' header stamps
+    time it where they can (else the clap does, and a note says why).
 
     ``target`` defaults to Kalibr's 6x6 AprilGrid (the session's ``"target_assumed"``
     says whether it was); ``frame_options`` sets the search window (or turns the
@@ -87,20 +95,34 @@ def process_recording(
     None mixes them), kept in the session for the review's waveform, sound and search;
     ``streams`` the recording's streams to use (kept in the session too).
     """
-    from speechcal_core.audio import load_audio
     from speechcal_core.sources import open_recording
 
     report = progress or _noop
     report("indexing the recording", 0.02)
     with open_recording(list(recording), streams=streams) as source:
         report("reading the audio", 0.1)
-        sound = load_audio(audio, channel=channel)
+        sound, topic = load_process_audio(audio, recording, channel=channel)
         return process_loaded(
             source, sound, recording, audio, trigger_words=trigger_words,
             transcript=transcript, pronunciations=pronunciations, sensitivity=sensitivity,
             offset_ns=offset_ns, target=target,
             frame_options=frame_options, progress=report, streams=streams,
+            topic=topic, session_path=session_path,
         )
+
+
+def load_process_audio(audio: str, recording: Sequence[str], *, channel: int | None = None
+                       ) -> tuple[Audio, BagAudio | None]:
+    """The audio to process: of a file, or of an audio topic of ``recording`` (then the
+    topic's audio too, every channel of it kept to be written beside the session)."""
+    from speechcal_core.audio import load_audio
+    from speechcal_core.audio.topic_file import is_audio_topic
+    from speechcal_core.sync.sources import load_topic_audio
+
+    if not is_audio_topic(audio):
+        return load_audio(audio, channel=channel), None
+    topic = load_topic_audio(audio, recording, channel=channel, all_channels=True)
+    return topic.audio, topic
 
 
 def process_loaded(
@@ -118,13 +140,19 @@ def process_loaded(
     frame_options: FrameSetOptions | None = None,
     progress: Progress | None = None,
     streams: StreamChoice | None = None,
+    topic: BagAudio | None = None,
+    session_path: str | Path | None = None,
 ) -> Session:
     """:func:`process_recording` on a recording and audio the caller already opened
     (the review keeps both for display instead of reading them twice); ``streams`` is
-    the choice ``source`` was opened with, kept in the session."""
+    the choice ``source`` was opened with, kept in the session. ``topic`` is the audio
+    topic ``sound`` was read from (``load_process_audio``; ``audio`` names it), whose
+    samples are written beside the session file ``session_path`` once the session is
+    made."""
     from speechcal_core.frames.analysis import analyse_frames
     from speechcal_core.frames.unseen_cameras import unseen_camera_notes
     from speechcal_core.frames.word_stillness import moving_words_note, word_stillness
+    from speechcal_core.session.store import session_file
     from speechcal_core.sync.pipeline import sync_recording
     from speechcal_core.target import TargetSpec
 
@@ -138,9 +166,18 @@ def process_loaded(
         _check_offset(int(offset_ns), sound.duration_s, span)
         sync = SyncModel(int(offset_ns), 0.0, "manual")
     else:
-        report("finding the clap", 0.2)
-        result = sync_recording(source, sound,
-                                progress=lambda text: report(f"clap: {text}", 0.3))
+        from speechcal_core.sync.stamped import stamped_sync, stamps_problem
+
+        stamped = stamped_sync(topic) if topic is not None else None
+        if stamped is not None:  # the topic's chunks are stamped in the cameras' clock
+            result = stamped
+        else:
+            report("finding the clap", 0.2)
+            result = sync_recording(source, sound,
+                                    progress=lambda text: report(f"clap: {text}", 0.3))
+        problem = stamps_problem(topic) if topic is not None else None
+        if problem:  # said first, as ``speechcal sync`` says it
+            result = replace(result, warnings=(problem, *result.warnings))
         sync = result.model
         evidence = {k: v for k, v in result.to_dict().items()
                     if k not in ("offset_ns", "drift", "source")}
@@ -159,9 +196,14 @@ def process_loaded(
     analysis = analyse_frames(source, sync, triggers, target,
                               options=frame_options, progress=frames_progress)
     outside = outside_recording_note(analysis.sets, span, sync)
-    short = audio_ends_early_note(audio, sound.duration_s, span, sync)
+    named = audio  # what the notes call the audio
+    if topic is not None:
+        from speechcal_core.audio.topic_file import topic_description
+
+        named = f"the audio {topic_description(topic.topic, recording)}"
+    short = audio_ends_early_note(named, sound.duration_s, span, sync)
     moving = moving_words_note(
-        word_stillness(analysis.sets, analysis.extra.get("frame_details") or {}), audio,
+        word_stillness(analysis.sets, analysis.extra.get("frame_details") or {}), named,
         transcript)
     unseen = target_not_found_note(analysis.sets, target, assumed)
     # what is wrong with the recording's files comes first: it may explain the rest
@@ -172,9 +214,19 @@ def process_loaded(
     settings = {} if transcript is not None else {
         SENSITIVITY_KEY: float(sensitivity),
         **({PRONUNCIATIONS_KEY: dict(pronunciations)} if pronunciations else {})}
+    audio_file, from_topic = audio, {}
+    if topic is not None:  # the window and export read a file: the topic's is kept as one
+        from speechcal_core.audio.topic_file import TOPIC_KEY, keep_topic_audio
+
+        if session_path is None:
+            raise ValueError("an audio topic's samples are kept beside the session file: "
+                             "give session_path")
+        report("keeping the topic's audio", 0.98)
+        audio_file = str(keep_topic_audio(topic, session_file(session_path))[0])
+        from_topic = {TOPIC_KEY: topic.topic}
     session = Session(
         recording=[str(Path(p).absolute()) for p in recording],
-        audio=str(Path(audio).absolute()),
+        audio=str(Path(audio_file).absolute()),
         audio_channel=sound.channel,
         sync=sync,
         sets=analysis.sets,
@@ -182,7 +234,8 @@ def process_loaded(
         sync_evidence=evidence,
         calibration=analysis.calibration,
         extra={**analysis.extra, "target": asdict(target),
-               "target_assumed": assumed, **settings, **_audio_file(audio),
+               "target_assumed": assumed, **settings, **_audio_file(audio_file),
+               **from_topic,
                **({STREAMS_KEY: [s.name for s in source.streams]} if streams else {}),
                **({"detection_notes": notes} if notes else {})},
     )

@@ -38,6 +38,11 @@ class BagAudio:
     topic: str
     chunk_stamps_ns: np.ndarray | None  # header stamp per chunk (stamped topics only)
     chunk_starts: np.ndarray | None  # first sample index of each chunk
+    #: every channel as the topic holds them (frames x channels, float32, non-numbers
+    #: replaced as in ``audio``), read only when asked (``load_bag_audio(all_channels=)``)
+    frames: np.ndarray | None = None
+    #: the raw samples' format as AudioInfo names it (``"S16LE"``), "" for coded audio
+    sample_format: str = ""
 
 
 def audio_types() -> Typestore:
@@ -65,9 +70,11 @@ def audio_topics(paths: Sequence[str | Path]) -> dict[str, str]:
 
 
 def load_bag_audio(paths: Sequence[str | Path], topic: str | None = None, *,
-                   channel: int | None = None) -> BagAudio:
+                   channel: int | None = None, all_channels: bool = False) -> BagAudio:
     """Decode the audio topic (the only one, when ``topic`` is None) of a bag; samples
-    that are not numbers are taken as in an audio file (:class:`NumberCheck`)."""
+    that are not numbers are taken as in an audio file (:class:`NumberCheck`). With
+    ``all_channels`` the result keeps every channel too (``BagAudio.frames``), to be
+    written to a file."""
     from rosbags.highlevel import AnyReader
 
     bag = Path(paths[0]).name
@@ -98,14 +105,17 @@ def load_bag_audio(paths: Sequence[str | Path], topic: str | None = None, *,
             chunks.append(bytes(np.asarray(data, dtype=np.uint8)))
     if not chunks or not any(chunks):
         raise AudioError(f"{bag}: audio topic {names[0]} holds no samples")
-    samples, rate, channels, starts = _decode(chunks, info, bag, channel)
+    frames, rate, starts, fmt = _decode(chunks, info, bag)
+    channels = int(frames.shape[1])
+    samples = _mono(frames, channel, bag)
     numbers = NumberCheck(f"{bag}: audio topic {names[0]}")
     samples = numbers.clean(samples)
     numbers.check()
+    kept = np.nan_to_num(frames, nan=0.0, posinf=1.0, neginf=-1.0) if all_channels else None
+    del frames
     audio = Audio(samples, rate, Path(paths[0]), channels, rate, channel)
-    if stamps:
-        return BagAudio(audio, names[0], np.array(stamps, dtype=np.int64), starts)
-    return BagAudio(audio, names[0], None, starts)
+    stamped = np.array(stamps, dtype=np.int64) if stamps else None
+    return BagAudio(audio, names[0], stamped, starts, kept, fmt)
 
 
 def _info(reader, topic: str) -> dict:
@@ -122,9 +132,10 @@ def _info(reader, topic: str) -> dict:
     return {}
 
 
-def _decode(chunks: list[bytes], info: dict, bag: str,
-            channel: int | None) -> tuple[np.ndarray, int, int, np.ndarray | None]:
-    """Mono float32 samples, rate, channel count and each chunk's first sample."""
+def _decode(chunks: list[bytes], info: dict, bag: str
+            ) -> tuple[np.ndarray, int, np.ndarray | None, str]:
+    """Float32 samples (frames x channels), rate, each chunk's first sample and the raw
+    samples' format ("" for coded audio)."""
     coding = info.get("coding_format", "").lower()
     blob = b"".join(chunks)
     if coding in ("wave", "wav", "pcm", "raw") or (not coding and info):
@@ -140,14 +151,14 @@ def _decode(chunks: list[bytes], info: dict, bag: str,
         width = len(blob) / max(1, x.size)  # bytes per sample
         lengths = np.array([len(c) for c in chunks])
         starts = (np.concatenate([[0], np.cumsum(lengths)[:-1]]) / (width * channels))
-        return _mono(x, channel, bag), rate, channels, starts.astype(np.int64)
+        return x, rate, starts.astype(np.int64), fmt
     # compressed (mp3, or unknown: let libsndfile guess from the bytes)
     try:
         data, rate = sf.read(io.BytesIO(blob), dtype="float32", always_2d=True)
     except (sf.LibsndfileError, RuntimeError, TypeError) as exc:
         raise AudioError(f"{bag}: cannot decode the bag's audio (coding {coding or '?'}); "
                          "export it to a WAV/FLAC file and pass that with --audio") from exc
-    return _mono(data, channel, bag), int(rate), int(data.shape[1]), None
+    return data, int(rate), None, ""
 
 
 def _pcm(blob: bytes, fmt: str) -> np.ndarray:

@@ -32,7 +32,9 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="ROS1/ROS2 bags, MCAP files, a video or an image folder (a split "
                         "bag: all its parts); the audio file may be given among them")
     p.add_argument("--audio", metavar="AUDIO", type=AUDIO,
-                   help="the microphone's audio file (wav, flac, ogg...)")
+                   help="the microphone's audio file (wav, flac, ogg...), or an audio topic "
+                        "inside the recording (its audio is kept beside the session file, "
+                        "as SESSION.audio.flac)")
     add_channel_option(p)
     add_stream_options(p)
     p.add_argument("--target", metavar="TARGET.yaml", type=TARGET, help="Kalibr target yaml")
@@ -57,6 +59,7 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Run the subcommand: progress lines on stderr, the session file written atomically."""
+    from speechcal_core.audio.topic_file import TOPIC_KEY, topic_description
     from speechcal_core.pipeline import process_recording
     from speechcal_core.session.store import check_session_target, save_session, session_file
     from speechcal_core.target import TargetSpec
@@ -90,6 +93,7 @@ def run(args: argparse.Namespace) -> int:
         target=target,
         streams=stream_choice(args),
         progress=report,
+        session_path=args.output,
     )
     out = Path(args.output)
     replaced = out.exists()
@@ -114,24 +118,32 @@ def run(args: argparse.Namespace) -> int:
                  f"as {older}")
     notes = [*session.sync_evidence.get("warnings", []),
              *session.extra.get("detection_notes", [])]
+    topic = session.extra.get(TOPIC_KEY)
+    if topic:
+        progress(f"the audio of {topic_description(topic, args.recording)} is kept as "
+                 f"{session.audio}")
     for note in notes:
         progress(f"note: {note}")
     progress(f"{_summary(session)}; wrote {args.output}")
     if args.json:
         emit_json({"session": str(Path(args.output).absolute()), "sets": len(session.sets),
                    "sync": session.sync.to_dict(), "notes": notes, "replaced": replaced,
-                   "streams": session.extra.get(STREAMS_KEY)})
+                   "streams": session.extra.get(STREAMS_KEY), "audio": session.audio,
+                   "audio_topic": topic})
     return 0
 
 
 def _refuse_to_write_over_inputs(args: argparse.Namespace) -> None:
     """-o must name a session file, never a folder or a file ``process`` reads (the
     recording, audio, transcript or target), --force or not: those are the operator's data."""
+    from speechcal_core.audio.topic_file import is_audio_topic
+
     out = Path(args.output)
     if out.is_dir():
         raise OutputExistsError(f"{out} is a folder; give the session file's name, such as "
                                 f"-o {out / 'session.json'}")
-    inputs = {"recording": args.recording, "audio": [args.audio],
+    inputs = {"recording": args.recording,
+              "audio": [] if is_audio_topic(args.audio) else [args.audio],
               "transcript": [args.transcript] if args.transcript else [],
               "target": [args.target] if args.target else []}
     touched = overlap(out, {what: [Path(p) for p in paths] for what, paths in inputs.items()})

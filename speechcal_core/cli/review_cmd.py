@@ -24,7 +24,8 @@ def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("inputs", nargs="*", metavar="SESSION.json | RECORDING",
                    type=path_arg("a session file or a recording"))
     p.add_argument("--audio", metavar="AUDIO", type=AUDIO,
-                   help="the microphone recording of a RECORDING not processed yet (a "
+                   help="the microphone recording of a RECORDING not processed yet, or "
+                        "an audio topic inside it (kept beside the new session as a file; a "
                         "session file knows its audio)")
     p.add_argument("--session", metavar="SESSION.json", type=SESSION,
                    help="where a recording's session is kept (default: beside the recording, "

@@ -106,7 +106,8 @@ def load_for_review(
     ``audio_at_start`` takes no clap: the audio starts with the first frame (a recording
     without a clap heard, to align in the review).
     """
-    from speechcal_core.audio import load_audio
+    from speechcal_core.audio.topic_file import TOPIC_KEY, is_audio_topic, topic_description
+    from speechcal_core.pipeline import load_process_audio
     from speechcal_core.sources import open_recording
     from speechcal_core.sources.bag_source import twin_notes
 
@@ -136,6 +137,8 @@ def load_for_review(
             note = (f"opened the existing {path.name} ({work} kept)" if work else
                     f"opened the existing {path.name} (nothing decided in it yet)")
             note = "; ".join(filter(None, [note, set_aside_backup_work(path, work)]))
+            if audio and is_audio_topic(audio) and session.extra.get(TOPIC_KEY) == audio:
+                audio = session.audio  # the file the session kept of that topic
             audio = audio or session.audio  # the session knows its audio
             moved, source = _follow_moved_files(session, recording, audio)
             if moved:
@@ -151,8 +154,9 @@ def load_for_review(
                 note += (f"; it is the session of {', '.join(session.recording)}, not of "
                          f"{', '.join(recording)}: give another session file to process these")
             elif session.audio and not same_file(audio, session.audio):
+                given = audio if is_audio_topic(audio) else Path(audio).name
                 note += (f"; it uses the audio {session.audio}, not {audio}: to process "
-                         f"with {Path(audio).name}, move {path.name} away or give another "
+                         f"with {given}, move {path.name} away or give another "
                          f"session file")
             else:
                 note += _settings_note(session, path, triggers, channel, target)
@@ -166,7 +170,7 @@ def load_for_review(
             source = open_recording(list(recording), streams=streams)
             try:
                 report("reading the audio", 0.1)
-                sound = load_audio(audio, channel=channel)
+                sound, topic = load_process_audio(audio, list(recording), channel=channel)
                 spec = triggers or TriggerSpec()
                 offset_ns = None
                 if audio_at_start:
@@ -180,6 +184,7 @@ def load_for_review(
                                          sensitivity=spec.sensitivity,
                                          pronunciations=spec.pronunciations,
                                          target=target, streams=streams,
+                                         topic=topic, session_path=path,
                                          progress=lambda t, f: report(t, 0.9 * f))
                 save_session(session, path)
                 stamp = file_stamp(path)
@@ -188,6 +193,10 @@ def load_for_review(
                 raise
             made_new = True
             note = f"new session saved as {path.name}"
+            if topic is not None:  # the window reads the file kept of it, as of any audio
+                note += (f"; audio from {topic_description(topic.topic, recording)}, kept "
+                         f"as {Path(session.audio).name}")
+                sound = None
             if audio_at_start:
                 note += f"; {AUDIO_AT_START_NOTE}"
             if session.sets:  # without sets the list itself says why (no_sets_hint)

@@ -152,3 +152,25 @@ def test_stamps_with_latency_and_drift_time_the_audio(tmp_path: Path) -> None:
     bag = tmp_path / "good.bag"
     _write_bag(bag, _tone(3.0), stamped=True, drift=100e-6)
     assert stamps_problem(load_bag_audio([bag])) is None
+
+
+def test_float_topic_audio_is_kept_as_a_float_wav_and_reused_when_the_same(
+        tmp_path: Path) -> None:
+    """FLAC holds integers only: float samples are kept exactly in a float WAV file (a
+    glitch's non-numbers as the processing read them, silence), written once."""
+    import soundfile as sf
+
+    from speechcal_core.audio.topic_file import keep_topic_audio
+
+    x = _tone(1.0)
+    x[100] = np.nan
+    bag = tmp_path / "float.bag"
+    _write_bag(bag, x, stamped=True, sample_format="F32LE")
+    topic = load_bag_audio([bag], all_channels=True)
+    path, written = keep_topic_audio(topic, tmp_path / "s.json")
+    assert (path.name, written) == ("s.audio.wav", True)
+    assert sf.info(str(path)).subtype == "FLOAT"
+    kept, rate = sf.read(str(path), dtype="float32")
+    assert rate == RATE and np.array_equal(kept, topic.audio.samples) and kept[100] == 0
+    assert keep_topic_audio(topic, tmp_path / "s.json") == (path, False)
+    assert [p.name for p in tmp_path.iterdir() if p.suffix != ".bag"] == ["s.audio.wav"]

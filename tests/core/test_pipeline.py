@@ -150,7 +150,8 @@ def test_json_says_what_was_written_and_stdout_holds_nothing_else(
     assert doc.pop("notes") == []
     assert doc == {"session": str(out.absolute()), "sets": len(truth["triggers"]),
                    "sync": {"offset_ns": offset, "drift": 0.0, "source": "manual"},
-                   "replaced": False, "streams": None}
+                   "replaced": False, "streams": None,
+                   "audio": str((folder / truth["audio"]).absolute()), "audio_topic": None}
     assert f"wrote {out}" in captured.err
 
 
