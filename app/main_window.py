@@ -48,6 +48,7 @@ from app.sync_line import sync_line_forms
 from app.tasks import BackgroundTask, start
 from app.transport import NO_SET_TO_HEAR, Transport
 from app.waveform import WaveformView
+from speechcal_core.audio.topic_file import TOPIC_KEY
 from speechcal_core.errors import SpeechCalError
 from speechcal_core.resources import resource
 from speechcal_core.review.checks import check_summary
@@ -819,9 +820,11 @@ class ReviewWindow(QMainWindow):
         self._update_edit_menu()
         self.model.connect("checks", self._update_check_line)
         self.model.connect("similar", self.similar.ask)
-        title = " + ".join(shown_name(Path(p).name)
-                           for p in [*inputs.session.recording, inputs.session.audio or ""]
-                           if p)
+        # the audio of a topic of the recording is named as that topic, not the file kept
+        topic = inputs.session.extra.get(TOPIC_KEY)
+        heard = str(topic) if topic else Path(inputs.session.audio or "").name
+        title = " + ".join(shown_name(p) for p in
+                           [*(Path(r).name for r in inputs.session.recording), heard] if p)
         self.setWindowTitle(f"SpeechCal — {title}")
         self.stack.setCurrentWidget(self.review_page)
         # the focus was on the status line's Cancel, hidden as the opening ended
