@@ -63,10 +63,26 @@ def atomic_write_text(path: str | Path, text: str, *, keep_backup: bool = False)
 def copy_atomically(source: Path, target: Path) -> None:
     """Copy ``source`` to ``target`` through a temp file beside it: a copy failing midway
     (a full disk) leaves ``target`` as it was, not cut off."""
+    with written_atomically(target, sync=False) as tmp:
+        shutil.copy2(source, tmp)
+
+
+@contextlib.contextmanager
+def written_atomically(target: Path, *, sync: bool = True) -> Iterator[Path]:
+    """A temp file beside ``target`` (with a new file's usual permissions) to write; it
+    replaces ``target`` when the block ends (after an fsync, with ``sync``), and is
+    removed if the block raises: ``target`` is whole or as it was."""
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     os.close(fd)
     try:
-        shutil.copy2(source, tmp)
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600
+        yield Path(tmp)
+        if sync:
+            fd = os.open(tmp, os.O_RDONLY)
+            try:
+                os.fsync(fd)
+            finally:
+                os.close(fd)
         os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):

@@ -3,9 +3,6 @@ plays and searches it, and relocation and export guard it, as they do a micropho
 
 from __future__ import annotations
 
-import contextlib
-import os
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -14,6 +11,7 @@ import soundfile as sf
 
 from speechcal_core.audio.bag_audio import BagAudio
 from speechcal_core.audio.errors import AudioError
+from speechcal_core.fsutil import written_atomically
 
 #: key of ``Session.extra`` (top-level in the file): the audio topic of the recording the
 #: session's audio file was written from
@@ -93,32 +91,19 @@ def _write(bag: BagAudio, path: Path, subtype: str | None) -> None:
     else:
         subtype = "FLOAT"
         fmt = "WAV" if frames.nbytes < 2 ** 32 - 2 ** 20 else "RF64"  # a WAV's size limit
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
     try:
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)  # mkstemp makes 0600; give the file its usual ones
-        with sf.SoundFile(tmp, "w", samplerate=bag.audio.rate, channels=frames.shape[1],
-                          subtype=subtype, format=fmt) as f:
+        with written_atomically(path) as tmp, sf.SoundFile(
+                str(tmp), "w", samplerate=bag.audio.rate, channels=frames.shape[1],
+                subtype=subtype, format=fmt) as f:
             for start in range(0, frames.shape[0], BLOCK):
                 f.write(_stored(frames[start:start + BLOCK], subtype))
-        fd = os.open(tmp, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-        if path.exists():  # made meanwhile by someone else: theirs stays
-            raise FileExistsError(f"{path} appeared while it was written")
-        os.replace(tmp, path)
-    except BaseException as exc:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        if isinstance(exc, (OSError, RuntimeError, sf.LibsndfileError)):
-            raise AudioError(f"{path}: cannot write the audio topic {bag.topic}'s samples "
-                             f"there ({exc}); give a session file (-o, --session) in a "
-                             "folder with room that can be written") from exc
-        raise
+            f.close()
+            if path.exists():  # made meanwhile by someone else: theirs stays
+                raise FileExistsError(f"{path} appeared while it was written")
+    except (OSError, RuntimeError, sf.LibsndfileError) as exc:
+        raise AudioError(f"{path}: cannot write the audio topic {bag.topic}'s samples "
+                         f"there ({exc}); give a session file (-o, --session) in a "
+                         "folder with room that can be written") from exc
 
 
 def _stored(block: np.ndarray, subtype: str) -> np.ndarray:
