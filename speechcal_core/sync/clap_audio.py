@@ -15,6 +15,14 @@ HOP_S = 0.001  # candidate search hop
 BLOCK_S = 30.0  # filter in blocks of this length (bounded memory on long files)
 MIN_JUMP_DB = 12.0  # onset must rise this much above the preceding 50 ms
 CLAP_SCORE = 0.6  # a candidate at or above this score looks like a clap
+#: the attack starts where a fine envelope first reaches this fraction of the peak just
+#: after it: Vorbis pre-echo 1 ms ahead of a clap reached 15% of it (the onset came 0.8
+#: ms early); of the 86 claps of 43 synthetic sessions (Vorbis), 20% times them with a
+#: spread of 0.10 ms (standard deviation; 15%: 0.24 ms), about 0.05 ms later on average
+ONSET_LEVEL = 0.2
+#: a climb from this level to half the peak taking longer than this (ms) out of quiet is
+#: codec pre-echo, not the attack; a clap's own noisy attack took 1.1 ms
+SLOW_CLIMB_MS = 2.0
 
 
 @dataclass(frozen=True)
@@ -200,7 +208,7 @@ def _describe(x: np.ndarray, rate: int, i: int, hp: np.ndarray,
     s0 = max(0, peak_i - int(40 * ms))
     clips = _flat_topped(raw[max(0, local - int(5 * ms)): local + int(30 * ms)])
     onset = _threshold_onset(hi, s0 + _aic_pick(hi[s0: peak_i + 1]), ms,
-                             0.5 if clips else 0.15)
+                             0.5 if clips else ONSET_LEVEL)
     half = onset + int(np.argmax(env[onset: peak_i + 1] >= 0.5 * peak))
     rise_ms = (half - onset) / ms
     burst = seg[onset: onset + int(10 * ms)]
@@ -299,7 +307,7 @@ def _threshold_onset(hi: np.ndarray, coarse: int, ms: float, level: float) -> in
     half = int(np.argmax(env >= 0.5 * ref))
     before = env[max(0, first - round(0.5 * ms)): max(1, first - round(0.25 * ms))]
     quiet_before = before.size > 0 and float(before.max()) < 0.08 * ref
-    if half - first > 1.0 * ms and quiet_before:  # a slow climb out of quiet: pre-echo
+    if half - first > SLOW_CLIMB_MS * ms and quiet_before:  # a slow climb out of quiet: pre-echo
         first = half
     # a centred RMS window reaches the level about 0.41 windows before the step itself
     return lo + min(seg.size - 1, first + round(0.41 * w))
