@@ -227,6 +227,8 @@ def load_for_review(
             raise
         note = "; ".join(filter(None, [note, said, *twin_notes(source)]))
     claps = session.claps_audio_s()
+    if session.audio and not Path(session.audio).exists():
+        note = "; ".join(filter(None, [note, _topic_audio_again(session, path)]))
     if session.audio and sound is None and Path(session.audio).exists():
         changed = audio_differs(session, session.audio)
         if changed:
@@ -383,6 +385,33 @@ def _follow_moved_files(session: Session, recording: Sequence[str], audio: str |
         session.audio = str(plain_absolute(audio))
         said.append(f"its audio is now read from {session.audio}")
     return "; ".join(said), source
+
+
+def _topic_audio_again(session: Session, path: Path) -> str:
+    """For a session whose audio came from an audio topic of its recording and whose
+    file kept of it is gone (the session and the bag copied without it): the file written
+    again from the topic beside the session file ``path``, and a note saying so ("" for
+    other sessions, or where the topic cannot be read: the waveform says the audio is
+    missing, as for any)."""
+    from speechcal_core.audio.errors import AudioError
+    from speechcal_core.audio.topic_file import TOPIC_KEY, keep_topic_audio, topic_description
+    from speechcal_core.sync.sources import load_topic_audio
+
+    topic = session.extra.get(TOPIC_KEY)
+    if not isinstance(topic, str) or not all(Path(p).exists() for p in session.recording):
+        return ""
+    try:
+        bag = load_topic_audio(topic, session.recording, all_channels=True)
+        kept, written = keep_topic_audio(bag, path)
+    except AudioError as exc:
+        return f"its audio file was gone, and could not be written again ({exc})"
+    if audio_differs(session, kept):  # not the audio it was made from: not taken
+        if written:
+            kept.unlink()
+        return ""
+    session.audio = str(kept)
+    return (f"its audio file was gone: written again from "
+            f"{topic_description(topic, session.recording)} as {kept.name}")
 
 
 def audio_differs(session: Session, audio: str | Path) -> str:

@@ -133,3 +133,25 @@ def test_a_new_review_session_takes_the_audio_topic_and_reopens_with_it(
         assert "it uses the audio" not in again.note
     finally:
         again.close()
+
+
+def test_a_session_whose_kept_topic_audio_is_gone_writes_it_again_from_the_topic(
+        topic_bag: tuple[Path, np.ndarray], tmp_path: Path) -> None:
+    """The session file and the bag copied without the audio file kept beside them: the
+    recording still holds the topic, so opening the session writes the file again."""
+    from speechcal_core.review.loading import load_for_review
+
+    bag, held = topic_bag
+    out = tmp_path / "rec" / "s.json"
+    assert main(["process", str(bag), "--audio", TOPIC, "-o", str(out)]) == 0
+    kept = out.with_name("s.audio.flac")
+    kept.unlink()
+    inputs = load_for_review(session_path=str(out))
+    try:
+        assert kept.exists()
+        assert np.array_equal(sf.read(str(kept), dtype="int16", always_2d=True)[0], held)
+        assert f"its audio file was gone: written again from topic {TOPIC} of " \
+               "recording.bag" in inputs.note
+        assert inputs.pyramid is not None and inputs.no_waveform == ""
+    finally:
+        inputs.close()
