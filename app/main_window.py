@@ -872,12 +872,16 @@ class ReviewWindow(QMainWindow):
             # the set may have been off screen (the playhead between sets)
             self.status.say(f"set #{removing.id} removed · Ctrl+Z puts it back")
         elif step:
-            if model.session.sync.offset_ns != offset_ns and not self.status.running("rescore"):
+            moved = model.session.sync.offset_ns != offset_ns
+            if moved and not self.status.running("rescore"):
                 # the sets show the frames they had before (or after) that offset again:
                 # the last re-scoring's word ("accepted set #1 now shows other frames:
                 # look again") is no longer true; a re-scoring still needed says its own
                 self.status.end("rescore")
-            self.status.say(f"{done}: {step}")
+            # an offset or a set put back may need re-scoring (one running restarts):
+            # what was undone stays beside it, as what the edit itself did does
+            self.status.say(f"{done}: {step}", outlasts_work=moved or
+                            len(model.session.sets) != n_sets)
         elif action in ("undo", "redo"):
             self.status.say(f"nothing to {action}")
         elif action == "clap_at_playhead":  # its words stay through the re-scoring

@@ -268,3 +268,23 @@ def test_a_r_and_del_with_no_set_left_say_why_they_did_nothing(qtbot, window) ->
         qtbot.keyClick(window, key)
         assert window.status_text.text() == \
             f"no frame sets to {verb}: T adds one at the playhead"
+
+
+def test_an_undo_that_restarts_the_rescoring_still_says_what_it_undid(
+        qtbot, window, gate) -> None:
+    """Ctrl+Z (or Ctrl+Y) on an offset edit while re-scoring ran lost its "undone: …"
+    ("redone: …") as the re-scoring restarted for it: the operator read only "re-scoring
+    N frame sets…", then "re-scored …", and could not tell the key had done anything."""
+    qtbot.keyClick(window, Qt.Key.Key_BraceRight)  # re-scoring starts, held by the gate
+    qtbot.waitUntil(lambda: window.status.running("rescore"), timeout=5_000)
+    qtbot.keyClick(window, Qt.Key.Key_BraceRight)  # the next frame: never scored either
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    qtbot.wait(600)  # past the re-scoring's delay: it restarted for the offset undone to
+    assert window.status.running("rescore")
+    assert "undone: audio offset change" in window.status_text.text()
+    qtbot.keyClick(window, Qt.Key.Key_Y, Qt.KeyboardModifier.ControlModifier)
+    qtbot.wait(600)
+    assert "redone: audio offset change" in window.status_text.text()
+    gate.set()
+    qtbot.waitUntil(lambda: not window.rescorer.busy(), timeout=30_000)
+    assert "redone: audio offset change" in window.status_text.text()
