@@ -87,7 +87,9 @@ def sync_line_forms(session: Session, first_frame_ns: int, stillness: WordStilln
     # an offset given (process --offset-ns) has no clap at all: "(one clap)" misled
     few = "one clap" if claps else "no clap"
     unmeasured = len(claps) < 2 and sync.drift == 0
-    drift = f"drift {sync.drift * 1e6:.1f} ppm"
+    # + 0.0: a drift under 0.05 ppm below zero (a stamped topic's slope: -2e-16) said
+    # "-0.0 ppm", as if the microphone ran slow
+    drift = f"drift {round(sync.drift * 1e6, 1) + 0.0:.1f} ppm"
     forms = [
         [audio_start_text(lead), f"drift not measured ({few})" if unmeasured else drift,
          how, f"camera residuals {worst}" if worst else ""],

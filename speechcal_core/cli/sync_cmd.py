@@ -70,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         emit_json(doc)
     else:
-        print(f"offset_ns {doc['offset_ns']}  drift {doc['drift_ppm']:+.2f} ppm  "
+        print(f"offset_ns {doc['offset_ns']}  drift {round(doc['drift_ppm'], 2) + 0.0:+.2f} ppm  "
               f"({doc['source']})")
         for c in doc["claps"]:
             print(f"clap  audio {c['audio_s']:.6f} s  session {c['session_ns']} ns")

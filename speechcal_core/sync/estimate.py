@@ -122,7 +122,7 @@ class SyncResult:
         doc = {
             "offset_ns": self.model.offset_ns,
             "drift": self.model.drift,
-            "drift_ppm": round(self.model.drift * 1e6, 3),
+            "drift_ppm": round(self.model.drift * 1e6, 3) + 0.0,  # never -0.0
             "source": self.model.source,
             "claps": [{"audio_s": c.audio_s, "session_ns": c.session_ns,
                        "audio_source": c.audio_source, "video_source": c.video_source,

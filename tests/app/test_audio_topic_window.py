@@ -28,3 +28,22 @@ def test_review_of_a_recording_takes_its_audio_topic_and_names_it(
     qtbot.waitUntil(lambda: win.model is not None, timeout=60_000)
     assert win.windowTitle() == f"SpeechCal — recording.bag + {TOPIC}"
     assert win.inputs is not None and win.inputs.no_waveform == ""  # the file kept
+
+
+def test_the_offset_line_of_a_stamped_topic_says_no_negative_zero_drift(
+        new_window, qtbot, tiny_synth: tuple[Path, dict], tmp_path: Path) -> None:
+    """The stamps' slope over a recording with no drift comes out a hair below 1
+    (-2e-16): the offset line said "drift -0.0 ppm", as if the microphone ran slow."""
+    folder, truth = tiny_synth
+    bag = tmp_path / "recording.bag"
+    with_audio_topic(folder / truth["recording"], folder / truth["audio"], bag,
+                     truth["sync"]["offset_ns"])
+    session = tmp_path / "s.json"
+    assert main(["process", str(bag), "--audio", TOPIC, "-o", str(session)]) == 0
+    win = new_window()
+    win.open(session_path=str(session))
+    qtbot.waitUntil(lambda: win.model is not None, timeout=60_000)
+    assert abs(win.model.session.sync.drift) < 1e-9  # the synthetic topic has none
+    line = win.sync_line.toolTip() or win.sync_line.text()
+    assert "drift 0.0 ppm" in line and "stamped" in line
+    assert "-0.0" not in line
