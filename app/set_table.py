@@ -349,6 +349,9 @@ class SetTable(QTableView):
         #: whether the last mouse press changed the selection (and so chose a set)
         self._press_chose = False
         self.clicked.connect(self._clicked)
+        # to the headings before any row: a list that stays empty (no trigger word
+        # found) kept Qt's 100 px columns and scrolled sideways, "decision" out of view
+        self.fit_columns()
 
     def set_sets(self, sets: list[FrameSet], origin_ns: int,
                  pending: frozenset[int] | set[int] = frozenset()) -> None:

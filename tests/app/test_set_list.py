@@ -371,3 +371,21 @@ def test_the_line_under_the_grid_counts_the_sets_the_filter_lists(qtbot, window)
     assert f"(1/{n - 2} undecided) · " in window.info_line.full_text
     click_filter(qtbot, window, "all")
     assert f"(2/{n}) · " in window.info_line.full_text
+
+
+def test_an_empty_list_shows_every_column_heading_without_a_scrollbar(
+        qtbot, open_window, wrong_word_session_file: Path) -> None:
+    """A session with no sets (no trigger word found) opened with every column at Qt's
+    default 100 px: the list scrolled sideways, "frames" cut off and "decision" out of
+    view, until a set was added."""
+    window = open_window(wrong_word_session_file)
+    table = window.table
+    assert table.model().rowCount() == 0
+    qtbot.wait(50)  # the layout settles
+    header = table.horizontalHeader()
+    widths = [header.sectionSize(c) for c in range(header.count())]
+    assert sum(widths) <= table.viewport().width()
+    assert not table.horizontalScrollBar().isVisible()
+    assert all(header.sectionSize(c) >= header.sectionSizeHint(c)
+               for c in range(header.count()))
+    assert header.sectionSize(column("#")) < 60  # fitted to its heading, not 100 px
