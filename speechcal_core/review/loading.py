@@ -252,7 +252,7 @@ def load_for_review(
 AUDIO_AT_START_NOTE = (
     "no clap: the audio is taken to start with the first frame; move it with { } (a "
     "frame; held down, it repeats) and [ ] (1 ms) until the words fall where the board "
-    "stops (the line under the waveform counts them)")
+    "stops (of ten words or more, the line under the waveform warns while too few do)")
 
 
 def _settings_note(session: Session, path: Path, triggers: TriggerSpec | None,

@@ -346,6 +346,13 @@ def test_a_recording_whose_clap_is_not_heard_opens_with_the_audio_at_its_start(
     assert sync.source == "manual" and sync.offset_ns == win.model.time_range_ns()[0]
     assert "no clap: the audio is taken to start with the first frame" \
         in win.status_text.toolTip() + win.status_text.text()
+    # the note promised a count on the offset line, which says none below ten words (nor
+    # while enough of them fall at a still board): it says when the line warns
+    assert len(win.model.session.sets) < 10 and "words at a still board" not in \
+        win.sync_line.toolTip()
+    assert "counts them" not in win.status_text.toolTip()
+    assert "of ten words or more, the line under the waveform warns while too few do" \
+        in win.status_text.toolTip()
     assert not win.no_clap_button.isVisible()
     assert load_session(tmp_path / "s.json").sync.offset_ns == sync.offset_ns
 
