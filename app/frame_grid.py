@@ -560,6 +560,20 @@ class FrameGrid(QWidget):
         self._arrange()
         return True
 
+    def step_camera(self, step: int) -> str:
+        """PgDown / PgUp: the next (``step`` 1) or previous (-1) camera alone, round the
+        grid's order; from the grid, the first (or last). The camera shown alone."""
+        names = list(self.tiles)
+        if not names:
+            return ""
+        if self._enlarged in names:
+            at = (names.index(self._enlarged) + step) % len(names)
+        else:
+            at = 0 if step > 0 else len(names) - 1
+        self._enlarged = names[at]
+        self._arrange()
+        return self._enlarged
+
     def set_word(self, word: str, state: str | None, source: str = "",
                  decides: int | None = None) -> None:
         """Show the trigger word of the set under the playhead (none: a hint to go to

@@ -132,8 +132,8 @@ HINTS_TIP = (
     "T add a set at the playhead · Del remove the set · S find more like this\n"
     "[ ] audio ±1 ms, { } audio ±1 frame, or drag the clap handle on the waveform; C: "
     "the clap is the sound at the playhead (another sound was taken for it)\n"
-    "double-click a camera (or press its number 1-9) to show it alone, Esc back to the "
-    "grid\n"
+    "double-click a camera (or press its number 1-9; PgDown / PgUp: the next / previous "
+    "camera) to show it alone, Esc back to the grid\n"
     "waveform: the wheel (or = and -) zooms, a drag pans, a click moves the playhead (a "
     "click on a set's word goes to that set), a double-click (or the 'whole session' "
     "button) shows the whole session\n"
@@ -327,6 +327,11 @@ class ReviewWindow(QMainWindow):
         for number in range(1, 10):  # a camera alone, as a double-click on it
             QShortcut(QKeySequence(str(number)), self).activated.connect(
                 lambda n=number: self.show_camera_alone(n))
+        # every camera alone in turn: keys 1-9 reach no tenth (12 cameras had three a
+        # keyboard could not enlarge)
+        for key, step in (("PgDown", 1), ("PgUp", -1)):
+            QShortcut(QKeySequence(key), self).activated.connect(
+                lambda s=step: self.model is not None and self.grid.step_camera(s))
         for key, factor in (("=", 0.5), ("+", 0.5), ("-", 2.0)):  # the waveform, as the wheel
             QShortcut(QKeySequence(key), self).activated.connect(
                 lambda f=factor: self.model is not None and self.waveform.zoom_at_playhead(f))

@@ -7,7 +7,7 @@ import math
 from typing import ClassVar
 
 import pytest
-from PySide6.QtCore import QEvent, QPoint, QRectF
+from PySide6.QtCore import QEvent, QPoint, QRectF, Qt
 from PySide6.QtGui import QHelpEvent, QImage, QPainter
 from PySide6.QtWidgets import QApplication, QToolTip
 
@@ -371,3 +371,29 @@ def test_a_tile_s_message_wraps_inside_its_borders(qtbot, monkeypatch: pytest.Mo
     [rect] = [rect for text, rect in RecordingPainter.texts if text == message]
     assert tile.width() == width
     assert rect.left() >= 6 and rect.right() <= width - 6
+
+
+def test_pgdown_and_pgup_show_cameras_past_the_ninth_alone(
+        qtbot, open_window, twelve_camera_synth, tmp_path) -> None:
+    """Keys 1-9 show a camera alone; a twelve-camera session's /cam9-/cam11 could be
+    enlarged only with the mouse. PgDown / PgUp step through every camera alone."""
+    window = open_twelve_flagged(open_window, twelve_camera_synth, tmp_path)
+    grid = window.grid
+    names = list(grid.tiles)
+
+    def alone() -> list[str]:
+        return [n for n, t in grid.tiles.items() if t.isVisible()]
+
+    qtbot.keyClick(window, Qt.Key.Key_9)
+    assert alone() == [names[8]]
+    for name in names[9:]:
+        qtbot.keyClick(window, Qt.Key.Key_PageDown)
+        assert alone() == [name]
+    qtbot.keyClick(window, Qt.Key.Key_PageDown)  # round to the first
+    assert alone() == [names[0]]
+    qtbot.keyClick(window, Qt.Key.Key_PageUp)
+    assert alone() == [names[-1]]
+    qtbot.keyClick(window, Qt.Key.Key_Escape)
+    assert len(alone()) == 12
+    qtbot.keyClick(window, Qt.Key.Key_PageUp)  # from the grid: the last camera
+    assert alone() == [names[-1]]
