@@ -21,7 +21,10 @@ MOVING_WORDS_TIP = (
     "zooms out to the whole audio: it may lie before the first frame), click it and "
     "press C; or move the audio with { } (±1 frame) until the words fall where the "
     "board stops.")
-HOW = {"auto": "auto ✓", "manual": "edited ✎", "stamped": "stamped ✓"}
+#: how the offset was found, as the line says it ("assumed": the audio taken to start
+#: with the first frame, no clap found; it said "edited ✎" before anyone edited it)
+HOW = {"auto": "auto ✓", "manual": "edited ✎", "stamped": "stamped ✓",
+       "assumed": "assumed, not measured"}
 
 
 @dataclass(frozen=True)

@@ -186,6 +186,9 @@ def load_for_review(
                                          target=target, streams=streams,
                                          topic=topic, session_path=path,
                                          progress=lambda t, f: report(t, 0.9 * f))
+                if audio_at_start:  # no one chose this offset: the line says "assumed"
+                    session.sync = session.sync.with_offset(session.sync.offset_ns,
+                                                            ASSUMED_SOURCE)
                 save_session(session, path)
                 stamp = file_stamp(path)
             except BaseException:
@@ -248,6 +251,8 @@ def load_for_review(
     return ReviewInputs(session, source, pyramid, path, claps, note, stamp, problem, restores)
 
 
+#: the sync source of a session opened with ``audio_at_start`` until its offset is edited
+ASSUMED_SOURCE = "assumed"
 #: what the window says of a session opened with ``audio_at_start``
 AUDIO_AT_START_NOTE = (
     "no clap: the audio is taken to start with the first frame; move it with { } (a "

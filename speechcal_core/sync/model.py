@@ -15,7 +15,8 @@ class SyncModel:
     """Maps audio seconds to session (camera header-stamp) nanoseconds.
 
     ``t_session_ns = offset_ns + round(t_audio_s * (1 + drift) * 1e9)``.
-    ``source`` says where the model came from: ``"auto"``, ``"manual"``, ``"stamped"`` or
+    ``source`` says where the model came from: ``"auto"``, ``"manual"``, ``"stamped"``,
+    ``"assumed"`` (no clap: the audio taken to start with the first frame) or
     ``"truth"``; GUI edits produce a new model via :meth:`with_offset`.
     """
 

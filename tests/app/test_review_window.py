@@ -343,7 +343,10 @@ def test_a_recording_whose_clap_is_not_heard_opens_with_the_audio_at_its_start(
     qtbot.waitUntil(lambda: win.task is None, timeout=120_000)
     assert win.model is not None and win.load_error == ""
     sync = win.model.session.sync
-    assert sync.source == "manual" and sync.offset_ns == win.model.time_range_ns()[0]
+    assert sync.source == "assumed" and sync.offset_ns == win.model.time_range_ns()[0]
+    # nobody edited the offset yet: the line said "edited ✎"
+    assert "assumed, not measured" in win.sync_line.toolTip()
+    assert "edited" not in win.sync_line.toolTip()
     assert "no clap: the audio is taken to start with the first frame" \
         in win.status_text.toolTip() + win.status_text.text()
     # the note promised a count on the offset line, which says none below ten words (nor
@@ -355,6 +358,11 @@ def test_a_recording_whose_clap_is_not_heard_opens_with_the_audio_at_its_start(
         in win.status_text.toolTip()
     assert not win.no_clap_button.isVisible()
     assert load_session(tmp_path / "s.json").sync.offset_ns == sync.offset_ns
+    qtbot.keyClick(win, Qt.Key.Key_BraceRight)  # the operator moves it: edited now
+    assert win.model.session.sync.source == "manual"
+    assert "edited ✎" in win.sync_line.toolTip()
+    qtbot.keyClick(win, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert "assumed, not measured" in win.sync_line.toolTip()
 
 
 def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
