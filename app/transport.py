@@ -134,7 +134,10 @@ class Transport(QObject):
         self._started = (now, self.model.playhead_ns)
         t_s = float(self.model.session.sync.to_audio(self.model.playhead_ns))
         self._restarts.done(now)
-        self.player.play(t_s, quiet=quiet, lead_in=True)
+        if not self.player.play(t_s, quiet=True, lead_in=True) and not quiet:
+            # the playhead plays on by the clock: said so ("cannot play the audio: … not
+            # found" alone, with the playhead running, read as if nothing played)
+            self.say(f"playing without sound: {self.player.unavailable}")
 
     def _step(self) -> None:
         """The playhead follows the sound: where the audio output has got to, so what is

@@ -181,6 +181,12 @@ def test_a_moved_audio_file_is_named(qtbot, open_window, tiny_synth, tmp_path: P
     qtbot.keyClick(window, Qt.Key.Key_W)
     text = window.status_text.text()
     assert f"cannot play the audio: {audio}: audio file not found" in text
+    start = window.model.playhead_ns
+    qtbot.keyClick(window, Qt.Key.Key_Space)  # the frames play on, silent: said so
+    qtbot.waitUntil(lambda: window.model.playhead_ns > start + 100_000_000, timeout=5_000)
+    assert window.status_text.text().startswith(
+        f"playing without sound: cannot play the audio: {audio}: audio file not found")
+    qtbot.keyClick(window, Qt.Key.Key_Space)
 
 
 def test_the_reader_thread_reads_the_stretch_block_by_block(tiny_synth) -> None:
