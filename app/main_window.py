@@ -473,7 +473,8 @@ class ReviewWindow(QMainWindow):
         # characters held a 10 pt window of 12 cameras 8 px wider than half a 1920 px
         # screen
         self._list_panel = right
-        self._fit_list_panel(480)
+        # fitted to the headings already (an empty list stays so: nothing tells again)
+        self._fit_list_panel(self.table.least_width())
         # a method of the window, not a closure over the panel: the connection goes with
         # the window, where a closure holds the panel's wrapper for as long as the table
         # lives and may call into a panel Qt is destroying

@@ -389,3 +389,4 @@ def test_an_empty_list_shows_every_column_heading_without_a_scrollbar(
     assert all(header.sectionSize(c) >= header.sectionSizeHint(c)
                for c in range(header.count()))
     assert header.sectionSize(column("#")) < 60  # fitted to its heading, not 100 px
+    assert window._list_panel.minimumWidth() >= table.least_width()  # never cut narrower
