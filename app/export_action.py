@@ -61,7 +61,8 @@ class ExportAction(QObject):
         if w.model is None or w.inputs is None or self.busy():
             return
         path = w.inputs.session_path
-        base = Path(path).parent if path else Path(w.model.session.recording[0]).parent
+        # whole: a session opened as "session.json" offered "session-kalibr", not where
+        base = (Path(path) if path else Path(w.model.session.recording[0])).absolute().parent
         stem = Path(path).name.split(".")[0] if path else "export"
         self.dialog = ExportDialog(w, base, stem, w.model.session.counts(),
                                    waiting=lambda include: len(w.model.export_waits_for(include)),

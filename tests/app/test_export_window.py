@@ -192,3 +192,22 @@ def test_a_folder_typed_without_its_path_lies_beside_the_session(
     qtbot.waitUntil(lambda: window.exporter.task is None, timeout=30_000)
     assert (beside / "manifest.json").exists()
     assert list(elsewhere.iterdir()) == []
+
+
+def test_a_session_opened_by_a_relative_path_offers_its_folder_whole(
+        qtbot, open_window, truth_session_file: Path, monkeypatch) -> None:
+    """``speechcal review session.json`` from the session's folder: the dialog offered
+    "session-kalibr" and said the sets go "to a new folder, session-kalibr", never where
+    that is."""
+    monkeypatch.chdir(truth_session_file.parent)
+    window = open_window(Path(truth_session_file.name))
+    qtbot.keyClick(window, Qt.Key.Key_A)
+    qtbot.mouseClick(window.export_button, Qt.MouseButton.LeftButton)
+    dialog = window.exporter.dialog
+    dialog.set_format("kalibr")
+    offered = Path(dialog.path_edit.text())
+    assert offered.is_absolute()
+    assert offered == truth_session_file.parent.absolute() / \
+        f"{truth_session_file.name.split('.')[0]}-kalibr"
+    assert dialog.summary.text() == "1 frame set will be written to a new folder"
+    dialog.reject()
