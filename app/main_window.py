@@ -942,7 +942,7 @@ class ReviewWindow(QMainWindow):
         offset_ns = model.session.sync.offset_ns
         model.nudge_offset(shift_ns)  # the playhead moves: the band gives the word back
         moved = model.session.sync.offset_ns - offset_ns
-        self.status.say(offset_moved_text(moved, "clap handle dragged"),
+        self.status.say(offset_moved_text(moved, f"{self.waveform.handle_name()} dragged"),
                         outlasts_work=bool(moved))
 
     def _on_current_set(self) -> None:
@@ -1003,7 +1003,8 @@ class ReviewWindow(QMainWindow):
                            current.trigger.source if current else "",
                            acting.id if acting is not None else None)
         self.grid.set_drag_note("" if self._clap_drag_ns is None
-                                else clap_drag_text(self._clap_drag_ns))
+                                else clap_drag_text(self._clap_drag_ns,
+                                                    self.waveform.clap.label.format))
 
     def _no_frame_text(self, stream: str, in_set: bool, has_frames: bool) -> str:
         """What a tile without a frame says: no frame chosen for the set (and how far the

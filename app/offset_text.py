@@ -31,13 +31,14 @@ def clap_moved_text(shift_ns: int) -> str:
     return f"the clap is at the playhead: audio moved {shift_text(shift_ns)} · {UNDO_HINT}"
 
 
-def clap_drag_text(shift_ns: int) -> str:
-    """What the word band says while the clap handle is dragged ``shift_ns`` from where
-    it was: how far the audio would move, and what releasing it or a right-click does (it
-    said "between frame sets", the playhead being off the sets' times meanwhile)."""
+def clap_drag_text(shift_ns: int, handle: str = "◂ clap ▸") -> str:
+    """What the word band says while the clap handle (labelled ``handle``: the audio's
+    start where there is no clap) is dragged ``shift_ns`` from where it was: how far the
+    audio would move, and what releasing it or a right-click does (it said "between frame
+    sets", the playhead being off the sets' times meanwhile)."""
     if shift_ns == 0:
-        return "◂ clap ▸ where it was · released here, the audio stays"
-    return (f"◂ clap ▸ audio {shift_text(shift_ns)} · release to move it · "
+        return f"{handle} where it was · released here, the audio stays"
+    return (f"{handle} audio {shift_text(shift_ns)} · release to move it · "
             "right-click to cancel")
 
 

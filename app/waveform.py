@@ -36,6 +36,9 @@ WIDEN_MARGIN = 0.05
 MIN_SPAN_S = 0.02
 #: an offset edit moves the envelope as drawn; it is drawn anew this long after the last
 REDRAW_AFTER_SHIFT_MS = 150
+#: the handle's label: the first clap, or the audio's start where no clap was found
+CLAP_HANDLE = "◂ clap ▸"
+AUDIO_START_HANDLE = "◂ audio start ▸"
 #: the "whole session" and playhead buttons' distance from the view's bottom edge, pixels
 #: (clear of the focus frame: it crossed their lower edge)
 BUTTON_MARGIN_PX = FOCUS_RING_PX
@@ -100,7 +103,7 @@ class WaveformView(pg.PlotWidget):
         # it can be dragged; its label low, under the sets' labels along the top
         self.clap = pg.InfiniteLine(0, movable=True, pen=pg.mkPen(CLAP_COLOUR, width=2),
                                     hoverPen=pg.mkPen(CLAP_LABEL_COLOUR, width=4),
-                                    label="◂ clap ▸", labelOpts={"position": 0.12,
+                                    label=CLAP_HANDLE, labelOpts={"position": 0.12,
                                                                  "color": CLAP_LABEL_COLOUR})
         self.clap.setCursor(Qt.CursorShape.SizeHorCursor)
         self.clap.setToolTip("the clap: drag it to set the audio offset")
@@ -210,18 +213,25 @@ class WaveformView(pg.PlotWidget):
 
     def set_claps(self, claps_audio_s: Sequence[float]) -> None:
         """Mark where the audio claps land on the session clock: the first as a handle to
-        drag (it sets the offset), later ones (the drift's) as plain marks."""
+        drag (it sets the offset), later ones (the drift's) as plain marks. Without a clap
+        the audio's start is the handle (a session opened without one, or timed by stamps
+        or a given offset), where there is audio."""
         self._claps_audio_s = tuple(claps_audio_s)
         for line in self.later_claps:
             self.removeItem(line)
         self.later_claps = []
-        if self.sync is None or not self._claps_audio_s:
+        handle = self._handle_audio_s()
+        if self.sync is None or handle is None:
             self.clap.hide()
             self._keep_marks_within_whole()
             return
-        first, *later = self._clap_xs()
-        self.clap.setValue(first)
-        self.clap.show()
+        clap = bool(self._claps_audio_s)
+        self.clap.show()  # first: a hidden line's label takes no new text
+        self.clap.label.setFormat(CLAP_HANDLE if clap else AUDIO_START_HANDLE)
+        self.clap.setToolTip(f"the {'clap' if clap else 'start of the audio'}: drag it to "
+                             "set the audio offset")
+        self.clap.setValue(self._to_x(int(self.sync.to_session(handle))))
+        later = self._clap_xs()[1:]
         for n, x in enumerate(later, start=2):
             line = pg.InfiniteLine(x, movable=False,
                                    pen=pg.mkPen(CLAP_COLOUR, width=1,
@@ -238,11 +248,23 @@ class WaveformView(pg.PlotWidget):
         assert self.sync is not None
         return [self._to_x(int(self.sync.to_session(a))) for a in self._claps_audio_s]
 
+    def _handle_audio_s(self) -> float | None:
+        """The audio time the handle marks: the first clap's, else the audio's start
+        where there is audio (None: no handle)."""
+        if self._claps_audio_s:
+            return self._claps_audio_s[0]
+        return 0.0 if self.pyramid is not None and self.pyramid.size else None
+
+    def handle_name(self) -> str:
+        """What the handle is, as the status line says it was dragged."""
+        return "clap handle" if self._claps_audio_s else "audio start"
+
     def clap_shift_ns(self) -> int:
         """How far the clap handle was dragged from where the current sync puts it."""
-        if not self._claps_audio_s or self.sync is None:
+        handle = self._handle_audio_s()
+        if handle is None or self.sync is None:
             return 0
-        return self._to_ns(self.clap.value()) - int(self.sync.to_session(self._claps_audio_s[0]))
+        return self._to_ns(self.clap.value()) - int(self.sync.to_session(handle))
 
     def _clap_dragged(self) -> None:
         """The audio slides with the handle: the envelope, the later claps and the word
@@ -360,7 +382,7 @@ class WaveformView(pg.PlotWidget):
         """The x range from the first to the last of the frames and marks (claps, words)."""
         xs = [*(self._frames_x or ()), *(self._sets_x or ()),
               *(line.value() for line in self.later_claps)]
-        if self.sync is not None and self._claps_audio_s:
+        if self.sync is not None and self._handle_audio_s() is not None:
             xs.append(self.clap.value())
         return (min(xs), max(xs)) if xs else (0.0, 0.0)
 

@@ -256,7 +256,8 @@ ASSUMED_SOURCE = "assumed"
 #: what the window says of a session opened with ``audio_at_start``
 AUDIO_AT_START_NOTE = (
     "no clap: the audio is taken to start with the first frame; move it with { } (a "
-    "frame; held down, it repeats) and [ ] (1 ms) until the words fall where the board "
+    "frame; held down, it repeats) and [ ] (1 ms), or drag the audio's start on the "
+    "waveform, until the words fall where the board "
     "stops (of ten words or more, the line under the waveform warns while too few do)")
 
 

@@ -363,6 +363,18 @@ def test_a_recording_whose_clap_is_not_heard_opens_with_the_audio_at_its_start(
     assert "edited ✎" in win.sync_line.toolTip()
     qtbot.keyClick(win, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     assert "assumed, not measured" in win.sync_line.toolTip()
+    # no clap to drag: the audio's start is the handle that sets the offset (a key press
+    # moved it one frame, so seconds off took a hundred presses)
+    wave = win.waveform
+    assert wave.clap.isVisible() and wave.clap.label.toPlainText() == "◂ audio start ▸"
+    assert wave.clap.value() == pytest.approx(wave._to_x(sync.offset_ns), abs=1e-6)
+    wave.clap.setValue(wave.clap.value() + 2.5)
+    wave.clap.sigDragged.emit(wave.clap)
+    wave.clap.sigPositionChangeFinished.emit(wave.clap)
+    moved = win.model.session.sync
+    assert moved.source == "manual"
+    assert moved.offset_ns - sync.offset_ns == pytest.approx(2.5e9, abs=1e6)
+    assert "audio start dragged" in win.status_text.toolTip() + win.status_text.text()
 
 
 def test_t_adds_a_set_at_the_playhead_and_delete_removes_it(
