@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -196,10 +196,10 @@ def load_for_review(
                 raise
             made_new = True
             note = f"new session saved as {path.name}"
-            if topic is not None:  # the window reads the file kept of it, as of any audio
+            if topic is not None:  # the window reads stretches of the file kept of it
                 note += (f"; audio from {topic_description(topic.topic, recording)}, kept "
                          f"as {Path(session.audio).name}")
-                sound = None
+                sound = replace(sound, path=Path(session.audio))
             if audio_at_start:
                 note += f"; {AUDIO_AT_START_NOTE}"
             if session.sets:  # without sets the list itself says why (no_sets_hint)
