@@ -1004,7 +1004,7 @@ class ReviewWindow(QMainWindow):
                            acting.id if acting is not None else None)
         self.grid.set_drag_note("" if self._clap_drag_ns is None
                                 else clap_drag_text(self._clap_drag_ns,
-                                                    self.waveform.clap.label.format))
+                                                    self.waveform.handle_label()))
 
     def _no_frame_text(self, stream: str, in_set: bool, has_frames: bool) -> str:
         """What a tile without a frame says: no frame chosen for the set (and how far the

@@ -225,11 +225,10 @@ class WaveformView(pg.PlotWidget):
             self.clap.hide()
             self._keep_marks_within_whole()
             return
-        clap = bool(self._claps_audio_s)
         self.clap.show()  # first: a hidden line's label takes no new text
-        self.clap.label.setFormat(CLAP_HANDLE if clap else AUDIO_START_HANDLE)
-        self.clap.setToolTip(f"the {'clap' if clap else 'start of the audio'}: drag it to "
-                             "set the audio offset")
+        self.clap.label.setFormat(self.handle_label())
+        self.clap.setToolTip(f"the {'clap' if self._claps_audio_s else 'start of the audio'}"
+                             ": drag it to set the audio offset")
         self.clap.setValue(self._to_x(int(self.sync.to_session(handle))))
         later = self._clap_xs()[1:]
         for n, x in enumerate(later, start=2):
@@ -258,6 +257,10 @@ class WaveformView(pg.PlotWidget):
     def handle_name(self) -> str:
         """What the handle is, as the status line says it was dragged."""
         return "clap handle" if self._claps_audio_s else "audio start"
+
+    def handle_label(self) -> str:
+        """The handle's label: the first clap's, or the audio's start without a clap."""
+        return CLAP_HANDLE if self._claps_audio_s else AUDIO_START_HANDLE
 
     def clap_shift_ns(self) -> int:
         """How far the clap handle was dragged from where the current sync puts it."""
